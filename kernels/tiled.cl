@@ -1,0 +1,142 @@
+/*
+ * Multi-kernel tiled deferred shading (Olsson & Assarsson 2011, the CUDA variant), host side in
+ * src/techniques/tiled.cpp. Per frame:
+ *   1. tile_depth_bounds  one work-group per tile: min/max linear depth of the tile's geometry
+ *   2. bin_lights (COUNT) per light: screen-space tile rectangle of its sphere, each tile tested
+ *                         against the tile's depth range, tile_count[t]++
+ *      exclusive_scan     tile_offset = exclusive prefix sum of tile_count; total
+ *      bin_lights (FILL)  the same traversal, writing light indices into the tile light list
+ *   3. shade_tiled        per pixel: loop over its tile's list with the one shading function
+ * The grid is the paper's: per-tile (offset, count) + tile light index list + the global light
+ * list (the frame's light buffers).
+ *
+ * Build-time constants: TILE_W, TILE_H (pixels), TS_MODEL (shading model), TS_GBUFFER_FP16.
+ */
+#include "gbuffer.h"
+
+#ifndef TS_MODEL
+#define TS_MODEL TS_MODEL_WINDOWED
+#endif
+
+/* ---- 1. depth bounds ---------------------------------------------------------------------- */
+
+/* Background pixels (depth 0) are left out: they would stretch the range to the far plane.
+ * Depths are compared as floats in local memory, so no integer-atomic trick (which only orders
+ * non-negative floats) is involved. Output: (zmin, zmax); an empty tile gets zmin > zmax. */
+__kernel void tile_depth_bounds(__global const float *gb_depth, int width, int height,
+                                __global float2 *tile_depth) {
+  __local float lmin[256];
+  __local float lmax[256];
+  int tiles_x = (width + TILE_W - 1) / TILE_W;
+  int tile = get_group_id(0);
+  int tx = tile % tiles_x, ty = tile / tiles_x;
+  int lid = get_local_id(0), lsize = get_local_size(0);
+  float zmin = FLT_MAX, zmax = 0.0f;
+  for (int i = lid; i < TILE_W * TILE_H; i += lsize) {
+    int x = tx * TILE_W + i % TILE_W, y = ty * TILE_H + i / TILE_W;
+    if (x < width && y < height) {
+      float z = gb_depth[y * width + x];
+      if (z > 0.0f) {
+        zmin = fmin(zmin, z);
+        zmax = fmax(zmax, z);
+      }
+    }
+  }
+  lmin[lid] = zmin;
+  lmax[lid] = zmax;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (int s = lsize / 2; s > 0; s >>= 1) {
+    if (lid < s) {
+      lmin[lid] = fmin(lmin[lid], lmin[lid + s]);
+      lmax[lid] = fmax(lmax[lid], lmax[lid + s]);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  if (lid == 0) tile_depth[tile] = (float2)(lmin[0], lmax[0]);
+}
+
+/* ---- 2. light binning --------------------------------------------------------------------- */
+
+/* One work-group per light; its work-items share the tiles of the light's screen rectangle, so a
+ * light covering the whole screen is not binned by a single work-item.
+ * fill == 0: count into tile_count.  fill == 1: append to the tile lists, using tile_cursor (zeroed)
+ * for slots; entries past `capacity` are not written and the host grows the list and re-runs. */
+__kernel void bin_lights(__global const float4 *light_pos_range, int light_count, float4 camera,
+                         float znear, __global const float2 *tile_depth, int fill,
+                         __global uint *tile_count, __global const uint *tile_offset,
+                         __global uint *tile_cursor, __global uint *tile_lights, uint capacity) {
+  int light = get_group_id(0);
+  if (light >= light_count) return;
+  int width = (int)camera.z, height = (int)camera.w;
+  int tiles_x = (width + TILE_W - 1) / TILE_W;
+  float4 pr = light_pos_range[light];
+  float3 c = pr.xyz;
+  float r = pr.w;
+  float4 b = ts_sphere_ndc_bounds(c, r, znear, camera.x, camera.y);
+  int x0, y0, x1, y1;
+  if (!ts_ndc_bounds_to_tiles(b, width, height, TILE_W, TILE_H, &x0, &y0, &x1, &y1)) return;
+  int rect_w = x1 - x0 + 1, rect_tiles = rect_w * (y1 - y0 + 1);
+  for (int i = get_local_id(0); i < rect_tiles; i += get_local_size(0)) {
+    int tile = (y0 + i / rect_w) * tiles_x + x0 + i % rect_w;
+    float2 zr = tile_depth[tile];
+    if (!ts_sphere_meets_depth_range(c, r, zr.x, zr.y)) continue;
+    if (!fill) {
+      atomic_inc(&tile_count[tile]);
+    } else {
+      uint pos = tile_offset[tile] + atomic_inc(&tile_cursor[tile]);
+      if (pos < capacity) tile_lights[pos] = (uint)light;
+    }
+  }
+}
+
+/* Exclusive prefix sum of n counts by a single work-group (the grid has at most ~10^5 tiles, so one
+ * group sweeping in chunks is enough and keeps the order deterministic). total[0] = sum. */
+#define SCAN_GROUP 256
+__kernel void exclusive_scan(__global const uint *count, int n, __global uint *offset,
+                             __global uint *total) {
+  __local uint tmp[SCAN_GROUP];
+  int lid = get_local_id(0);
+  uint carry = 0;
+  for (int base = 0; base < n; base += SCAN_GROUP) {
+    int i = base + lid;
+    uint v = i < n ? count[i] : 0u;
+    tmp[lid] = v;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    /* Hillis-Steele inclusive scan in local memory. */
+    for (int s = 1; s < SCAN_GROUP; s <<= 1) {
+      uint add = lid >= s ? tmp[lid - s] : 0u;
+      barrier(CLK_LOCAL_MEM_FENCE);
+      tmp[lid] += add;
+      barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (i < n) offset[i] = carry + tmp[lid] - v;
+    uint chunk_sum = tmp[SCAN_GROUP - 1];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    carry += chunk_sum;
+  }
+  if (lid == 0) total[0] = carry;
+}
+
+/* ---- 3. shading --------------------------------------------------------------------------- */
+
+__kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
+                          __global const float4 *light_pos_range,
+                          __global const float4 *light_color, __global const uint *tile_count,
+                          __global const uint *tile_offset, __global const uint *tile_lights,
+                          __global float4 *image) {
+  int x = get_global_id(0), y = get_global_id(1);
+  int width = (int)camera.z, height = (int)camera.w;
+  if (x >= width || y >= height) return;
+  ts_surface s;
+  float3 sum = (float3)(0.0f);
+  if (ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)) {
+    int tile = (y / TILE_H) * ((width + TILE_W - 1) / TILE_W) + x / TILE_W;
+    uint begin = tile_offset[tile], n = tile_count[tile];
+    for (uint k = 0; k < n; ++k) {
+      uint light = tile_lights[begin + k];
+      sum += ts_shade_light(&s, light_pos_range[light], light_color[light], TS_MODEL);
+    }
+    sum += ts_surface_base(s.ke, s.kd, ambient.xyz);
+  }
+  image[y * width + x] = (float4)(sum, 0.0f);
+}

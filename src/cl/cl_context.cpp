@@ -1,0 +1,143 @@
+#include "cl/cl_context.h"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+std::string typeName(cl_device_type type) {
+  if (type & CL_DEVICE_TYPE_GPU) return "gpu";
+  if (type & CL_DEVICE_TYPE_CPU) return "cpu";
+  if (type & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
+  return "other";
+}
+
+std::string trim(std::string s) {
+  while (!s.empty() && (s.back() == '\0' || std::isspace((unsigned char)s.back()))) s.pop_back();
+  size_t b = 0;
+  while (b < s.size() && std::isspace((unsigned char)s[b])) ++b;
+  return s.substr(b);
+}
+
+const DeviceInfo& choose(const std::vector<DeviceInfo>& devices, const std::string& spec) {
+  if (devices.empty()) {
+    throw Error("no OpenCL device found (install pocl-opencl-icd, or a GPU driver's ICD)");
+  }
+  auto firstOfType = [&](const std::string& type) -> const DeviceInfo* {
+    for (const auto& d : devices)
+      if (d.type == type) return &d;
+    return nullptr;
+  };
+  std::string s = lower(trim(spec));
+  if (s.empty() || s == "default") {
+    if (auto d = firstOfType("gpu")) return *d;
+    if (auto d = firstOfType("cpu")) return *d;
+    return devices.front();
+  }
+  if (s == "cpu" || s == "gpu") {
+    if (auto d = firstOfType(s)) return *d;
+    throw Error("no OpenCL " + s + " device (see `tileshade devices`)");
+  }
+  if (std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); })) {
+    size_t i = std::stoul(s);
+    if (i < devices.size()) return devices[i];
+    throw Error("device index " + s + " out of range: " + std::to_string(devices.size()) +
+                " device(s) (see `tileshade devices`)");
+  }
+  for (const auto& d : devices)
+    if (lower(d.platform + " " + d.name).find(s) != std::string::npos) return d;
+  throw Error("no OpenCL device matches '" + spec + "' (see `tileshade devices`)");
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot read kernel source " + path + " (set TILESHADE_KERNEL_DIR?)");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+std::vector<DeviceInfo> listDevices() {
+  std::vector<DeviceInfo> out;
+  std::vector<cl::Platform> platforms;
+  try {
+    cl::Platform::get(&platforms);
+  } catch (const cl::Error&) {
+    return out;  // CL_PLATFORM_NOT_FOUND_KHR: no ICD installed
+  }
+  for (auto& p : platforms) {
+    std::vector<cl::Device> devices;
+    try {
+      p.getDevices(CL_DEVICE_TYPE_ALL, &devices);
+    } catch (const cl::Error&) {
+      continue;
+    }
+    for (auto& d : devices) {
+      DeviceInfo info;
+      info.index = int(out.size());
+      info.platform = trim(p.getInfo<CL_PLATFORM_NAME>());
+      info.name = trim(d.getInfo<CL_DEVICE_NAME>());
+      info.type = typeName(d.getInfo<CL_DEVICE_TYPE>());
+      info.computeUnits = int(d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
+      info.globalMemBytes = size_t(d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>());
+      info.localMemBytes = size_t(d.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>());
+      info.maxWorkGroupSize = d.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+      info.device = d;
+      out.push_back(info);
+    }
+  }
+  return out;
+}
+
+std::string kernelDir() {
+  if (const char* env = std::getenv("TILESHADE_KERNEL_DIR"); env && *env) return env;
+  return TILESHADE_KERNEL_DIR;
+}
+
+ClContext::ClContext(const std::string& spec) {
+  std::string s = spec;
+  if (s.empty())
+    if (const char* env = std::getenv("TILESHADE_DEVICE"); env) s = env;
+  info_ = choose(listDevices(), s);
+  context_ = cl::Context(info_.device);
+  queue_ = cl::CommandQueue(context_, info_.device, CL_QUEUE_PROFILING_ENABLE);
+}
+
+cl::Program ClContext::build(const std::string& file, const std::string& options) {
+  std::string dir = kernelDir();
+  std::string source = readFile(dir + "/" + file);
+  cl::Program program(context_, source);
+  std::string opts = "-I \"" + dir + "\" -cl-std=CL1.2 " + options;
+  auto t0 = std::chrono::steady_clock::now();
+  try {
+    program.build({info_.device}, opts.c_str());
+  } catch (const cl::Error&) {
+    std::string log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device);
+    throw Error("OpenCL build of kernels/" + file + " failed (options: " + options + "):\n" + log);
+  }
+  compileMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count();
+  return program;
+}
+
+double ClContext::eventMs(const cl::Event& event) {
+  cl_ulong start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+  cl_ulong end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+  return double(end - start) * 1e-6;
+}
+
+}  // namespace ts

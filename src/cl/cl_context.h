@@ -1,0 +1,60 @@
+#pragma once
+// OpenCL set-up: device choice, a profiling command queue, program builds from kernels/.
+#include <string>
+#include <vector>
+
+#include <CL/opencl.hpp>
+
+namespace ts {
+
+struct DeviceInfo {
+  int index = 0;  // position in listDevices(), usable as --device <index>
+  std::string platform;
+  std::string name;
+  std::string type;  // "gpu", "cpu", "accelerator", "other"
+  int computeUnits = 0;
+  size_t globalMemBytes = 0;
+  size_t localMemBytes = 0;
+  size_t maxWorkGroupSize = 0;
+  cl::Device device;
+};
+
+std::vector<DeviceInfo> listDevices();
+
+// Where kernels/ lives: $TILESHADE_KERNEL_DIR, else the source tree this binary was built from.
+std::string kernelDir();
+
+class ClContext {
+ public:
+  // spec: "" or "default" (first GPU, else first CPU), "cpu", "gpu", an index from listDevices(),
+  // or a case-insensitive substring of "platform device". Throws ts::Error when nothing matches.
+  // $TILESHADE_DEVICE is used when spec is empty.
+  explicit ClContext(const std::string& spec = "");
+
+  const DeviceInfo& info() const { return info_; }
+  std::string deviceName() const { return info_.platform + " / " + info_.name; }
+  bool isGpu() const { return info_.type == "gpu"; }
+
+  // Builds kernels/<file> with -I kernels/ and `options`. Throws ts::Error with the build log.
+  // The build's wall time is added to compileMs().
+  cl::Program build(const std::string& file, const std::string& options = "");
+  double compileMs() const { return compileMs_; }
+
+  cl::Context& context() { return context_; }
+  cl::CommandQueue& queue() { return queue_; }
+  const cl::Device& device() const { return info_.device; }
+
+  // Start-to-end time of a finished, profiled command.
+  static double eventMs(const cl::Event& event);
+
+ private:
+  DeviceInfo info_;
+  cl::Context context_;
+  cl::CommandQueue queue_;
+  double compileMs_ = 0.0;
+};
+
+// Rounds n up to a multiple of m (global sizes for NDRanges).
+inline size_t roundUp(size_t n, size_t m) { return (n + m - 1) / m * m; }
+
+}  // namespace ts

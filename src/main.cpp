@@ -1,0 +1,135 @@
+// tileshade command line: render, devices, scene export (and the benchmark, see src/bench/).
+#include <iostream>
+#include <regex>
+
+#include <CLI/CLI.hpp>
+
+#include "bench/bench_cli.h"
+#include "cl/cl_context.h"
+#include "render/render_job.h"
+#include "scene/scene_loader.h"
+#include "techniques/technique.h"
+#include "util/error.h"
+
+namespace {
+
+// "16" or "16x8" -> (w, h); the tile sizes the techniques accept.
+std::pair<int, int> parseTile(const std::string& s) {
+  std::smatch m;
+  if (!std::regex_match(s, m, std::regex(R"((\d+)(?:x(\d+))?)")))
+    throw ts::Error("--tile expects N or WxH (e.g. 16 or 32x16), got '" + s + "'");
+  int w = std::stoi(m[1]), h = m[2].matched ? std::stoi(m[2]) : w;
+  if (w < 1 || h < 1 || w > 256 || h > 256)
+    throw ts::Error("--tile sides must be within 1..256, got '" + s + "'");
+  return {w, h};
+}
+
+void printDevices() {
+  auto devices = ts::listDevices();
+  if (devices.empty()) {
+    std::cout << "no OpenCL devices (install pocl-opencl-icd or a GPU driver's ICD)\n";
+    return;
+  }
+  for (const auto& d : devices)
+    std::cout << d.index << ": [" << d.type << "] " << d.platform << " / " << d.name << " ("
+              << d.computeUnits << " compute units, " << (d.globalMemBytes >> 20) << " MiB, local "
+              << (d.localMemBytes >> 10) << " KiB)\n";
+}
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"tileshade: tiled shading of a G-buffer in OpenCL, and a lab that measures "
+               "light-culling techniques for speed and error"};
+  app.require_subcommand(1);
+
+  // render
+  ts::RenderOptions render;
+  std::string tile = "16", format = "fp32";
+  auto* renderCmd = app.add_subcommand("render", "render one frame with one or more techniques");
+  renderCmd->add_option("--scene", render.scene, "builtin:street, builtin:atrium, or a .gltf/.glb path")
+      ->capture_default_str();
+  renderCmd->add_option("--lights", render.lightSet,
+                        "light set (street: many, few; atrium: small, big, mixed); for glTF, "
+                        "the file's own lights unless given");
+  renderCmd->add_option("--light-count", render.lightCount, "number of lights (-1: the set's own)")
+      ->capture_default_str();
+  renderCmd->add_option("--light-range", render.lightRange, "override every light's range (0: keep)")
+      ->capture_default_str();
+  renderCmd->add_option("--seed", render.seed, "seed of the built-in scenes")->capture_default_str();
+  renderCmd->add_option("--technique", render.techniques,
+                        "technique(s): " + joined(ts::techniqueNames()) + ", or all")
+      ->capture_default_str();
+  renderCmd->add_option("--tile", tile, "tile size N or WxH (pixels)")->capture_default_str();
+  renderCmd->add_option("--slices", render.clusterSlices, "depth slices of clustered shading")
+      ->capture_default_str();
+  renderCmd->add_option("--gbuffer", format, "G-buffer precision: fp32 or fp16")
+      ->capture_default_str();
+  renderCmd->add_option("--width", render.width, "image width")->capture_default_str();
+  renderCmd->add_option("--height", render.height, "image height")->capture_default_str();
+  renderCmd->add_option("--frame", render.frame, "frame of the scene's camera path")
+      ->capture_default_str();
+  renderCmd->add_option("--device", render.device,
+                        "OpenCL device: cpu, gpu, an index or a name substring (see `devices`); "
+                        "default: first GPU, else CPU, or $TILESHADE_DEVICE");
+  renderCmd->add_option("--out", render.outDir, "output folder")->capture_default_str();
+  renderCmd->add_option("--exposure", render.exposure, "exposure of the tone-mapped PNG")
+      ->capture_default_str();
+  renderCmd->add_flag("--check", render.check,
+                      "compare with the double-precision reference (error, missed lights)");
+  renderCmd->add_flag("--dump", render.dump,
+                      "also write gbuffer.exr (decoded shading inputs) and lights.json");
+
+  // devices
+  auto* devicesCmd = app.add_subcommand("devices", "list the OpenCL devices");
+
+  // scene export
+  auto* sceneCmd = app.add_subcommand("scene", "scene tools");
+  sceneCmd->require_subcommand(1);
+  std::string exportSpec, exportPath, exportLights;
+  auto* exportCmd = sceneCmd->add_subcommand("export", "write a scene (with its lights) as glTF");
+  exportCmd->add_option("scene", exportSpec, "scene spec, e.g. builtin:street")->required();
+  exportCmd->add_option("path", exportPath, "output .gltf or .glb")->required();
+  exportCmd->add_option("--lights", exportLights, "light set");
+
+  // bench (src/bench/)
+  ts::CliCommand bench = ts::addBenchCommand(app);
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (*renderCmd) {
+      auto [tw, th] = parseTile(tile);
+      render.tileWidth = tw;
+      render.tileHeight = th;
+      render.format = ts::parseGBufferFormat(format);
+      ts::runRender(render);
+    } else if (*bench.command) {
+      bench.run();
+    } else if (*devicesCmd) {
+      printDevices();
+    } else if (*exportCmd) {
+      ts::SceneOptions so;
+      so.lightSet = exportLights;
+      ts::Scene scene = ts::loadScene(exportSpec, so);
+      ts::exportGltf(scene, exportPath);
+      std::cout << "wrote " << exportPath << " (" << scene.triangleCount() << " triangles, "
+                << scene.lights.size() << " lights)\n";
+    }
+  } catch (const ts::Error& e) {
+    std::cerr << "tileshade: error: " << e.what() << "\n";
+    return 1;
+  } catch (const cl::Error& e) {
+    std::cerr << "tileshade: OpenCL error: " << e.what() << " (" << e.err() << ")\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "tileshade: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,53 @@
+#pragma once
+// The G-buffer as the rasterizer produces it (full float precision, view space), the camera
+// intrinsics that tie pixels to view rays, and the software rasterizer's entry point.
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene/scene.h"
+
+namespace ts {
+
+// What the kernels need to turn (pixel, depth) into a view-space position; see
+// ts_view_position in kernels/shading.h.
+struct CameraIntrinsics {
+  int width = 0;
+  int height = 0;
+  float tanHalfFovX = 1.0f;
+  float tanHalfFovY = 1.0f;
+  float znear = 0.1f;
+  float zfar = 1000.0f;
+
+  static CameraIntrinsics from(const Camera& camera, int width, int height);
+  // The camera uniform of the kernels: (tan x, tan y, width, height).
+  glm::vec4 kernelCamera() const {
+    return {tanHalfFovX, tanHalfFovY, float(width), float(height)};
+  }
+  // OpenGL-style projection consistent with the above (for the rasterizer).
+  glm::mat4 projection() const;
+};
+
+struct GBuffer {
+  int width = 0;
+  int height = 0;
+  std::vector<float> depth;         // linear view depth (-z_view); 0 = background
+  std::vector<glm::vec4> normal;    // view-space unit normal, w = 0
+  std::vector<glm::vec4> diffuse;   // kd rgb, a unused (1)
+  std::vector<glm::vec4> specular;  // ks rgb, shininess in w
+  std::vector<glm::vec4> emissive;  // ke rgb, a unused (0)
+
+  void resize(int w, int h);
+  size_t pixelCount() const { return size_t(width) * size_t(height); }
+  size_t geometryPixels() const;
+};
+
+struct RasterOptions {
+  int threads = 0;  // 0 = all hardware threads
+};
+
+// Renders the scene from `camera` into a G-buffer of width x height (any size >= 1).
+GBuffer rasterize(const Scene& scene, const Camera& camera, int width, int height,
+                  const RasterOptions& options = {});
+
+}  // namespace ts

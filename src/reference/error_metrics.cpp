@@ -1,0 +1,56 @@
+#include "reference/error_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "util/error.h"
+
+namespace ts {
+
+std::vector<float> errorMap(const std::vector<glm::vec4>& image, const ReferenceImage& ref) {
+  if (image.size() != ref.rgb.size()) throw Error("image and reference sizes differ");
+  std::vector<float> out(image.size());
+  for (size_t i = 0; i < image.size(); ++i) {
+    glm::dvec3 d = glm::abs(glm::dvec3(glm::vec3(image[i])) - ref.rgb[i]);
+    out[i] = float(std::max({d.x, d.y, d.z}));
+  }
+  return out;
+}
+
+ErrorStats compareToReference(const std::vector<glm::vec4>& image, const ReferenceImage& ref,
+                              double tolerance) {
+  if (image.size() != ref.rgb.size()) throw Error("image and reference sizes differ");
+  ErrorStats e;
+  e.peak = ref.peak;
+  e.tolerance = tolerance;
+  double sumSq = 0.0;
+  std::vector<double> perPixel(image.size());
+  for (size_t i = 0; i < image.size(); ++i) {
+    glm::dvec3 d = glm::dvec3(glm::vec3(image[i])) - ref.rgb[i];
+    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
+      d = glm::dvec3(std::numeric_limits<double>::infinity());
+    sumSq += glm::dot(d, d);
+    glm::dvec3 a = glm::abs(d);
+    perPixel[i] = std::max({a.x, a.y, a.z});
+    e.maxAbs = std::max(e.maxAbs, perPixel[i]);
+    if (perPixel[i] > tolerance) ++e.pixelsAboveTolerance;
+  }
+  size_t n = std::max<size_t>(image.size(), 1);
+  e.rmse = std::sqrt(sumSq / double(3 * n));
+  e.psnr = e.rmse > 0.0 ? 20.0 * std::log10(e.peak / e.rmse)
+                        : std::numeric_limits<double>::infinity();
+  e.maxRelPeak = e.peak > 0.0 ? e.maxAbs / e.peak : e.maxAbs;
+  auto quantile = [&](double q) {
+    if (perPixel.empty()) return 0.0;
+    size_t k = std::min(perPixel.size() - 1, size_t(q * double(perPixel.size() - 1) + 0.5));
+    std::nth_element(perPixel.begin(), perPixel.begin() + k, perPixel.end());
+    return perPixel[k];
+  };
+  e.p50 = quantile(0.5);
+  e.p99 = quantile(0.99);
+  e.p999 = quantile(0.999);
+  return e;
+}
+
+}  // namespace ts

@@ -1,0 +1,30 @@
+#pragma once
+// Error of a rendered image against the double reference, on the linear image.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "reference/reference.h"
+
+namespace ts {
+
+struct ErrorStats {
+  double maxAbs = 0.0;      // largest channel difference
+  double rmse = 0.0;        // over all pixels and channels
+  double psnr = 0.0;        // 20 log10(peak / rmse), peak = the reference's peak; inf if exact
+  double maxRelPeak = 0.0;  // maxAbs / peak
+  double p50 = 0.0, p99 = 0.0, p999 = 0.0;  // quantiles of the per-pixel max channel error
+  double tolerance = 0.0;   // the threshold counted below
+  uint64_t pixelsAboveTolerance = 0;
+  double peak = 0.0;
+};
+
+// `tolerance` is absolute; pass e.g. 1e-4 * ref.peak.
+ErrorStats compareToReference(const std::vector<glm::vec4>& image, const ReferenceImage& ref,
+                              double tolerance);
+
+// Per-pixel max channel error (for heat maps).
+std::vector<float> errorMap(const std::vector<glm::vec4>& image, const ReferenceImage& ref);
+
+}  // namespace ts

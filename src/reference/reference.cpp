@@ -1,0 +1,97 @@
+#include "reference/reference.h"
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+
+#include "reference/shading_cpu.h"
+
+namespace ts {
+namespace {
+
+// Runs body(y) for every row on `threads` threads (0 = all cores), rows handed out dynamically.
+template <typename Body>
+void parallelRows(int height, int threads, Body body) {
+  int n = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  std::atomic<int> next{0};
+  std::vector<std::thread> pool;
+  for (int t = 0; t < n; ++t)
+    pool.emplace_back([&] {
+      for (int y; (y = next++) < height;) body(y);
+    });
+  for (auto& th : pool) th.join();
+}
+
+glm::dvec3 lightContribution(const SurfaceD& s, const ViewLights& lights, size_t i, int model) {
+  glm::dvec3 lp = glm::dvec3(glm::vec3(lights.positionRange[i]));
+  glm::dvec3 c = glm::dvec3(glm::vec3(lights.color[i]));
+  double r = double(lights.positionRange[i].w);
+  return shading_d::ts_point_light(s.P, s.N, s.V, s.kd, s.ks, s.shininess, lp, c, r, model);
+}
+
+bool nonZero(const glm::dvec3& v) { return v.x != 0.0 || v.y != 0.0 || v.z != 0.0; }
+
+}  // namespace
+
+ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
+                              const ViewLights& lights, glm::vec3 ambient, int model,
+                              int threads) {
+  ReferenceImage ref;
+  ref.width = gbuffer.width;
+  ref.height = gbuffer.height;
+  ref.rgb.assign(gbuffer.pixelCount(), glm::dvec3(0.0));
+  std::vector<uint64_t> rowContributing(size_t(gbuffer.height), 0);
+  glm::dvec3 a = glm::dvec3(ambient);
+  parallelRows(gbuffer.height, threads, [&](int y) {
+    for (int x = 0; x < gbuffer.width; ++x) {
+      SurfaceD s;
+      if (!decodeSurface(gbuffer, camera, x, y, s)) continue;
+      glm::dvec3 sum(0.0);
+      for (size_t i = 0; i < lights.size(); ++i) {
+        glm::dvec3 c = lightContribution(s, lights, i, model);
+        if (nonZero(c)) {
+          sum += c;
+          ++rowContributing[size_t(y)];
+        }
+      }
+      ref.rgb[size_t(y) * gbuffer.width + x] = sum + shading_d::ts_surface_base(s.ke, s.kd, a);
+    }
+  });
+  for (auto n : rowContributing) ref.contributing += n;
+  for (const auto& c : ref.rgb) ref.peak = std::max({ref.peak, c.x, c.y, c.z});
+  return ref;
+}
+
+uint64_t countMissedContributions(const LightAssignment& assignment, const EncodedGBuffer& gbuffer,
+                                  const CameraIntrinsics& camera, const ViewLights& lights,
+                                  int model) {
+  // Bitsets of the lights each bin lists, for O(1) membership.
+  size_t bins = assignment.binCount.size(), n = lights.size();
+  std::vector<uint8_t> listed(bins * n, 0);
+  for (size_t b = 0; b < bins; ++b)
+    for (uint32_t k = 0; k < assignment.binCount[b]; ++k)
+      listed[b * n + assignment.binLights[assignment.binOffset[b] + k]] = 1;
+  std::vector<uint64_t> rowMisses(size_t(gbuffer.height), 0);
+  parallelRows(gbuffer.height, 0, [&](int y) {
+    for (int x = 0; x < gbuffer.width; ++x) {
+      SurfaceD s;
+      if (!decodeSurface(gbuffer, camera, x, y, s)) continue;
+      size_t pixel = size_t(y) * gbuffer.width + x;
+      int bin = assignment.pixelBin.empty() ? -1 : assignment.pixelBin[pixel];
+      for (size_t i = 0; i < n; ++i) {
+        if (!nonZero(lightContribution(s, lights, i, model))) continue;
+        bool seen = bin >= 0 && listed[size_t(bin) * n + i];
+        if (!seen && !assignment.lightRect.empty()) {
+          const glm::ivec4& r = assignment.lightRect[i];
+          seen = x >= r.x && y >= r.y && x < r.z && y < r.w;
+        }
+        if (!seen) ++rowMisses[size_t(y)];
+      }
+    }
+  });
+  uint64_t misses = 0;
+  for (auto m : rowMisses) misses += m;
+  return misses;
+}
+
+}  // namespace ts

@@ -1,0 +1,33 @@
+#pragma once
+// The double-precision reference: every light for every pixel, from the same stored G-buffer
+// values the kernels read, shaded by kernels/shading.h compiled as C++ with TS_REAL = double.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "raster/gbuffer_layout.h"
+#include "techniques/device_frame.h"
+#include "techniques/technique.h"
+
+namespace ts {
+
+struct ReferenceImage {
+  int width = 0, height = 0;
+  std::vector<glm::dvec3> rgb;    // row 0 = top
+  uint64_t contributing = 0;      // (pixel, light) pairs with a non-zero contribution: the ideal
+  double peak = 0.0;              // largest channel value
+};
+
+ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
+                              const ViewLights& lights, glm::vec3 ambient, int model,
+                              int threads = 0);
+
+// For every geometry pixel and every light whose reference contribution is non-zero, checks that
+// the technique's assignment lets the pixel see the light (its bin lists it, or its screen
+// rectangle covers the pixel). Returns the number of misses: 0 = conservative culling.
+uint64_t countMissedContributions(const LightAssignment& assignment, const EncodedGBuffer& gbuffer,
+                                  const CameraIntrinsics& camera, const ViewLights& lights,
+                                  int model);
+
+}  // namespace ts

@@ -1,0 +1,28 @@
+#include "render/frame_setup.h"
+
+#include <chrono>
+
+#include "util/error.h"
+
+namespace ts {
+
+PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
+                           GBufferFormat format) {
+  if (width < 1 || height < 1)
+    throw Error("resolution must be at least 1x1, got " + std::to_string(width) + "x" +
+                std::to_string(height));
+  PreparedFrame f;
+  f.frame = frame;
+  f.camera = scene.camera(frame);
+  f.intrinsics = CameraIntrinsics::from(f.camera, width, height);
+  auto t0 = std::chrono::steady_clock::now();
+  f.gbuffer = rasterize(scene, f.camera, width, height);
+  f.rasterMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  f.encoded = encode(f.gbuffer, format);
+  f.lights = toViewSpace(scene.lights, f.camera.viewFromWorld);
+  f.ambient = scene.ambient;
+  return f;
+}
+
+}  // namespace ts

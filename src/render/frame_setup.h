@@ -1,0 +1,29 @@
+#pragma once
+// Host-side preparation of one frame: camera, rasterized and encoded G-buffer, view-space lights.
+// Shared by `render`, `bench` and the tests.
+#include "raster/gbuffer.h"
+#include "raster/gbuffer_layout.h"
+#include "scene/scene.h"
+#include "techniques/device_frame.h"
+
+namespace ts {
+
+struct PreparedFrame {
+  int frame = 0;
+  Camera camera;
+  CameraIntrinsics intrinsics;
+  GBuffer gbuffer;          // full precision, as rasterized
+  EncodedGBuffer encoded;   // what the kernels read
+  ViewLights lights;        // view space
+  glm::vec3 ambient{0.0f};
+  double rasterMs = 0.0;
+
+  DeviceFrame upload(ClContext& cl) const {
+    return DeviceFrame::upload(cl, encoded, intrinsics, lights, ambient);
+  }
+};
+
+PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
+                           GBufferFormat format);
+
+}  // namespace ts

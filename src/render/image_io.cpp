@@ -1,0 +1,69 @@
+#include "render/image_io.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include <OpenImageIO/imageio.h>
+
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+void write(const std::string& path, const OIIO::ImageSpec& spec, const void* data) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw Error("cannot write " + path + ": " + OIIO::geterror());
+  if (!out->open(path, spec) || !out->write_image(spec.format, data) || !out->close())
+    throw Error("cannot write " + path + ": " + out->geterror());
+}
+
+uint8_t srgb8(float linear) {
+  float v = std::clamp(linear, 0.0f, 1.0f);
+  v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+  return uint8_t(std::lround(v * 255.0f));
+}
+
+}  // namespace
+
+void writeExr(const std::string& path, int width, int height,
+              const std::vector<std::string>& channels, const std::vector<float>& data) {
+  OIIO::ImageSpec spec(width, height, int(channels.size()), OIIO::TypeDesc::FLOAT);
+  spec.channelnames = channels;
+  spec.alpha_channel = -1;
+  write(path, spec, data.data());
+}
+
+void writeExrRgb(const std::string& path, int width, int height,
+                 const std::vector<glm::vec4>& image) {
+  std::vector<float> rgb;
+  rgb.reserve(image.size() * 3);
+  for (const auto& p : image) rgb.insert(rgb.end(), {p.x, p.y, p.z});
+  writeExr(path, width, height, {"R", "G", "B"}, rgb);
+}
+
+void writePngToneMapped(const std::string& path, int width, int height,
+                        const std::vector<glm::vec4>& image, float exposure) {
+  std::vector<uint8_t> rgb;
+  rgb.reserve(image.size() * 3);
+  for (const auto& p : image)
+    for (int c = 0; c < 3; ++c) rgb.push_back(srgb8(1.0f - std::exp(-exposure * p[c])));
+  write(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), rgb.data());
+}
+
+void writeHeatMapPng(const std::string& path, int width, int height, const std::vector<float>& v,
+                     float lo, float hi) {
+  std::vector<uint8_t> rgb;
+  rgb.reserve(v.size() * 3);
+  float llo = std::log10(std::max(lo, 1e-30f)), lhi = std::log10(std::max(hi, lo * 10.0f));
+  for (float e : v) {
+    float t = e <= lo ? 0.0f : std::clamp((std::log10(e) - llo) / (lhi - llo), 0.0f, 1.0f);
+    // black -> red -> yellow -> white
+    float r = std::clamp(3.0f * t, 0.0f, 1.0f), g = std::clamp(3.0f * t - 1.0f, 0.0f, 1.0f),
+          b = std::clamp(3.0f * t - 2.0f, 0.0f, 1.0f);
+    rgb.insert(rgb.end(), {uint8_t(r * 255), uint8_t(g * 255), uint8_t(b * 255)});
+  }
+  write(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), rgb.data());
+}
+
+}  // namespace ts

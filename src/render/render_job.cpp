@@ -1,0 +1,191 @@
+#include "render/render_job.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "cl/cl_context.h"
+#include "reference/error_metrics.h"
+#include "reference/reference.h"
+#include "reference/shading_cpu.h"
+#include "render/frame_setup.h"
+#include "render/image_io.h"
+#include "render/stats.h"
+#include "scene/scene_loader.h"
+#include "techniques/technique.h"
+#include "util/error.h"
+
+namespace fs = std::filesystem;
+
+namespace ts {
+namespace {
+
+// Relative tolerance (of the reference peak) used for the "pixels above tolerance" count.
+constexpr double kReportTolerance = 1e-4;
+
+std::vector<std::string> expandTechniques(const std::vector<std::string>& names) {
+  std::vector<std::string> out;
+  for (const auto& n : names) {
+    if (n == "all") {
+      for (const auto& t : techniqueNames()) out.push_back(t);
+    } else {
+      out.push_back(n);
+    }
+  }
+  if (out.empty()) throw Error("no technique given");
+  return out;
+}
+
+void writeDump(ClContext& cl, DeviceFrame& frame, const TechniqueConfig& config,
+               const std::string& dir) {
+  cl::Program program = cl.build("dump.cl", config.kernelOptions());
+  cl::Kernel kernel(program, "decode_gbuffer");
+  const int channels = 17;
+  size_t pixels = size_t(frame.width()) * frame.height();
+  cl::Buffer out(cl.context(), CL_MEM_WRITE_ONLY, pixels * channels * sizeof(float));
+  kernel.setArg(0, toCl(frame.camera.kernelCamera()));
+  frame.setGBufferArgs(kernel, 1);
+  kernel.setArg(6, out);
+  cl.queue().enqueueNDRangeKernel(kernel, cl::NullRange,
+                                  cl::NDRange(roundUp(frame.width(), 8), roundUp(frame.height(), 8)),
+                                  cl::NDRange(8, 8));
+  std::vector<float> data(pixels * channels);
+  cl.queue().enqueueReadBuffer(out, CL_TRUE, 0, data.size() * sizeof(float), data.data());
+  writeExr(dir + "/gbuffer.exr", frame.width(), frame.height(),
+           {"P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "kd.R", "kd.G", "kd.B", "ks.R", "ks.G",
+            "ks.B", "shininess", "ke.R", "ke.G", "ke.B", "mask"},
+           data);
+
+  nlohmann::json lights = nlohmann::json::array();
+  for (size_t i = 0; i < frame.lights->size(); ++i) {
+    const auto& p = frame.lights->positionRange[i];
+    const auto& c = frame.lights->color[i];
+    lights.push_back({{"type", "point"},
+                      {"position", {p.x, p.y, p.z}},
+                      {"color", {c.x, c.y, c.z}},
+                      {"range", p.w}});
+  }
+  nlohmann::json j = {{"dmin", TS_DMIN},
+                      {"ambient", {frame.ambient.x, frame.ambient.y, frame.ambient.z}},
+                      {"lights", lights}};
+  std::ofstream(dir + "/lights.json") << j.dump(2) << "\n";
+}
+
+std::string kernelSummary(const FrameResult& r) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(3);
+  for (size_t i = 0; i < r.kernels.size(); ++i)
+    s << (i ? " " : "") << r.kernels[i].name << "=" << r.kernels[i].ms;
+  return s.str();
+}
+
+}  // namespace
+
+void runRender(const RenderOptions& o) {
+  std::vector<std::string> techniques = expandTechniques(o.techniques);
+  for (const auto& t : techniques) findTechnique(t);  // bad names fail before any work
+  SceneOptions sceneOptions;
+  sceneOptions.lightSet = o.lightSet;
+  sceneOptions.seed = o.seed;
+  sceneOptions.lightCount = o.lightCount;
+  sceneOptions.lightRange = o.lightRange;
+  Scene scene = loadScene(o.scene, sceneOptions);
+  PreparedFrame prepared = prepareFrame(scene, o.frame, o.width, o.height, o.format);
+
+  ClContext cl(o.device);
+  DeviceFrame frame = prepared.upload(cl);
+  TechniqueConfig config;
+  config.format = o.format;
+  config.tileWidth = o.tileWidth;
+  config.tileHeight = o.tileHeight;
+  config.clusterSlices = o.clusterSlices;
+
+  std::error_code ec;
+  fs::create_directories(o.outDir, ec);
+  if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
+
+  std::optional<ReferenceImage> reference;
+  if (o.check)
+    reference = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
+                               prepared.ambient, config.shadingModel);
+
+  std::cout << "tileshade: " << scene.name << " (" << scene.triangleCount() << " triangles, "
+            << prepared.lights.size() << " lights), frame " << o.frame << ", " << o.width << "x"
+            << o.height << ", G-buffer " << toString(o.format) << ", tile " << o.tileWidth << "x"
+            << o.tileHeight << "\n"
+            << "device: " << cl.deviceName() << "\n";
+  if (reference)
+    std::cout << "reference: " << reference->contributing
+              << " contributing light evaluations (the ideal), peak " << reference->peak << "\n";
+
+  nlohmann::json results = nlohmann::json::array();
+  std::ostringstream table;
+  table << std::left << std::setw(18) << "technique" << std::right << std::setw(10) << "total ms"
+        << std::setw(16) << "lighting comp." << std::setw(15) << "evaluations" << std::setw(13)
+        << "max err/peak" << std::setw(8) << "missed" << "  per-kernel ms\n";
+  for (const auto& name : techniques) {
+    auto technique = createTechnique(name, cl, config);
+    FrameRequest request;
+    request.wantAssignment = o.check;
+    FrameResult r = technique->render(frame, request);
+
+    std::string dir = techniques.size() == 1 ? o.outDir : o.outDir + "/" + name;
+    fs::create_directories(dir, ec);
+    writeExrRgb(dir + "/image.exr", o.width, o.height, r.image);
+    writePngToneMapped(dir + "/image.png", o.width, o.height, r.image, o.exposure);
+
+    std::optional<ErrorStats> error;
+    std::optional<uint64_t> missed;
+    if (reference) {
+      error = compareToReference(r.image, *reference, kReportTolerance * reference->peak);
+      if (r.assignment)
+        missed = countMissedContributions(*r.assignment, prepared.encoded, prepared.intrinsics,
+                                          prepared.lights, config.shadingModel);
+    }
+    results.push_back(techniqueJson(name, r, error, missed));
+
+    std::ostringstream err;
+    if (error) err << std::scientific << std::setprecision(2) << error->maxRelPeak;
+    else err << "-";
+    table << std::left << std::setw(18) << name << std::right << std::fixed << std::setprecision(3)
+          << std::setw(10) << r.totalMs << std::setw(16) << r.counters.lightingComputations
+          << std::setw(15) << r.counters.evaluations << std::setw(13) << err.str() << std::setw(8)
+          << (missed ? std::to_string(*missed) : std::string("-")) << "  " << kernelSummary(r)
+          << "\n";
+    for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
+  }
+  std::cout << table.str();
+
+  nlohmann::json stats = {
+      {"device", cl.deviceName()},
+      {"device_type", cl.info().type},
+      {"scene", scene.name},
+      {"scene_spec", o.scene},
+      {"light_set", o.lightSet},
+      {"lights", prepared.lights.size()},
+      {"triangles", scene.triangleCount()},
+      {"frame", o.frame},
+      {"width", o.width},
+      {"height", o.height},
+      {"gbuffer", toString(o.format)},
+      {"gbuffer_bytes_per_pixel", prepared.encoded.bytesPerPixel()},
+      {"geometry_pixels", prepared.gbuffer.geometryPixels()},
+      {"tile", {o.tileWidth, o.tileHeight}},
+      {"raster_ms", prepared.rasterMs},
+      {"compile_ms", cl.compileMs()},
+      {"techniques", results},
+  };
+  if (reference)
+    stats["reference"] = {{"contributing", reference->contributing}, {"peak", reference->peak}};
+  std::ofstream(o.outDir + "/stats.json") << stats.dump(2) << "\n";
+  if (o.dump) writeDump(cl, frame, config, o.outDir);
+  std::cout << "wrote " << o.outDir << "/\n";
+}
+
+}  // namespace ts

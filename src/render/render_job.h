@@ -1,0 +1,32 @@
+#pragma once
+// `tileshade render`: one frame of a scene, one or more techniques, files in an output folder.
+#include <string>
+#include <vector>
+
+#include "raster/gbuffer_layout.h"
+
+namespace ts {
+
+struct RenderOptions {
+  std::string scene = "builtin:street";
+  std::string lightSet;                // "" = the scene's default / the file's own lights
+  int lightCount = -1;                 // -1 = the light set's own count
+  float lightRange = 0.0f;             // > 0 overrides every light's range
+  uint32_t seed = 1;
+  std::vector<std::string> techniques{"tiled"};  // "all" expands to every registered technique
+  int tileWidth = 16, tileHeight = 16;
+  int clusterSlices = 16;
+  GBufferFormat format = GBufferFormat::FP32;
+  int width = 1280, height = 720;
+  int frame = 0;
+  std::string device;                  // see ClContext
+  std::string outDir = "out";
+  bool check = false;                  // compare against the double reference
+  bool dump = false;                   // write gbuffer.exr + lights.json
+  float exposure = 1.0f;               // PNG tone mapping
+};
+
+// Runs the job, prints the table to stdout, writes the files. Throws ts::Error on bad input.
+void runRender(const RenderOptions& options);
+
+}  // namespace ts

@@ -1,0 +1,49 @@
+#include "scene/scene.h"
+
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "util/error.h"
+
+namespace ts {
+
+glm::vec4 Texture::sample(glm::vec2 uv) const {
+  if (width <= 0 || height <= 0) return glm::vec4(1.0f);
+  // Texel centres at half-integers; wrap both axes (REPEAT).
+  float fx = uv.x * float(width) - 0.5f;
+  float fy = uv.y * float(height) - 0.5f;
+  float x0f = std::floor(fx), y0f = std::floor(fy);
+  float tx = fx - x0f, ty = fy - y0f;
+  auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+  int x0 = wrap(int(x0f), width), x1 = wrap(int(x0f) + 1, width);
+  int y0 = wrap(int(y0f), height), y1 = wrap(int(y0f) + 1, height);
+  auto at = [&](int x, int y) { return texels[size_t(y) * size_t(width) + size_t(x)]; };
+  glm::vec4 top = glm::mix(at(x0, y0), at(x1, y0), tx);
+  glm::vec4 bottom = glm::mix(at(x0, y1), at(x1, y1), tx);
+  return glm::mix(top, bottom, ty);
+}
+
+Camera Camera::lookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float yfov, float znear,
+                      float zfar) {
+  Camera c;
+  c.viewFromWorld = glm::lookAt(eye, target, up);
+  c.yfov = yfov;
+  c.znear = znear;
+  c.zfar = zfar;
+  return c;
+}
+
+Bounds Scene::bounds() const {
+  Bounds b;
+  for (const auto& v : vertices) b.extend(v.position);
+  return b;
+}
+
+const Camera& Scene::camera(int frame) const {
+  if (cameraPath.empty()) throw Error("scene '" + name + "' has no camera");
+  if (frame < 0) throw Error("frame must be >= 0, got " + std::to_string(frame));
+  return cameraPath[size_t(frame) % cameraPath.size()];
+}
+
+}  // namespace ts

@@ -1,0 +1,93 @@
+#pragma once
+// The interface every light-culling/shading technique implements. A technique is created for a
+// device and a configuration (its kernels are built then: compile time never mixes with frame
+// time) and renders frames from a DeviceFrame. Registering a technique touches one place:
+// techniqueRegistry() in src/techniques/registry.cpp.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "cl/cl_context.h"
+#include "raster/gbuffer_layout.h"
+#include "techniques/device_frame.h"
+
+namespace ts {
+
+// Everything that changes how a technique's kernels are built or launched.
+struct TechniqueConfig {
+  GBufferFormat format = GBufferFormat::FP32;
+  int tileWidth = 16;
+  int tileHeight = 16;
+  int clusterSlices = 16;  // depth slices of the clustered technique
+  int shadingModel = 0;    // TS_MODEL_WINDOWED (0) or TS_MODEL_PHYSICAL (1), kernels/shading.h
+  std::string buildOptions;  // extra OpenCL build options (e.g. -cl-fast-relaxed-math)
+
+  // Build options every technique passes to ClContext::build (G-buffer layout, model, extras).
+  std::string kernelOptions() const;
+};
+
+struct KernelTime {
+  std::string name;
+  double ms = 0.0;   // sum over this frame's launches, from profiling events
+  int launches = 0;
+};
+
+// Work counters of one frame (definitions per technique in docs/techniques.md).
+struct WorkCounters {
+  uint64_t lightingComputations = 0;  // counted the paper's way for this technique
+  uint64_t evaluations = 0;           // shading-function calls the kernels actually made
+  uint64_t gbufferBytesRead = 0;      // estimated from the access pattern
+  // Lights per bin (tile or cluster); zero where the technique has no bins.
+  uint32_t listMin = 0;
+  double listMean = 0.0;
+  uint32_t listMax = 0;
+  std::vector<std::string> notes;  // e.g. "light list buffer grown to N entries"
+};
+
+// Which lights a pixel considers, for conservativeness tests: either bins (tiles/clusters) that
+// pixels map to, or per-light screen rectangles (traditional deferred), or both.
+struct LightAssignment {
+  std::vector<uint32_t> binOffset, binCount, binLights;  // per bin: a range of binLights
+  std::vector<int32_t> pixelBin;                         // per pixel; -1 = shades no light
+  std::vector<glm::ivec4> lightRect;  // per light: x0, y0, x1, y1 (exclusive); empty = unused
+};
+
+struct FrameResult {
+  std::vector<glm::vec4> image;  // linear RGB per pixel (w unused), row 0 = top
+  std::vector<KernelTime> kernels;
+  double totalMs = 0.0;  // sum of kernel times
+  WorkCounters counters;
+  std::optional<LightAssignment> assignment;  // filled when asked for
+};
+
+struct FrameRequest {
+  bool wantAssignment = false;  // read back the light lists (tests, stats)
+};
+
+class Technique {
+ public:
+  virtual ~Technique() = default;
+  virtual std::string name() const = 0;
+  virtual FrameResult render(DeviceFrame& frame, const FrameRequest& request) = 0;
+};
+
+struct TechniqueInfo {
+  std::string name;
+  std::string description;
+  std::function<std::unique_ptr<Technique>(ClContext&, const TechniqueConfig&)> create;
+};
+
+const std::vector<TechniqueInfo>& techniqueRegistry();
+std::vector<std::string> techniqueNames();
+// Both throw ts::Error naming the known techniques when `name` is not one of them.
+const TechniqueInfo& findTechnique(const std::string& name);
+// Throws ts::Error naming the known techniques when `name` is not one of them.
+std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& cl,
+                                           const TechniqueConfig& config);
+
+}  // namespace ts

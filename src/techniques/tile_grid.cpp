@@ -1,0 +1,93 @@
+#include "techniques/tile_grid.h"
+
+#include <algorithm>
+
+namespace ts {
+
+TileGrid::TileGrid(int w, int h, int tw, int th)
+    : tileW(tw), tileH(th), tilesX((w + tw - 1) / tw), tilesY((h + th - 1) / th), width(w),
+      height(h) {}
+
+int TileGrid::pixelsIn(int t) const {
+  int tx = t % tilesX, ty = t / tilesX;
+  int w = std::min(tileW, width - tx * tileW), h = std::min(tileH, height - ty * tileH);
+  return w * h;
+}
+
+cl::Event* FrameTimer::next(const std::string& name) {
+  events_.emplace_back(name, cl::Event());
+  return &events_.back().second;
+}
+
+std::vector<KernelTime> FrameTimer::kernels() const {
+  std::vector<KernelTime> out;
+  for (const auto& [name, event] : events_) {
+    auto it = std::find_if(out.begin(), out.end(), [&](const KernelTime& k) { return k.name == name; });
+    if (it == out.end()) {
+      out.push_back({name, 0.0, 0});
+      it = out.end() - 1;
+    }
+    it->ms += ClContext::eventMs(event);
+    it->launches += 1;
+  }
+  return out;
+}
+
+double FrameTimer::totalMs() const {
+  double sum = 0.0;
+  for (const auto& [name, event] : events_) sum += ClContext::eventMs(event);
+  return sum;
+}
+
+WorkCounters tileWorkCounters(const TileGrid& grid, const std::vector<uint32_t>& counts,
+                              const DeviceFrame& frame) {
+  WorkCounters c;
+  const auto& depth = frame.gbuffer->depth;
+  size_t geometry = 0;
+  for (int y = 0; y < grid.height; ++y)
+    for (int x = 0; x < grid.width; ++x)
+      if (depth[size_t(y) * grid.width + x] > 0.0f) {
+        c.evaluations += counts[grid.tileOf(x, y)];
+        ++geometry;
+      }
+  c.listMin = counts.empty() ? 0 : UINT32_MAX;
+  double sum = 0.0;
+  for (int t = 0; t < grid.count(); ++t) {
+    c.lightingComputations += uint64_t(grid.pixelsIn(t)) * counts[t];
+    c.listMin = std::min(c.listMin, counts[t]);
+    c.listMax = std::max(c.listMax, counts[t]);
+    sum += counts[t];
+  }
+  c.listMean = counts.empty() ? 0.0 : sum / double(counts.size());
+  // Depth is read by the depth-bounds pass and again by shading; the other planes once per
+  // geometry pixel (background pixels stop after the depth read).
+  size_t pixels = size_t(grid.width) * grid.height;
+  c.gbufferBytesRead = 2 * 4 * pixels + geometry * (frame.gbuffer->bytesPerPixel() - 4);
+  return c;
+}
+
+LightAssignment tileAssignment(const TileGrid& grid, std::vector<uint32_t> offsets,
+                               std::vector<uint32_t> counts, std::vector<uint32_t> lights) {
+  LightAssignment a;
+  a.binOffset = std::move(offsets);
+  a.binCount = std::move(counts);
+  a.binLights = std::move(lights);
+  a.pixelBin.resize(size_t(grid.width) * grid.height);
+  for (int y = 0; y < grid.height; ++y)
+    for (int x = 0; x < grid.width; ++x) a.pixelBin[size_t(y) * grid.width + x] = grid.tileOf(x, y);
+  return a;
+}
+
+std::vector<glm::vec4> readImage(ClContext& cl, const cl::Buffer& image, const DeviceFrame& frame) {
+  std::vector<glm::vec4> out(size_t(frame.width()) * frame.height());
+  cl.queue().enqueueReadBuffer(image, CL_TRUE, 0, out.size() * sizeof(glm::vec4), out.data());
+  return out;
+}
+
+size_t pow2AtLeast(size_t n, size_t cap) {
+  size_t p = 1;
+  while (p < n && p < cap) p <<= 1;
+  return std::min(p, cap);
+}
+
+}  // namespace ts

@@ -1,0 +1,52 @@
+#pragma once
+// Host-side helpers shared by the tile-based techniques: the screen grid, the per-frame timing of
+// profiled commands, and the work counters / light assignment derived from per-tile lists.
+#include <string>
+#include <vector>
+
+#include "techniques/technique.h"
+
+namespace ts {
+
+struct TileGrid {
+  int tileW = 16, tileH = 16;
+  int tilesX = 0, tilesY = 0;
+  int width = 0, height = 0;
+
+  TileGrid() = default;
+  TileGrid(int width, int height, int tileW, int tileH);
+  int count() const { return tilesX * tilesY; }
+  int tileOf(int x, int y) const { return (y / tileH) * tilesX + x / tileW; }
+  // Pixels of tile t that lie on the screen (edge tiles are partial).
+  int pixelsIn(int t) const;
+};
+
+// Collects profiled events of one frame and turns them into per-kernel times after the queue has
+// finished (times of launches with the same name add up).
+class FrameTimer {
+ public:
+  cl::Event* next(const std::string& name);  // pass to enqueue*, then wait
+  std::vector<KernelTime> kernels() const;
+  double totalMs() const;
+  void clear() { events_.clear(); }
+
+ private:
+  std::vector<std::pair<std::string, cl::Event>> events_;
+};
+
+// Counters of a frame shaded from per-tile lists (tiled techniques). Lighting computations are
+// the paper's: on-screen tile pixels x list length; evaluations: geometry pixels x list length.
+WorkCounters tileWorkCounters(const TileGrid& grid, const std::vector<uint32_t>& counts,
+                              const DeviceFrame& frame);
+
+// Per-tile lists as a LightAssignment (pixelBin = the pixel's tile).
+LightAssignment tileAssignment(const TileGrid& grid, std::vector<uint32_t> offsets,
+                               std::vector<uint32_t> counts, std::vector<uint32_t> lights);
+
+// Reads back an RGBA float image of the frame's size.
+std::vector<glm::vec4> readImage(ClContext& cl, const cl::Buffer& image, const DeviceFrame& frame);
+
+// Smallest power of two >= n, capped at `cap`.
+size_t pow2AtLeast(size_t n, size_t cap);
+
+}  // namespace ts

@@ -1,0 +1,164 @@
+// Multi-kernel tiled deferred shading; the kernels, in launch order, are in kernels/tiled.cl.
+#include <algorithm>
+
+#include "techniques/tile_grid.h"
+#include "techniques/techniques.h"
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+class TiledTechnique : public Technique {
+ public:
+  TiledTechnique(ClContext& cl, const TechniqueConfig& config) : cl_(cl), config_(config) {
+    if (config.tileWidth < 1 || config.tileHeight < 1)
+      throw Error("tile size must be positive");
+    std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
+                          " -DTILE_H=" + std::to_string(config.tileHeight);
+    program_ = cl.build("tiled.cl", options);
+    depthBounds_ = cl::Kernel(program_, "tile_depth_bounds");
+    binLights_ = cl::Kernel(program_, "bin_lights");
+    scan_ = cl::Kernel(program_, "exclusive_scan");
+    shade_ = cl::Kernel(program_, "shade_tiled");
+  }
+
+  std::string name() const override { return "tiled"; }
+
+  FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
+    allocate(frame);
+    FrameResult result;
+    uint32_t total = 0;
+    // A list that outgrows its buffer is never truncated: grow to fit and run the frame again.
+    for (;;) {
+      timer_.clear();
+      enqueueFrame(frame);
+      cl_.queue().enqueueReadBuffer(total_, CL_TRUE, 0, sizeof(uint32_t), &total);
+      if (total <= capacity_) break;
+      capacity_ = size_t(total) + total / 4;
+      tileLights_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE, capacity_ * sizeof(uint32_t));
+      result.counters.notes.push_back("tile light list grown to " + std::to_string(capacity_) +
+                                      " entries; frame re-run");
+    }
+    cl_.queue().finish();
+    result.kernels = timer_.kernels();
+    result.totalMs = timer_.totalMs();
+    result.image = readImage(cl_, image_, frame);
+
+    std::vector<uint32_t> counts(grid_.count()), offsets(grid_.count());
+    cl_.queue().enqueueReadBuffer(tileCount_, CL_TRUE, 0, counts.size() * 4, counts.data());
+    auto notes = std::move(result.counters.notes);
+    result.counters = tileWorkCounters(grid_, counts, frame);
+    result.counters.notes = std::move(notes);
+    if (request.wantAssignment) {
+      cl_.queue().enqueueReadBuffer(tileOffset_, CL_TRUE, 0, offsets.size() * 4, offsets.data());
+      std::vector<uint32_t> lights(std::max<uint32_t>(total, 1));
+      cl_.queue().enqueueReadBuffer(tileLights_, CL_TRUE, 0, lights.size() * 4, lights.data());
+      lights.resize(total);
+      result.assignment = tileAssignment(grid_, offsets, counts, lights);
+    }
+    return result;
+  }
+
+ private:
+  void allocate(const DeviceFrame& frame) {
+    TileGrid grid(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight);
+    if (grid.tilesX == grid_.tilesX && grid.tilesY == grid_.tilesY && grid.width == grid_.width &&
+        grid.height == grid_.height)
+      return;
+    grid_ = grid;
+    size_t tiles = size_t(grid_.count());
+    auto& ctx = cl_.context();
+    tileDepth_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(cl_float2));
+    tileCount_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(uint32_t));
+    tileOffset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(uint32_t));
+    tileCursor_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(uint32_t));
+    total_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(uint32_t));
+    capacity_ = std::max<size_t>(capacity_, tiles * 8);
+    tileLights_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, capacity_ * sizeof(uint32_t));
+    image_ = cl::Buffer(ctx, CL_MEM_WRITE_ONLY,
+                        size_t(frame.width()) * frame.height() * sizeof(cl_float4));
+  }
+
+  void enqueueFrame(DeviceFrame& frame) {
+    auto& q = cl_.queue();
+    cl_float4 camera = toCl(frame.camera.kernelCamera());
+    size_t tiles = size_t(grid_.count());
+    const uint32_t zero = 0;
+    q.enqueueFillBuffer(tileCount_, zero, 0, tiles * 4, nullptr, timer_.next("clear"));
+    q.enqueueFillBuffer(tileCursor_, zero, 0, tiles * 4, nullptr, timer_.next("clear"));
+
+    // 1. Depth bounds: one work-group per tile.
+    size_t group = pow2AtLeast(size_t(grid_.tileW) * grid_.tileH, 256);
+    depthBounds_.setArg(0, frame.depth);
+    depthBounds_.setArg(1, frame.width());
+    depthBounds_.setArg(2, frame.height());
+    depthBounds_.setArg(3, tileDepth_);
+    q.enqueueNDRangeKernel(depthBounds_, cl::NullRange, cl::NDRange(tiles * group),
+                           cl::NDRange(group), nullptr, timer_.next("depth_bounds"));
+
+    // 2. Binning: count, scan, fill.
+    const size_t binGroup = 64;
+    binLights_.setArg(0, frame.lightPositionRange);
+    binLights_.setArg(1, frame.lightCount());
+    binLights_.setArg(2, camera);
+    binLights_.setArg(3, frame.camera.znear);
+    binLights_.setArg(4, tileDepth_);
+    binLights_.setArg(6, tileCount_);
+    binLights_.setArg(7, tileOffset_);
+    binLights_.setArg(8, tileCursor_);
+    binLights_.setArg(9, tileLights_);
+    binLights_.setArg(10, cl_uint(capacity_));
+    if (frame.lightCount() > 0) {
+      binLights_.setArg(5, 0);
+      q.enqueueNDRangeKernel(binLights_, cl::NullRange,
+                             cl::NDRange(size_t(frame.lightCount()) * binGroup),
+                             cl::NDRange(binGroup), nullptr, timer_.next("bin_count"));
+    }
+    scan_.setArg(0, tileCount_);
+    scan_.setArg(1, int(tiles));
+    scan_.setArg(2, tileOffset_);
+    scan_.setArg(3, total_);
+    q.enqueueNDRangeKernel(scan_, cl::NullRange, cl::NDRange(256), cl::NDRange(256), nullptr,
+                           timer_.next("scan"));
+    if (frame.lightCount() > 0) {
+      binLights_.setArg(5, 1);
+      q.enqueueNDRangeKernel(binLights_, cl::NullRange,
+                             cl::NDRange(size_t(frame.lightCount()) * binGroup),
+                             cl::NDRange(binGroup), nullptr, timer_.next("bin_fill"));
+    }
+
+    // 3. Shading: one work-item per pixel.
+    cl_uint arg = 0;
+    shade_.setArg(arg++, camera);
+    shade_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
+    frame.setGBufferArgs(shade_, arg);
+    arg += 5;
+    shade_.setArg(arg++, frame.lightPositionRange);
+    shade_.setArg(arg++, frame.lightColor);
+    shade_.setArg(arg++, tileCount_);
+    shade_.setArg(arg++, tileOffset_);
+    shade_.setArg(arg++, tileLights_);
+    shade_.setArg(arg++, image_);
+    size_t lx = std::min(grid_.tileW, 16), ly = std::min(grid_.tileH, 16);
+    q.enqueueNDRangeKernel(shade_, cl::NullRange,
+                           cl::NDRange(roundUp(frame.width(), lx), roundUp(frame.height(), ly)),
+                           cl::NDRange(lx, ly), nullptr, timer_.next("shade"));
+  }
+
+  ClContext& cl_;
+  TechniqueConfig config_;
+  cl::Program program_;
+  cl::Kernel depthBounds_, binLights_, scan_, shade_;
+  TileGrid grid_;
+  cl::Buffer tileDepth_, tileCount_, tileOffset_, tileCursor_, total_, tileLights_, image_;
+  size_t capacity_ = 0;
+  FrameTimer timer_;
+};
+
+}  // namespace
+
+std::unique_ptr<Technique> makeTiledTechnique(ClContext& cl, const TechniqueConfig& config) {
+  return std::make_unique<TiledTechnique>(cl, config);
+}
+
+}  // namespace ts

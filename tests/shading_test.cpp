@@ -1,0 +1,190 @@
+// The shared shading and culling headers (kernels/shading.h, kernels/culling.h) compiled as C++:
+// analytic cases of the model and numerical checks of the conservative sphere bounds.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "reference/shading_cpu.h"
+
+namespace {
+
+using glm::dvec3;
+using glm::dvec4;
+using namespace ts::shading_d;
+
+TEST(Shading, DiffuseOnlyMatchesHandComputedValue) {
+  dvec3 P(0, 0, -5), N(0, 0, 1), V = glm::normalize(-P);
+  dvec3 Lp(0, 0, -3);  // 2 units straight above the surface
+  double r = 4.0;
+  dvec3 c = ts_point_light(P, N, V, dvec3(0.5), dvec3(0.0), 16.0, Lp, dvec3(1.0), r,
+                           TS_MODEL_WINDOWED);
+  double q = 4.0 / 16.0;
+  double window = (1 - q * q) * (1 - q * q);
+  EXPECT_NEAR(c.x, 0.5 * window / 4.0, 1e-15);
+}
+
+TEST(Shading, NothingAtOrBeyondTheRangeButPhysicalModelIgnoresRange) {
+  dvec3 P(0, 0, -5), N(0, 0, 1), V = glm::normalize(-P);
+  dvec3 Lp(0, 0, -3);
+  EXPECT_EQ(ts_point_light(P, N, V, dvec3(1), dvec3(1), 8, Lp, dvec3(1), 2.0, TS_MODEL_WINDOWED),
+            dvec3(0.0));
+  dvec3 phys = ts_point_light(P, N, V, dvec3(1), dvec3(0), 8, Lp, dvec3(1), 2.0,
+                              TS_MODEL_PHYSICAL);
+  EXPECT_NEAR(phys.x, 1.0 / 4.0, 1e-15);
+}
+
+TEST(Shading, WindowFallsContinuouslyToZeroAtTheRange) {
+  dvec3 P(0, 0, -5), N(0, 0, 1), V = glm::normalize(-P);
+  double r = 3.0;
+  double prev = 1e30;
+  for (double d = 0.5; d < r; d += 0.01) {
+    dvec3 c = ts_point_light(P, N, V, dvec3(1), dvec3(0), 8, P + dvec3(0, 0, d), dvec3(1), r,
+                             TS_MODEL_WINDOWED);
+    EXPECT_LT(c.x, prev);
+    prev = c.x;
+  }
+  EXPECT_LT(prev, 1e-5);
+}
+
+TEST(Shading, DegenerateCasesStayFinite) {
+  dvec3 P(0, 0, -5), N(0, 0, 1), V = glm::normalize(-P);
+  // Light exactly on the point: no direction, no contribution.
+  EXPECT_EQ(ts_point_light(P, N, V, dvec3(1), dvec3(1), 8, P, dvec3(1), 1.0, TS_MODEL_WINDOWED),
+            dvec3(0.0));
+  // Light touching the surface: falloff clamped by dmin, finite.
+  dvec3 c = ts_point_light(P, N, V, dvec3(1), dvec3(1), 8, P + dvec3(0, 0, 1e-9), dvec3(1), 1.0,
+                           TS_MODEL_WINDOWED);
+  EXPECT_TRUE(std::isfinite(c.x));
+  EXPECT_LE(c.x, 2.0 / (TS_DMIN * TS_DMIN));
+  // Half vector of zero length (light exactly opposite the viewer): specular is 0, no NaN.
+  dvec3 Pside(0, 0, -1), Nside(1, 0, 0), Vside = glm::normalize(-Pside);
+  dvec3 behind = Pside + dvec3(0, 0, -1);  // l = -V
+  dvec3 s = ts_point_light(Pside, Nside, Vside, dvec3(0), dvec3(1), 8, behind, dvec3(1), 5.0,
+                           TS_MODEL_WINDOWED);
+  EXPECT_EQ(s, dvec3(0.0));
+  // Light below the surface: nothing.
+  EXPECT_EQ(ts_point_light(P, N, V, dvec3(1), dvec3(1), 8, P - dvec3(0, 0, 1), dvec3(1), 5.0,
+                           TS_MODEL_WINDOWED),
+            dvec3(0.0));
+}
+
+TEST(Shading, FloatBuildAgreesWithDoubleToFloatRounding) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 1000; ++i) {
+    dvec3 P(u(rng) * 5, u(rng) * 5, -3 - 5 * std::abs(u(rng)));
+    dvec3 N = glm::normalize(dvec3(u(rng), u(rng), u(rng)) + dvec3(0, 0, 1.5));
+    dvec3 Lp = P + 3.0 * dvec3(u(rng), u(rng), u(rng));
+    dvec3 d = ts_point_light(P, N, glm::normalize(-P), dvec3(0.7), dvec3(0.3), 24, Lp,
+                             dvec3(2.0), 4.0, TS_MODEL_WINDOWED);
+    glm::vec3 Pf(P), Nf(N), Lf(Lp);
+    glm::vec3 f = ts::shading_f::ts_point_light(Pf, Nf, glm::normalize(-Pf), glm::vec3(0.7f),
+                                                glm::vec3(0.3f), 24.0f, Lf, glm::vec3(2.0f),
+                                                4.0f, TS_MODEL_WINDOWED);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], d[c], 1e-4 * std::max(1.0, std::abs(d[c])));
+  }
+}
+
+TEST(Shading, ViewPositionProjectsBackToThePixelCentre) {
+  double tx = 0.7, ty = 0.4;
+  dvec3 p = ts_view_position(10, 20, 7.0, tx, ty, 64, 48);
+  EXPECT_DOUBLE_EQ(p.z, -7.0);
+  double ndcx = p.x / (7.0 * tx), ndcy = p.y / (7.0 * ty);
+  EXPECT_NEAR((ndcx + 1) * 0.5 * 64, 10.5, 1e-12);
+  EXPECT_NEAR((1 - ndcy) * 0.5 * 48, 20.5, 1e-12);
+}
+
+// Projects sample points of the sphere that lie in front of the near plane and checks they stay
+// inside the bounds (conservative) and that the bounds are not much larger (tight).
+void checkSphereBounds(dvec3 c, double r, double znear, double tx, double ty) {
+  dvec4 b = ts_sphere_ndc_bounds(c, r, znear, tx, ty);
+  double lo[2] = {1e30, 1e30}, hi[2] = {-1e30, -1e30};
+  int visible = 0;
+  const int n = 400;
+  for (int i = 0; i <= n; ++i) {
+    double theta = M_PI * i / n;
+    for (int j = 0; j < 2 * n; ++j) {
+      double phi = M_PI * j / n;
+      // Points on the surface and inside (the clipped solid's extremes can be on the near cap).
+      for (double s : {1.0, 0.5}) {
+        dvec3 p = c + s * r * dvec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                    std::sin(theta) * std::sin(phi));
+        if (-p.z < znear) {
+          // Points on the near plane inside the sphere's cross-section, approached from in front.
+          continue;
+        }
+        ++visible;
+        double nx = p.x / (-p.z * tx), ny = p.y / (-p.z * ty);
+        lo[0] = std::min(lo[0], nx);
+        hi[0] = std::max(hi[0], nx);
+        lo[1] = std::min(lo[1], ny);
+        hi[1] = std::max(hi[1], ny);
+        ASSERT_GE(nx, b.x - 1e-9) << "sphere " << c.x << "," << c.y << "," << c.z << " r " << r;
+        ASSERT_LE(nx, b.z + 1e-9);
+        ASSERT_GE(ny, b.y - 1e-9);
+        ASSERT_LE(ny, b.w + 1e-9);
+      }
+    }
+  }
+  if (visible == 0) return;
+  // Tightness where the sphere is wholly in front and away from the eye: the bounds are within a
+  // few percent of the sampled extent (the widely copied tile-frustum shortcut is ~2 tiles wide).
+  if (-c.z - r > znear && glm::length(c) > 2 * r) {
+    double width = hi[0] - lo[0];
+    EXPECT_LT((b.z - b.x) - width, 0.02 * width + 1e-3);
+    double height = hi[1] - lo[1];
+    EXPECT_LT((b.w - b.y) - height, 0.02 * height + 1e-3);
+  }
+}
+
+TEST(Culling, SphereBoundsAreConservativeAndTight) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 60; ++i) {
+    dvec3 c(10 * u(rng), 6 * u(rng), -1 - 20 * std::abs(u(rng)));
+    checkSphereBounds(c, 0.2 + 4 * std::abs(u(rng)), 0.1, 0.9, 0.5);
+  }
+}
+
+TEST(Culling, SpheresStraddlingOrBehindTheNearPlane) {
+  const double znear = 0.5;
+  checkSphereBounds(dvec3(3, 1, -0.6), 1.0, znear, 0.9, 0.5);   // straddles, off to the side
+  checkSphereBounds(dvec3(0.5, 0, 0.5), 1.5, znear, 0.9, 0.5);  // centre behind the camera
+  checkSphereBounds(dvec3(0, 0, -0.2), 5.0, znear, 0.9, 0.5);   // contains the camera
+  checkSphereBounds(dvec3(4, -2, 1.0), 1.8, znear, 0.9, 0.5);   // mostly behind, pokes through
+  // Wholly behind the near plane: empty.
+  dvec4 b = ts_sphere_ndc_bounds(dvec3(0, 0, 2), 1.0, znear, 0.9, 0.5);
+  EXPECT_GT(b.x, b.z);
+  // Containing the camera: the whole screen.
+  b = ts_sphere_ndc_bounds(dvec3(0, 0, -0.2), 5.0, znear, 0.9, 0.5);
+  EXPECT_LE(b.x, -1.0);
+  EXPECT_GE(b.z, 1.0);
+}
+
+TEST(Culling, TileRectangleCoversBoundsAndClampsToTheGrid) {
+  int x0, y0, x1, y1;
+  // NDC [-1,1] maps to the whole 100x50 screen in 16-pixel tiles: 7 x 4 tiles.
+  ASSERT_TRUE(ts_ndc_bounds_to_tiles(dvec4(-5, -5, 5, 5), 100, 50, 16, 16, &x0, &y0, &x1, &y1));
+  EXPECT_EQ(x0, 0);
+  EXPECT_EQ(y0, 0);
+  EXPECT_EQ(x1, 6);
+  EXPECT_EQ(y1, 3);
+  // A small box in the upper-left quadrant (NDC y up, rows down).
+  ASSERT_TRUE(ts_ndc_bounds_to_tiles(dvec4(-0.9, 0.5, -0.5, 0.9), 100, 50, 16, 16, &x0, &y0, &x1,
+                                     &y1));
+  EXPECT_EQ(x0, 0);   // px 5
+  EXPECT_EQ(x1, 1);   // px 25
+  EXPECT_EQ(y0, 0);   // py 2.5
+  EXPECT_EQ(y1, 0);   // py 12.5
+  EXPECT_FALSE(ts_ndc_bounds_to_tiles(dvec4(1.5, 0, 2, 1), 100, 50, 16, 16, &x0, &y0, &x1, &y1));
+}
+
+TEST(Culling, DepthRangeTest) {
+  EXPECT_TRUE(ts_sphere_meets_depth_range(dvec3(0, 0, -10), 1.0, 10.5, 20.0));
+  EXPECT_FALSE(ts_sphere_meets_depth_range(dvec3(0, 0, -10), 1.0, 11.5, 20.0));
+  EXPECT_FALSE(ts_sphere_meets_depth_range(dvec3(0, 0, -10), 1.0, 2.0, 8.9));
+  EXPECT_FALSE(ts_sphere_meets_depth_range(dvec3(0, 0, -10), 100.0, 1e30, 0.0));  // empty tile
+}
+
+}  // namespace
