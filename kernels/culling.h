@@ -90,3 +90,58 @@ static inline int ts_sphere_meets_depth_range(TS_REAL3 c, TS_REAL r, TS_REAL zmi
   TS_REAL w = -c.z;
   return zmin <= zmax && w + r >= zmin && w - r <= zmax;
 }
+
+/* ---- Per-tile tests (the culling knob; every one is conservative) ----------------------------
+ * TS_CULL_RECT     the light's projected-sphere tile rectangle + the tile's depth range (default;
+ *                  the rectangle is exact for the clipped sphere, so no extra per-tile test)
+ * TS_CULL_FRUSTUM  additionally: sphere against the tile frustum's four side planes
+ * TS_CULL_AABB     additionally: sphere against the view-space box bounding the tile frustum
+ *                  between the tile's zmin and zmax
+ * Side planes alone accept spheres near a frustum corner that miss the frustum; the box does
+ * better for thin depth ranges and worse for deep ones: the benchmark measures both. */
+#define TS_CULL_RECT 0
+#define TS_CULL_FRUSTUM 1
+#define TS_CULL_AABB 2
+
+/* Slope bounds (x/w, y/w with w = -z) of the pixel rectangle [px0,px1) x [py0,py1) (rows down). */
+static inline TS_REAL4 ts_tile_slopes(int px0, int py0, int px1, int py1, int width, int height,
+                                      TS_REAL tan_x, TS_REAL tan_y) {
+  TS_REAL sx0 = ((TS_REAL)2 * (TS_REAL)px0 / (TS_REAL)width - (TS_REAL)1) * tan_x;
+  TS_REAL sx1 = ((TS_REAL)2 * (TS_REAL)px1 / (TS_REAL)width - (TS_REAL)1) * tan_x;
+  TS_REAL sy1 = ((TS_REAL)1 - (TS_REAL)2 * (TS_REAL)py0 / (TS_REAL)height) * tan_y;
+  TS_REAL sy0 = ((TS_REAL)1 - (TS_REAL)2 * (TS_REAL)py1 / (TS_REAL)height) * tan_y;
+  return TS_MAKE4(sx0, sy0, sx1, sy1);
+}
+
+/* Sphere against the side planes through the eye: a point is inside when s0 <= x/w <= s1 (and
+ * the same for y). Signed distance to the plane x - s*w = 0 is (x - s*w)/sqrt(1 + s*s). */
+static inline int ts_sphere_meets_tile_planes(TS_REAL3 c, TS_REAL r, TS_REAL4 s) {
+  TS_REAL w = -c.z;
+  if ((c.x - s.x * w) < -r * sqrt((TS_REAL)1 + s.x * s.x)) return 0;
+  if ((s.z * w - c.x) < -r * sqrt((TS_REAL)1 + s.z * s.z)) return 0;
+  if ((c.y - s.y * w) < -r * sqrt((TS_REAL)1 + s.y * s.y)) return 0;
+  if ((s.w * w - c.y) < -r * sqrt((TS_REAL)1 + s.w * s.w)) return 0;
+  return 1;
+}
+
+/* Sphere against the axis-aligned box around the tile frustum between depths zmin and zmax. */
+static inline int ts_sphere_meets_tile_box(TS_REAL3 c, TS_REAL r, TS_REAL4 s, TS_REAL zmin,
+                                           TS_REAL zmax) {
+  TS_REAL bx0 = min(s.x * zmin, s.x * zmax), bx1 = max(s.z * zmin, s.z * zmax);
+  TS_REAL by0 = min(s.y * zmin, s.y * zmax), by1 = max(s.w * zmin, s.w * zmax);
+  TS_REAL w = -c.z;
+  TS_REAL dx = max(max(bx0 - c.x, c.x - bx1), (TS_REAL)0);
+  TS_REAL dy = max(max(by0 - c.y, c.y - by1), (TS_REAL)0);
+  TS_REAL dw = max(max(zmin - w, w - zmax), (TS_REAL)0);
+  return dx * dx + dy * dy + dw * dw <= r * r;
+}
+
+/* The extra per-tile test selected by `mode` (after the rectangle and the depth range). */
+static inline int ts_sphere_meets_tile(TS_REAL3 c, TS_REAL r, int mode, int px0, int py0, int px1,
+                                       int py1, int width, int height, TS_REAL tan_x,
+                                       TS_REAL tan_y, TS_REAL zmin, TS_REAL zmax) {
+  if (mode == TS_CULL_RECT) return 1;
+  TS_REAL4 s = ts_tile_slopes(px0, py0, px1, py1, width, height, tan_x, tan_y);
+  if (mode == TS_CULL_FRUSTUM) return ts_sphere_meets_tile_planes(c, r, s);
+  return ts_sphere_meets_tile_box(c, r, s, zmin, zmax);
+}

@@ -10,12 +10,16 @@
  * The grid is the paper's: per-tile (offset, count) + tile light index list + the global light
  * list (the frame's light buffers).
  *
- * Build-time constants: TILE_W, TILE_H (pixels), TS_MODEL (shading model), TS_GBUFFER_FP16.
+ * Build-time constants: TILE_W, TILE_H (pixels), TS_MODEL (shading model), TS_CULL (per-tile test,
+ * culling.h), the G-buffer layout (gbuffer.h).
  */
 #include "gbuffer.h"
 
 #ifndef TS_MODEL
 #define TS_MODEL TS_MODEL_WINDOWED
+#endif
+#ifndef TS_CULL
+#define TS_CULL TS_CULL_RECT
 #endif
 
 /* ---- 1. depth bounds ---------------------------------------------------------------------- */
@@ -77,9 +81,14 @@ __kernel void bin_lights(__global const float4 *light_pos_range, int light_count
   if (!ts_ndc_bounds_to_tiles(b, width, height, TILE_W, TILE_H, &x0, &y0, &x1, &y1)) return;
   int rect_w = x1 - x0 + 1, rect_tiles = rect_w * (y1 - y0 + 1);
   for (int i = get_local_id(0); i < rect_tiles; i += get_local_size(0)) {
-    int tile = (y0 + i / rect_w) * tiles_x + x0 + i % rect_w;
+    int tx = x0 + i % rect_w, ty = y0 + i / rect_w;
+    int tile = ty * tiles_x + tx;
     float2 zr = tile_depth[tile];
     if (!ts_sphere_meets_depth_range(c, r, zr.x, zr.y)) continue;
+    if (!ts_sphere_meets_tile(c, r, TS_CULL, tx * TILE_W, ty * TILE_H, min((tx + 1) * TILE_W, width),
+                              min((ty + 1) * TILE_H, height), width, height, camera.x, camera.y,
+                              zr.x, zr.y))
+      continue;
     if (!fill) {
       atomic_inc(&tile_count[tile]);
     } else {

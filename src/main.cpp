@@ -62,6 +62,18 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   renderCmd->add_option("--light-range", render.lightRange, "override every light's range (0: keep)")
       ->capture_default_str();
+  renderCmd->add_option("--light-threshold", render.lightThreshold,
+                        "ranges from the attenuation threshold t: r = sqrt(max(C)/t), e.g. "
+                        "0.01953125 (5/256); 0 keeps the scene's ranges")
+      ->capture_default_str();
+  renderCmd->add_option("--culling", render.culling,
+                        "per-tile light test: rect (projected sphere + depth range), frustum "
+                        "(+ tile side planes), aabb (+ tile box)")
+      ->capture_default_str();
+  renderCmd->add_option("--math", render.math,
+                        "shading arithmetic: precise, fast (-cl-fast-relaxed-math), native "
+                        "(native_ functions)")
+      ->capture_default_str();
   renderCmd->add_option("--seed", render.seed, "seed of the built-in scenes")->capture_default_str();
   renderCmd->add_option("--technique", render.techniques,
                         "technique(s): " + joined(ts::techniqueNames()) + ", or all")
@@ -83,6 +95,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   renderCmd->add_flag("--check", render.check,
                       "compare with the double-precision reference (error, missed lights)");
+  renderCmd->add_flag("--heatmap", render.heatmap,
+                      "with --check: error.png, a log-scale heat map of the error per pixel");
   renderCmd->add_flag("--dump", render.dump,
                       "also write gbuffer.exr (decoded shading inputs) and lights.json");
 

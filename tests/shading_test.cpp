@@ -187,4 +187,39 @@ TEST(Culling, DepthRangeTest) {
   EXPECT_FALSE(ts_sphere_meets_depth_range(dvec3(0, 0, -10), 100.0, 1e30, 0.0));  // empty tile
 }
 
+// The per-tile tests (frustum planes, frustum box) never reject a sphere that has a point inside
+// the tile's frustum between its zmin and zmax; and they do reject some (else they are no test).
+TEST(Culling, PerTileTestsAreConservative) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int width = 320, height = 180, tile = 16;
+  const double tx = 0.8, ty = 0.45;
+  int rejected[3] = {0, 0, 0};
+  for (int i = 0; i < 4000; ++i) {
+    int px0 = tile * int(u(rng) * (width / tile)), py0 = tile * int(u(rng) * (height / tile));
+    int px1 = std::min(px0 + tile, width), py1 = std::min(py0 + tile, height);
+    double zmin = 1 + 20 * u(rng), zmax = zmin + 10 * u(rng) * u(rng);
+    dvec3 c((u(rng) - 0.5) * 30, (u(rng) - 0.5) * 16, -(u(rng) * 35));
+    double r = 0.2 + 3 * u(rng);
+    bool inside = false;  // does a sampled point of the sphere lie in the tile's frustum piece?
+    for (int k = 0; k < 3000 && !inside; ++k) {
+      dvec3 d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+      if (glm::length(d) > 0.5) continue;
+      dvec3 p = c + 2.0 * r * d;
+      double w = -p.z;
+      if (w < zmin || w > zmax) continue;
+      double px = (p.x / (w * tx) + 1) * 0.5 * width, py = (1 - p.y / (w * ty)) * 0.5 * height;
+      inside = px >= px0 && px <= px1 && py >= py0 && py <= py1;
+    }
+    for (int mode : {TS_CULL_FRUSTUM, TS_CULL_AABB}) {
+      int pass = ts_sphere_meets_tile(c, r, mode, px0, py0, px1, py1, width, height, tx, ty, zmin,
+                                      zmax);
+      if (inside) ASSERT_TRUE(pass) << "mode " << mode << " rejected a sphere inside the tile";
+      if (!pass) ++rejected[mode];
+    }
+  }
+  EXPECT_GT(rejected[TS_CULL_FRUSTUM], 100);
+  EXPECT_GT(rejected[TS_CULL_AABB], 100);
+}
+
 }  // namespace

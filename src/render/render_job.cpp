@@ -17,6 +17,7 @@
 #include "render/frame_setup.h"
 #include "render/image_io.h"
 #include "render/stats.h"
+#include "scene/light_range.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
 #include "util/error.h"
@@ -96,6 +97,7 @@ void runRender(const RenderOptions& o) {
   sceneOptions.lightCount = o.lightCount;
   sceneOptions.lightRange = o.lightRange;
   Scene scene = loadScene(o.scene, sceneOptions);
+  if (o.lightThreshold > 0.0f) applyThresholdRanges(scene.lights, o.lightThreshold);
   PreparedFrame prepared = prepareFrame(scene, o.frame, o.width, o.height, o.format);
 
   ClContext cl(o.device);
@@ -105,15 +107,27 @@ void runRender(const RenderOptions& o) {
   config.tileWidth = o.tileWidth;
   config.tileHeight = o.tileHeight;
   config.clusterSlices = o.clusterSlices;
+  config.culling = parseCulling(o.culling);
+  config.math = o.math;
+  config.kernelOptions();  // rejects a bad --math before any work
 
   std::error_code ec;
   fs::create_directories(o.outDir, ec);
   if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
 
-  std::optional<ReferenceImage> reference;
-  if (o.check)
+  // Two references: the windowed model from the very values the kernels read (isolates culling
+  // and arithmetic), and the physical model (no range cut) from the fp32 G-buffer (adds the bias
+  // of the range cut and of the storage precision).
+  std::optional<ReferenceImage> reference, physical;
+  if (o.check) {
     reference = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
                                prepared.ambient, config.shadingModel);
+    const EncodedGBuffer fp32 = o.format == GBufferFormat::FP32
+                                    ? prepared.encoded
+                                    : encode(prepared.gbuffer, GBufferFormat::FP32);
+    physical = shadeReference(fp32, prepared.intrinsics, prepared.lights, prepared.ambient,
+                              TS_MODEL_PHYSICAL);
+  }
 
   std::cout << "tileshade: " << scene.name << " (" << scene.triangleCount() << " triangles, "
             << prepared.lights.size() << " lights), frame " << o.frame << ", " << o.width << "x"
@@ -140,15 +154,20 @@ void runRender(const RenderOptions& o) {
     writeExrRgb(dir + "/image.exr", o.width, o.height, r.image);
     writePngToneMapped(dir + "/image.png", o.width, o.height, r.image, o.exposure);
 
-    std::optional<ErrorStats> error;
+    std::optional<ErrorStats> error, errorPhysical;
     std::optional<uint64_t> missed;
     if (reference) {
       error = compareToReference(r.image, *reference, kReportTolerance * reference->peak);
+      errorPhysical = compareToReference(r.image, *physical, kReportTolerance * physical->peak);
+      if (o.heatmap)
+        writeHeatMapPng(dir + "/error.png", o.width, o.height, errorMap(r.image, *reference),
+                        float(1e-7 * reference->peak), float(1e-2 * reference->peak));
       if (r.assignment)
         missed = countMissedContributions(*r.assignment, prepared.encoded, prepared.intrinsics,
                                           prepared.lights, config.shadingModel);
     }
     results.push_back(techniqueJson(name, r, error, missed));
+    if (errorPhysical) results.back()["error_vs_physical"] = errorJson(*errorPhysical);
 
     std::ostringstream err;
     if (error) err << std::scientific << std::setprecision(2) << error->maxRelPeak;
@@ -177,6 +196,9 @@ void runRender(const RenderOptions& o) {
       {"gbuffer_bytes_per_pixel", prepared.encoded.bytesPerPixel()},
       {"geometry_pixels", prepared.gbuffer.geometryPixels()},
       {"tile", {o.tileWidth, o.tileHeight}},
+      {"culling", o.culling},
+      {"math", o.math},
+      {"light_threshold", o.lightThreshold},
       {"raster_ms", prepared.rasterMs},
       {"compile_ms", cl.compileMs()},
       {"techniques", results},

@@ -12,10 +12,13 @@ struct RenderOptions {
   std::string lightSet;                // "" = the scene's default / the file's own lights
   int lightCount = -1;                 // -1 = the light set's own count
   float lightRange = 0.0f;             // > 0 overrides every light's range
+  float lightThreshold = 0.0f;         // > 0: ranges from the attenuation threshold (light_range.h)
   uint32_t seed = 1;
   std::vector<std::string> techniques{"tiled"};  // "all" expands to every registered technique
   int tileWidth = 16, tileHeight = 16;
   int clusterSlices = 16;
+  std::string culling = "rect";        // per-tile test: rect, frustum, aabb
+  std::string math = "precise";        // shading arithmetic: precise, fast, native
   GBufferFormat format = GBufferFormat::FP32;
   int width = 1280, height = 720;
   int frame = 0;
@@ -23,6 +26,7 @@ struct RenderOptions {
   std::string outDir = "out";
   bool check = false;                  // compare against the double reference
   bool dump = false;                   // write gbuffer.exr + lights.json
+  bool heatmap = false;                // with check: error.png per technique
   float exposure = 1.0f;               // PNG tone mapping
 };
 

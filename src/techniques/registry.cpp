@@ -34,9 +34,28 @@ std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& c
   return findTechnique(name).create(cl, config);
 }
 
+namespace {
+const char* const kCullingNames[] = {"rect", "frustum", "aabb"};  // TS_CULL_* order
+}
+
+int parseCulling(const std::string& name) {
+  for (int i = 0; i < 3; ++i)
+    if (name == kCullingNames[i]) return i;
+  throw Error("unknown culling test '" + name + "' (known: rect, frustum, aabb)");
+}
+
+std::string cullingName(int culling) {
+  return culling >= 0 && culling < 3 ? kCullingNames[culling] : "?";
+}
+
 std::string TechniqueConfig::kernelOptions() const {
   std::ostringstream o;
-  o << (format == GBufferFormat::FP16 ? "-DTS_GBUFFER_FP16 " : "") << "-DTS_MODEL=" << shadingModel;
+  o << (format == GBufferFormat::FP16 ? "-DTS_GBUFFER_FP16 " : "") << "-DTS_MODEL=" << shadingModel
+    << " -DTS_CULL=" << culling;
+  if (math == "fast") o << " -cl-fast-relaxed-math";
+  else if (math == "native") o << " -DTS_NATIVE_MATH";
+  else if (math != "precise")
+    throw Error("unknown shading arithmetic '" + math + "' (known: precise, fast, native)");
   if (!buildOptions.empty()) o << " " << buildOptions;
   return o.str();
 }

@@ -25,6 +25,9 @@ struct TechniqueConfig {
   int tileHeight = 16;
   int clusterSlices = 16;  // depth slices of the clustered technique
   int shadingModel = 0;    // TS_MODEL_WINDOWED (0) or TS_MODEL_PHYSICAL (1), kernels/shading.h
+  int culling = 0;         // per-tile test: TS_CULL_RECT (0), _FRUSTUM (1), _AABB (2), culling.h
+  std::string math = "precise";  // shading arithmetic: precise, fast (-cl-fast-relaxed-math),
+                                 // native (native_ sqrt/powr/divide)
   std::string buildOptions;  // extra OpenCL build options (e.g. -cl-fast-relaxed-math)
 
   // Build options every technique passes to ClContext::build (G-buffer layout, model, extras).
@@ -84,6 +87,10 @@ struct TechniqueInfo {
 
 const std::vector<TechniqueInfo>& techniqueRegistry();
 std::vector<std::string> techniqueNames();
+// Culling test names <-> TechniqueConfig::culling ("rect", "frustum", "aabb"); throws ts::Error.
+int parseCulling(const std::string& name);
+std::string cullingName(int culling);
+
 // Both throw ts::Error naming the known techniques when `name` is not one of them.
 const TechniqueInfo& findTechnique(const std::string& name);
 // Throws ts::Error naming the known techniques when `name` is not one of them.

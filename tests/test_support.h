@@ -1,0 +1,29 @@
+#pragma once
+// Shared pieces of the test suites: one OpenCL context per process (PoCL unless
+// $TILESHADE_DEVICE says otherwise), where to find third-party scenes, and the tileshade binary.
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "cl/cl_context.h"
+
+namespace ts::test {
+
+inline ClContext& context() {
+  static ClContext cl(std::getenv("TILESHADE_DEVICE") ? "" : "cpu");
+  return cl;
+}
+
+inline std::string sourceDir() {
+  if (const char* env = std::getenv("TILESHADE_SOURCE_DIR"); env && *env) return env;
+  return TILESHADE_SOURCE_DIR;
+}
+
+// ../shared/scenes beside the checkout (present in CI and on developer machines, absent for a
+// new user): returns "" when the file is missing.
+inline std::string sharedScene(const std::string& relative) {
+  std::filesystem::path p = std::filesystem::path(sourceDir()) / ".." / "shared" / "scenes" / relative;
+  return std::filesystem::exists(p) ? p.lexically_normal().string() : std::string();
+}
+
+}  // namespace ts::test
