@@ -25,11 +25,11 @@
  * shading function only; culling below keeps the precise ones so it stays conservative. */
 #define sqrt native_sqrt
 #define pow native_powr
+#endif
 #include "shading.h"
+#ifdef TS_NATIVE_MATH
 #undef sqrt
 #undef pow
-#else
-#include "shading.h"
 #endif
 #define TS_REAL4 float4
 #define TS_MAKE4(x, y, z, w) ((float4)((x), (y), (z), (w)))

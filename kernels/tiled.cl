@@ -132,7 +132,7 @@ __kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
                           __global const float4 *light_pos_range,
                           __global const float4 *light_color, __global const uint *tile_count,
                           __global const uint *tile_offset, __global const uint *tile_lights,
-                          __global float4 *image) {
+                          uint capacity, __global float4 *image) {
   int x = get_global_id(0), y = get_global_id(1);
   int width = (int)camera.z, height = (int)camera.w;
   if (x >= width || y >= height) return;
@@ -141,6 +141,9 @@ __kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
   if (ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)) {
     int tile = (y / TILE_H) * ((width + TILE_W - 1) / TILE_W) + x / TILE_W;
     uint begin = tile_offset[tile], n = tile_count[tile];
+    /* A list that overflowed the buffer is read only as far as it was written; the host sees the
+     * overflow, grows the buffer and runs the frame again, so this image is never kept. */
+    n = begin >= capacity ? 0u : min(n, capacity - begin);
     for (uint k = 0; k < n; ++k) {
       uint light = tile_lights[begin + k];
       sum += ts_shade_light(&s, light_pos_range[light], light_color[light], TS_MODEL);

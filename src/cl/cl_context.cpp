@@ -69,6 +69,30 @@ std::string readFile(const std::string& path) {
   return ss.str();
 }
 
+// Replaces each `#include "file"` line with that file from kernels/ (each file once), so a
+// program's source is self-contained: no -I path for the OpenCL compiler to mis-split, and
+// compiler caches key on the real text.
+std::string inlineIncludes(const std::string& dir, const std::string& source,
+                           std::vector<std::string>& seen) {
+  std::istringstream in(source);
+  std::ostringstream out;
+  std::string line;
+  while (std::getline(in, line)) {
+    size_t q0, q1;
+    if (line.rfind("#include \"", 0) == 0 && (q0 = line.find('"')) != std::string::npos &&
+        (q1 = line.find('"', q0 + 1)) != std::string::npos) {
+      std::string name = line.substr(q0 + 1, q1 - q0 - 1);
+      if (std::find(seen.begin(), seen.end(), name) == seen.end()) {
+        seen.push_back(name);
+        out << inlineIncludes(dir, readFile(dir + "/" + name), seen) << "\n";
+      }
+      continue;
+    }
+    out << line << "\n";
+  }
+  return out.str();
+}
+
 }  // namespace
 
 std::vector<DeviceInfo> listDevices() {
@@ -119,9 +143,10 @@ ClContext::ClContext(const std::string& spec) {
 
 cl::Program ClContext::build(const std::string& file, const std::string& options) {
   std::string dir = kernelDir();
-  std::string source = readFile(dir + "/" + file);
+  std::vector<std::string> seen;
+  std::string source = inlineIncludes(dir, readFile(dir + "/" + file), seen);
   cl::Program program(context_, source);
-  std::string opts = "-I \"" + dir + "\" -cl-std=CL1.2 " + options;
+  std::string opts = "-cl-std=CL1.2 " + options;
   auto t0 = std::chrono::steady_clock::now();
   try {
     program.build({info_.device}, opts.c_str());

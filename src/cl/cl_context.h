@@ -35,7 +35,8 @@ class ClContext {
   std::string deviceName() const { return info_.platform + " / " + info_.name; }
   bool isGpu() const { return info_.type == "gpu"; }
 
-  // Builds kernels/<file> with -I kernels/ and `options`. Throws ts::Error with the build log.
+  // Builds kernels/<file> (its #include "…" lines inlined from kernels/) with `options`.
+  // Throws ts::Error with the build log.
   // The build's wall time is added to compileMs().
   cl::Program build(const std::string& file, const std::string& options = "");
   double compileMs() const { return compileMs_; }

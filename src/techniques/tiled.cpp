@@ -138,6 +138,7 @@ class TiledTechnique : public Technique {
     shade_.setArg(arg++, tileCount_);
     shade_.setArg(arg++, tileOffset_);
     shade_.setArg(arg++, tileLights_);
+    shade_.setArg(arg++, cl_uint(capacity_));
     shade_.setArg(arg++, image_);
     size_t lx = std::min(grid_.tileW, 16), ly = std::min(grid_.tileH, 16);
     q.enqueueNDRangeKernel(shade_, cl::NullRange,

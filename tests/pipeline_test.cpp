@@ -1,0 +1,278 @@
+// End to end: scene -> software G-buffer -> multi-kernel tiled deferred on PoCL -> compared with
+// the double-precision reference; culling conservativeness on random cameras; the --dump decode;
+// real third-party content; the command line's handling of bad input.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <random>
+
+#include "reference/error_metrics.h"
+#include "reference/reference.h"
+#include "render/frame_setup.h"
+#include "scene/scene_loader.h"
+#include "techniques/technique.h"
+#include "test_support.h"
+
+namespace ts {
+namespace {
+
+// fp32 kernels against the double reference: each pixel sums up to a few hundred light terms,
+// each with a relative rounding error of a few float ulps (~1e-7), plus the float position
+// reconstruction; 2e-5 of the image peak leaves a margin of ~10x over what we observe while
+// catching any missed or doubled light (those are >= 1e-3 of the peak in these scenes).
+constexpr double kFp32RelativeTolerance = 2e-5;
+
+Technique& tiledTechnique(GBufferFormat format, int tile) {
+  static std::map<std::pair<int, int>, std::unique_ptr<Technique>> cache;
+  auto& t = cache[{int(format), tile}];
+  if (!t) {
+    TechniqueConfig config;
+    config.format = format;
+    config.tileWidth = config.tileHeight = tile;
+    t = createTechnique("tiled", test::context(), config);
+  }
+  return *t;
+}
+
+const Scene& builtin(const std::string& name, const std::string& lights) {
+  static std::map<std::string, Scene> cache;
+  auto key = name + "/" + lights;
+  auto it = cache.find(key);
+  if (it == cache.end()) it = cache.emplace(key, makeBuiltinScene(name, lights, 1)).first;
+  return it->second;
+}
+
+struct Checked {
+  ErrorStats error;
+  uint64_t missed = 0;
+  FrameResult result;
+};
+
+Checked renderAndCheck(const PreparedFrame& f, Technique& technique) {
+  DeviceFrame frame = f.upload(test::context());
+  FrameRequest request;
+  request.wantAssignment = true;
+  Checked c;
+  c.result = technique.render(frame, request);
+  ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+  c.error = compareToReference(c.result.image, ref, kFp32RelativeTolerance * ref.peak);
+  c.missed = countMissedContributions(*c.result.assignment, f.encoded, f.intrinsics, f.lights, 0);
+  return c;
+}
+
+struct Case {
+  std::string scene, lights;
+  int frame, tile, width, height;
+  GBufferFormat format;
+};
+
+class TiledMatchesReference : public ::testing::TestWithParam<Case> {};
+
+TEST_P(TiledMatchesReference, WithinFp32RoundingAndNoMissedLight) {
+  const Case& k = GetParam();
+  PreparedFrame f = prepareFrame(builtin(k.scene, k.lights), k.frame, k.width, k.height, k.format);
+  ASSERT_GT(f.gbuffer.geometryPixels(), f.gbuffer.pixelCount() / 4) << "camera sees little";
+  Checked c = renderAndCheck(f, tiledTechnique(k.format, k.tile));
+  EXPECT_EQ(c.missed, 0u);
+  EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance)
+      << "max abs " << c.error.maxAbs << " peak " << c.error.peak;
+  EXPECT_GT(c.result.counters.evaluations, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Builtins, TiledMatchesReference,
+    ::testing::Values(Case{"street", "many", 0, 16, 200, 120, GBufferFormat::FP32},
+                      Case{"street", "many", 60, 8, 200, 120, GBufferFormat::FP16},
+                      Case{"street", "few", 30, 32, 203, 117, GBufferFormat::FP32},
+                      Case{"atrium", "small", 0, 16, 200, 120, GBufferFormat::FP16},
+                      Case{"atrium", "big", 45, 32, 203, 117, GBufferFormat::FP32},
+                      Case{"atrium", "mixed", 90, 64, 200, 120, GBufferFormat::FP32}),
+    [](const auto& info) {
+      const Case& k = info.param;
+      return k.scene + "_" + k.lights + "_f" + std::to_string(k.frame) + "_t" +
+             std::to_string(k.tile) + "_" + toString(k.format);
+    });
+
+// Random cameras inside the scene (looking anywhere, lights behind and around the camera, near
+// plane through light volumes): the tile lists must hold every contributing light.
+TEST(TiledCulling, ConservativeOnRandomCameras) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (const auto& [name, lights] : {std::pair{"street", "many"}, std::pair{"atrium", "mixed"}}) {
+    Scene scene = builtin(name, lights);
+    Bounds b = scene.bounds();
+    for (int i = 0; i < 4; ++i) {
+      glm::vec3 eye = b.min + glm::vec3(u(rng), 0.05f + 0.4f * u(rng), u(rng)) * b.extent();
+      glm::vec3 dir(u(rng) - 0.5f, 0.3f * (u(rng) - 0.5f), u(rng) - 0.5f);
+      scene.cameraPath = {Camera::lookAt(eye, eye + dir, {0, 1, 0}, 1.0f + u(rng), 0.1f, 500.0f)};
+      PreparedFrame f = prepareFrame(scene, 0, 160, 96, GBufferFormat::FP32);
+      Checked c = renderAndCheck(f, tiledTechnique(GBufferFormat::FP32, 16));
+      EXPECT_EQ(c.missed, 0u) << name << " camera " << i;
+      EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << name << " camera " << i;
+    }
+  }
+}
+
+// Far more list entries than the initial buffer holds: the list grows and the frame re-runs,
+// nothing is dropped, and the run says so.
+TEST(TiledCulling, OverflowingListGrowsInsteadOfDropping) {
+  Scene scene = makeBuiltinScene("atrium", "big", 1);
+  SceneOptions o;
+  Bounds b = scene.bounds();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  scene.lights.clear();
+  for (int i = 0; i < 300; ++i)  // 300 huge lights: every tile lists all of them
+    scene.lights.push_back({b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
+                            glm::vec3(0.05f), 1000.0f});
+  PreparedFrame f = prepareFrame(scene, 0, 96, 64, GBufferFormat::FP32);
+  TechniqueConfig config;
+  config.tileWidth = config.tileHeight = 8;
+  auto tiled = createTechnique("tiled", test::context(), config);
+  Checked c = renderAndCheck(f, *tiled);
+  EXPECT_EQ(c.missed, 0u);
+  EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance);
+  EXPECT_EQ(c.result.counters.listMax, 300u);
+  ASSERT_FALSE(c.result.counters.notes.empty());
+  EXPECT_NE(c.result.counters.notes[0].find("grown"), std::string::npos);
+}
+
+// Decoding: the dump kernel's values equal the host decoder's (which feeds the reference).
+TEST(GBufferDecode, KernelMatchesHostDecoder) {
+  for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16}) {
+    PreparedFrame f = prepareFrame(builtin("street", "few"), 10, 120, 72, format);
+    DeviceFrame frame = f.upload(test::context());
+    TechniqueConfig config;
+    config.format = format;
+    cl::Program program = test::context().build("dump.cl", config.kernelOptions());
+    cl::Kernel kernel(program, "decode_gbuffer");
+    size_t pixels = f.encoded.pixelCount();
+    cl::Buffer out(test::context().context(), CL_MEM_WRITE_ONLY, pixels * 17 * sizeof(float));
+    kernel.setArg(0, toCl(f.intrinsics.kernelCamera()));
+    frame.setGBufferArgs(kernel, 1);
+    kernel.setArg(6, out);
+    test::context().queue().enqueueNDRangeKernel(kernel, cl::NullRange,
+                                                 cl::NDRange(roundUp(120, 8), roundUp(72, 8)),
+                                                 cl::NDRange(8, 8));
+    std::vector<float> d(pixels * 17);
+    test::context().queue().enqueueReadBuffer(out, CL_TRUE, 0, d.size() * 4, d.data());
+    size_t geometry = 0;
+    for (int y = 0; y < 72; ++y)
+      for (int x = 0; x < 120; ++x) {
+        const float* o = &d[(size_t(y) * 120 + x) * 17];
+        SurfaceD s;
+        bool valid = decodeSurface(f.encoded, f.intrinsics, x, y, s);
+        ASSERT_EQ(o[16], valid ? 1.0f : 0.0f);
+        if (!valid) continue;
+        ++geometry;
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_NEAR(o[0 + c], s.P[c], 1e-6 * std::abs(s.P.z) + 1e-7);
+          EXPECT_NEAR(o[3 + c], s.N[c], 1e-6);
+          EXPECT_EQ(o[6 + c], float(s.kd[c]));  // colours decode exactly
+          EXPECT_EQ(o[9 + c], float(s.ks[c]));
+          EXPECT_EQ(o[13 + c], float(s.ke[c]));
+        }
+        EXPECT_EQ(o[12], float(s.shininess));
+      }
+    EXPECT_GT(geometry, 0u);
+  }
+}
+
+// Third-party glTF content: loads, rasterizes, shades within tolerance of the reference.
+void checkRealScene(const std::string& path, const std::vector<PointLight>& extraLights) {
+  Scene scene = loadGltf(path);
+  ASSERT_GT(scene.triangleCount(), 1000u);
+  for (const auto& l : extraLights) scene.lights.push_back(l);
+  ASSERT_FALSE(scene.lights.empty());
+  PreparedFrame f = prepareFrame(scene, 0, 160, 90, GBufferFormat::FP16);
+  ASSERT_GT(f.gbuffer.geometryPixels(), 0u);
+  Checked c = renderAndCheck(f, tiledTechnique(GBufferFormat::FP16, 16));
+  EXPECT_EQ(c.missed, 0u);
+  EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance);
+  EXPECT_GT(c.error.peak, 0.0);
+}
+
+// Lights scattered through a scene's bounds, sized to it (Sponza and the engine have none).
+std::vector<PointLight> scatteredLights(const Scene& scene, int n) {
+  Bounds b = scene.bounds();
+  float size = glm::length(b.extent());
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<PointLight> lights;
+  for (int i = 0; i < n; ++i)
+    lights.push_back({b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
+                      glm::vec3(u(rng), u(rng), u(rng)) * size * size * 0.01f, 0.25f * size});
+  return lights;
+}
+
+TEST(RealContent, CrytekSponza) {
+  std::string path = test::sharedScene("sponza-crytek/sponza.gltf");
+  if (path.empty()) path = test::sharedScene("sponza-crytek/sponza.glb");
+  if (path.empty()) GTEST_SKIP() << "../shared/scenes/sponza-crytek absent";
+  checkRealScene(path, scatteredLights(loadGltf(path), 64));
+}
+
+TEST(RealContent, DungeonWithItsOwnLights) {
+  std::string dir = test::sharedScene("dungeon");
+  if (dir.empty()) GTEST_SKIP() << "../shared/scenes/dungeon absent";
+  std::string path;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+    if (e.path().extension() == ".gltf" || e.path().extension() == ".glb") path = e.path().string();
+  ASSERT_FALSE(path.empty()) << "no glTF file under " << dir;
+  checkRealScene(path, {});
+}
+
+TEST(RealContent, CylinderEngineFromAssimpTestModels) {
+  std::string path =
+      "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "assimp-testmodels not installed";
+  checkRealScene(path, scatteredLights(loadGltf(path), 32));
+}
+
+// The command line: bad input gives one line on stderr and a non-zero exit.
+struct CliRun {
+  int status;
+  std::string output;
+};
+
+CliRun runTileshade(const std::string& args) {
+  std::string cmd = std::string(TILESHADE_BINARY) + " " + args + " 2>&1";
+  CliRun r{0, ""};
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (fgets(buf, sizeof buf, p)) r.output += buf;
+  r.status = pclose(p);
+  return r;
+}
+
+TEST(CommandLine, BadInputFailsWithOneLine) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_test";
+  std::string out = " --out " + tmp.string() + " --width 64 --height 36 --device cpu";
+  for (const char* args :
+       {"render --scene builtin:nowhere", "render --technique nonsense",
+        "render --scene /nonexistent/file.gltf", "render --tile 0", "render --gbuffer fp8",
+        "render --device no-such-device", "render --lights nonsense"}) {
+    CliRun r = runTileshade(std::string(args) + out);
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("error"), std::string::npos) << args << ": " << r.output;
+  }
+}
+
+TEST(CommandLine, RenderWritesImagesStatsAndDump) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_render";
+  std::filesystem::remove_all(tmp);
+  CliRun r = runTileshade("render --scene builtin:street --lights few --width 96 --height 54 "
+                       "--device cpu --check --dump --out " + tmp.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* f : {"image.exr", "image.png", "stats.json", "gbuffer.exr", "lights.json"})
+    EXPECT_TRUE(std::filesystem::exists(tmp / f)) << f;
+  EXPECT_NE(r.output.find("tiled"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ts
