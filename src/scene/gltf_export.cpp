@@ -1,0 +1,269 @@
+// Scene -> self-contained glTF 2.0 (.gltf with data-URI buffers, or .glb), through tinygltf.
+// Mappings (the inverse of the loader's) are documented in scenes/README.md.
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+#include <glm/gtc/quaternion.hpp>
+#include <tiny_gltf.h>
+
+#include "scene/gltf_mapping.h"
+#include "scene/scene_loader.h"
+#include "util/error.h"
+
+namespace ts {
+
+namespace {
+
+bool endsWithGlb(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s.size() >= 4 && s.compare(s.size() - 4, 4, ".glb") == 0;
+}
+
+tinygltf::Value number(double v) { return tinygltf::Value(v); }
+tinygltf::Value array(glm::vec3 v) {
+  return tinygltf::Value(tinygltf::Value::Array{number(v.x), number(v.y), number(v.z)});
+}
+
+class Writer {
+ public:
+  tinygltf::Model model;
+
+  Writer() {
+    model.asset.version = "2.0";
+    model.asset.generator = "tileshade";
+    model.buffers.emplace_back();
+  }
+
+  // Appends bytes (4-aligned) as a new bufferView; returns its index.
+  int bufferView(const void* data, size_t bytes, int target) {
+    auto& buf = model.buffers[0].data;
+    while (buf.size() % 4) buf.push_back(0);
+    tinygltf::BufferView bv;
+    bv.buffer = 0;
+    bv.byteOffset = buf.size();
+    bv.byteLength = bytes;
+    bv.target = target;
+    const auto* p = static_cast<const unsigned char*>(data);
+    buf.insert(buf.end(), p, p + bytes);
+    model.bufferViews.push_back(bv);
+    return int(model.bufferViews.size() - 1);
+  }
+
+  template <typename T>
+  int accessor(const std::vector<T>& data, int components, int type, int componentType,
+               int target) {
+    tinygltf::Accessor a;
+    a.bufferView = bufferView(data.data(), data.size() * sizeof(T), target);
+    a.componentType = componentType;
+    a.type = type;
+    a.count = data.size() / size_t(components);
+    model.accessors.push_back(a);
+    return int(model.accessors.size() - 1);
+  }
+
+  int positions(const std::vector<float>& p) {
+    int index = accessor(p, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                         TINYGLTF_TARGET_ARRAY_BUFFER);
+    auto& a = model.accessors[size_t(index)];
+    a.minValues = {1e30, 1e30, 1e30};
+    a.maxValues = {-1e30, -1e30, -1e30};
+    for (size_t i = 0; i < p.size(); ++i) {
+      a.minValues[i % 3] = std::min(a.minValues[i % 3], double(p[i]));
+      a.maxValues[i % 3] = std::max(a.maxValues[i % 3], double(p[i]));
+    }
+    return index;
+  }
+};
+
+// Linear RGBA float texture -> 8-bit sRGB PNG bytes (OpenImageIO, in memory).
+std::vector<unsigned char> encodePng(const Texture& t) {
+  std::vector<unsigned char> pixels(size_t(t.width) * size_t(t.height) * 4);
+  for (size_t i = 0; i < t.texels.size(); ++i) {
+    const glm::vec4& v = t.texels[i];
+    for (int c = 0; c < 3; ++c)
+      pixels[4 * i + size_t(c)] = (unsigned char)(gltf::linearToSrgb(v[c]) * 255.0f + 0.5f);
+    pixels[4 * i + 3] = (unsigned char)(std::clamp(v.w, 0.0f, 1.0f) * 255.0f + 0.5f);
+  }
+  std::vector<unsigned char> png;
+  OIIO::Filesystem::IOVecOutput out(png);
+  auto writer = OIIO::ImageOutput::create("png", &out);
+  OIIO::ImageSpec spec(t.width, t.height, 4, OIIO::TypeDesc::UINT8);
+  if (!writer || !writer->open("texture.png", spec) ||
+      !writer->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !writer->close())
+    throw Error("cannot encode a texture as PNG: " +
+                (writer ? writer->geterror() : OIIO::geterror()));
+  return png;
+}
+
+}  // namespace
+
+void exportGltf(const Scene& scene, const std::string& path) {
+  Writer w;
+  tinygltf::Model& m = w.model;
+  bool emissiveStrength = false;
+
+  // Textures: embedded PNGs (sRGB) in the buffer, one REPEAT/linear sampler.
+  if (!scene.textures.empty()) {
+    tinygltf::Sampler sampler;
+    sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+    sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+    sampler.wrapS = sampler.wrapT = TINYGLTF_TEXTURE_WRAP_REPEAT;
+    m.samplers.push_back(sampler);
+  }
+  for (size_t i = 0; i < scene.textures.size(); ++i) {
+    std::vector<unsigned char> png = encodePng(scene.textures[i]);
+    tinygltf::Image image;
+    image.name = "texture" + std::to_string(i);
+    image.mimeType = "image/png";
+    image.bufferView = w.bufferView(png.data(), png.size(), 0);
+    m.images.push_back(image);
+    tinygltf::Texture tex;
+    tex.sampler = 0;
+    tex.source = int(i);
+    m.textures.push_back(tex);
+  }
+
+  // Materials: base colour = diffuse (metallic 0), KHR_materials_specular colour = ks, roughness
+  // from shininess (inverse of the loader's mapping), emissive (> 1 through emissive_strength).
+  for (const Material& mat : scene.materials) {
+    tinygltf::Material g;
+    g.name = mat.name;
+    g.pbrMetallicRoughness.baseColorFactor = {mat.diffuse.x, mat.diffuse.y, mat.diffuse.z, 1.0};
+    g.pbrMetallicRoughness.metallicFactor = 0.0;
+    g.pbrMetallicRoughness.roughnessFactor = gltf::roughnessFromShininess(mat.shininess);
+    if (mat.diffuseTexture >= 0 && size_t(mat.diffuseTexture) < scene.textures.size())
+      g.pbrMetallicRoughness.baseColorTexture.index = mat.diffuseTexture;
+    g.extensions["KHR_materials_specular"] = tinygltf::Value(tinygltf::Value::Object{
+        {"specularFactor", number(1.0)}, {"specularColorFactor", array(mat.specular)}});
+    float peak = std::max({mat.emissive.x, mat.emissive.y, mat.emissive.z});
+    if (peak > 1.0f) {
+      g.emissiveFactor = {mat.emissive.x / peak, mat.emissive.y / peak, mat.emissive.z / peak};
+      g.extensions["KHR_materials_emissive_strength"] =
+          tinygltf::Value(tinygltf::Value::Object{{"emissiveStrength", number(peak)}});
+      emissiveStrength = true;
+    } else {
+      g.emissiveFactor = {mat.emissive.x, mat.emissive.y, mat.emissive.z};
+    }
+    g.doubleSided = mat.doubleSided;
+    m.materials.push_back(g);
+  }
+
+  // One mesh, one primitive per material that has triangles, with its own compact vertex arrays.
+  tinygltf::Mesh mesh;
+  mesh.name = scene.name;
+  std::vector<std::vector<uint32_t>> byMaterial(scene.materials.size());
+  for (size_t t = 0; t < scene.triangleCount(); ++t) {
+    uint32_t mi = t < scene.triangleMaterial.size() ? scene.triangleMaterial[t] : 0;
+    if (mi >= byMaterial.size()) throw Error("cannot export scene '" + scene.name +
+                                             "': triangle " + std::to_string(t) +
+                                             " has no valid material");
+    byMaterial[mi].push_back(uint32_t(t));
+  }
+  std::vector<uint32_t> remap(scene.vertices.size(), UINT32_MAX);
+  for (size_t mi = 0; mi < byMaterial.size(); ++mi) {
+    if (byMaterial[mi].empty()) continue;
+    std::vector<float> pos, nrm, uv;
+    std::vector<uint32_t> idx, used;
+    for (uint32_t t : byMaterial[mi]) {
+      for (int k = 0; k < 3; ++k) {
+        uint32_t v = scene.indices[3 * size_t(t) + size_t(k)];
+        if (remap[v] == UINT32_MAX) {
+          remap[v] = uint32_t(used.size());
+          used.push_back(v);
+          const Vertex& vx = scene.vertices[v];
+          pos.insert(pos.end(), {vx.position.x, vx.position.y, vx.position.z});
+          nrm.insert(nrm.end(), {vx.normal.x, vx.normal.y, vx.normal.z});
+          uv.insert(uv.end(), {vx.uv.x, vx.uv.y});
+        }
+        idx.push_back(remap[v]);
+      }
+    }
+    for (uint32_t v : used) remap[v] = UINT32_MAX;
+    tinygltf::Primitive p;
+    p.mode = TINYGLTF_MODE_TRIANGLES;
+    p.material = int(mi);
+    p.attributes["POSITION"] = w.positions(pos);
+    p.attributes["NORMAL"] = w.accessor(nrm, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                        TINYGLTF_TARGET_ARRAY_BUFFER);
+    p.attributes["TEXCOORD_0"] = w.accessor(uv, 2, TINYGLTF_TYPE_VEC2,
+                                            TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                            TINYGLTF_TARGET_ARRAY_BUFFER);
+    p.indices = w.accessor(idx, 1, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                           TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    mesh.primitives.push_back(p);
+  }
+
+  tinygltf::Scene gscene;
+  gscene.name = scene.name;
+  // Not expressible in glTF: the ambient term, kept for tileshade's own loader.
+  gscene.extras = tinygltf::Value(tinygltf::Value::Object{
+      {"tileshade", tinygltf::Value(tinygltf::Value::Object{{"ambient", array(scene.ambient)}})}});
+  if (!mesh.primitives.empty()) {
+    m.meshes.push_back(mesh);
+    tinygltf::Node node;
+    node.name = scene.name;
+    node.mesh = 0;
+    m.nodes.push_back(node);
+    gscene.nodes.push_back(int(m.nodes.size() - 1));
+  }
+
+  // Camera frame 0 as a perspective camera node (rotation + translation of the inverse view).
+  if (!scene.cameraPath.empty()) {
+    const Camera& c = scene.cameraPath[0];
+    tinygltf::Camera cam;
+    cam.type = "perspective";
+    cam.name = "frame0";
+    cam.perspective.yfov = c.yfov;
+    cam.perspective.znear = c.znear;
+    cam.perspective.zfar = c.zfar;
+    m.cameras.push_back(cam);
+    glm::mat4 world = glm::inverse(c.viewFromWorld);
+    glm::quat q = glm::normalize(glm::quat_cast(glm::mat3(world)));
+    tinygltf::Node node;
+    node.name = "camera";
+    node.camera = 0;
+    node.translation = {world[3].x, world[3].y, world[3].z};
+    node.rotation = {q.x, q.y, q.z, q.w};
+    m.nodes.push_back(node);
+    gscene.nodes.push_back(int(m.nodes.size() - 1));
+  }
+
+  // Lights: KHR_lights_punctual point lights, colour normalised to a peak of 1 with the peak as
+  // intensity, each on its own node.
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    const PointLight& l = scene.lights[i];
+    float peak = std::max({l.color.x, l.color.y, l.color.z});
+    tinygltf::Light light;
+    light.type = "point";
+    light.intensity = peak > 0.0f ? peak : 0.0f;
+    glm::vec3 color = peak > 0.0f ? l.color / peak : glm::vec3(1.0f);
+    light.color = {color.x, color.y, color.z};
+    light.range = l.range;
+    m.lights.push_back(light);
+    tinygltf::Node node;
+    node.name = "light" + std::to_string(i);
+    node.translation = {l.position.x, l.position.y, l.position.z};
+    node.extensions["KHR_lights_punctual"] =
+        tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(int(i))}});
+    m.nodes.push_back(node);
+    gscene.nodes.push_back(int(m.nodes.size() - 1));
+  }
+
+  m.scenes.push_back(gscene);
+  m.defaultScene = 0;
+  if (!m.materials.empty()) m.extensionsUsed.push_back("KHR_materials_specular");
+  if (emissiveStrength) m.extensionsUsed.push_back("KHR_materials_emissive_strength");
+  if (!m.lights.empty()) m.extensionsUsed.push_back("KHR_lights_punctual");
+  if (m.buffers[0].data.empty()) m.buffers.clear();
+
+  tinygltf::TinyGLTF gltf;
+  bool binary = endsWithGlb(path);
+  if (!gltf.WriteGltfSceneToFile(&m, path, /*embedImages=*/true, /*embedBuffers=*/true,
+                                 /*prettyPrint=*/!binary, binary))
+    throw Error("cannot write glTF file " + path);
+}
+
+}  // namespace ts
