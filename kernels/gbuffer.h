@@ -23,14 +23,10 @@
 #ifdef TS_NATIVE_MATH
 /* Shading arithmetic knob: the native_ functions (implementation-defined accuracy) inside the
  * shading function only; culling below keeps the precise ones so it stays conservative. */
-#define sqrt native_sqrt
-#define pow native_powr
+#define TS_SQRT native_sqrt
+#define TS_POW native_powr
 #endif
 #include "shading.h"
-#ifdef TS_NATIVE_MATH
-#undef sqrt
-#undef pow
-#endif
 #define TS_REAL4 float4
 #define TS_MAKE4(x, y, z, w) ((float4)((x), (y), (z), (w)))
 #include "culling.h"

@@ -34,6 +34,15 @@
 #define TS_DMIN 0.1
 #endif
 
+/* The square root and power used by the shading function; kernels/gbuffer.h swaps in the
+ * native_ variants for the "native" arithmetic knob. */
+#ifndef TS_SQRT
+#define TS_SQRT sqrt
+#endif
+#ifndef TS_POW
+#define TS_POW pow
+#endif
+
 #ifndef TS_SHADE_FLOPS
 #define TS_SHADE_FLOPS 60
 #endif
@@ -68,7 +77,7 @@ static inline TS_REAL3 ts_point_light(TS_REAL3 P, TS_REAL3 N, TS_REAL3 V, TS_REA
   }
   /* A light exactly on the point has no direction: it lights nothing (instead of NaN). */
   if (d2 <= (TS_REAL)0) return zero;
-  TS_REAL d = sqrt(d2);
+  TS_REAL d = TS_SQRT(d2);
   TS_REAL3 l = v / d;
   TS_REAL dmin = (TS_REAL)TS_DMIN;
   TS_REAL falloff = window / max(d2, dmin * dmin);
@@ -78,8 +87,8 @@ static inline TS_REAL3 ts_point_light(TS_REAL3 P, TS_REAL3 N, TS_REAL3 V, TS_REA
     TS_REAL3 hv = l + V;
     TS_REAL hlen2 = dot(hv, hv);
     if (hlen2 > (TS_REAL)0) {
-      TS_REAL ndh = max(dot(N, hv / sqrt(hlen2)), (TS_REAL)0);
-      spec = pow(ndh, s);
+      TS_REAL ndh = max(dot(N, hv / TS_SQRT(hlen2)), (TS_REAL)0);
+      spec = TS_POW(ndh, s);
     }
   }
   return C * (falloff * ndl) * kd + C * (falloff * spec) * ks;
