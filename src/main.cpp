@@ -115,7 +115,17 @@ int main(int argc, char** argv) {
   // bench (src/bench/)
   ts::CliCommand bench = ts::addBenchCommand(app);
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // One line, like every other bad input (CLI11's default adds a second "Run with --help").
+    std::cerr << "tileshade: error: " << e.what() << " (see --help)\n";
+    return 1;
+  }
   try {
     if (*renderCmd) {
       auto [tw, th] = parseTile(tile);

@@ -68,6 +68,12 @@ struct Case {
   GBufferFormat format;
 };
 
+// Keeps CTest's names readable (GoogleTest would print the parameter's bytes).
+void PrintTo(const Case& k, std::ostream* os) {
+  *os << k.scene << "/" << k.lights << " frame " << k.frame << " tile " << k.tile << " "
+      << k.width << "x" << k.height << " " << toString(k.format);
+}
+
 class TiledMatchesReference : public ::testing::TestWithParam<Case> {};
 
 TEST_P(TiledMatchesReference, WithinFp32RoundingAndNoMissedLight) {
@@ -250,12 +256,14 @@ CliRun runTileshade(const std::string& args) {
 TEST(CommandLine, BadInputFailsWithOneLine) {
   if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
   auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_test";
-  std::string out = " --out " + tmp.string() + " --width 64 --height 36 --device cpu";
+  std::string out = " --out " + tmp.string() + " --width 64 --height 36";
   for (const char* args :
        {"render --scene builtin:nowhere", "render --technique nonsense",
         "render --scene /nonexistent/file.gltf", "render --tile 0", "render --gbuffer fp8",
-        "render --device no-such-device", "render --lights nonsense"}) {
-    CliRun r = runTileshade(std::string(args) + out);
+        "render --device no-such-device", "render --lights nonsense", "render --width",
+        "render --frobnicate"}) {
+    std::string a = args;
+    CliRun r = runTileshade(a + out + (a.find("--device") == std::string::npos ? " --device cpu" : ""));
     EXPECT_NE(r.status, 0) << args;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
     EXPECT_NE(r.output.find("error"), std::string::npos) << args << ": " << r.output;

@@ -1,0 +1,477 @@
+#!/usr/bin/env python3
+"""Plots and a Markdown report from `tileshade bench` results.
+
+    python3 bench/plot.py OUT/bench.csv [more.csv | bench.json ...] --out DIR [--title T]
+
+Reads one or more bench.csv files (shards of one sweep, or several sweeps: rows are concatenated,
+a repeated header line is skipped, a (configuration, frame) measured twice keeps the last row) or
+bench.json files. Writes into DIR, as PNG and SVG:
+  frame_time_*.png         frame time over the camera path per technique (the paper's Figure 2)
+  lighting_*.png           lighting computations per frame (the paper's Figure 3)
+  kernels_*.png            stacked per-kernel median times per configuration
+  vs_tile_*.png            median frame time vs tile size
+  vs_light_count_*.png     median frame time vs number of lights
+  vs_light_range_*.png     median frame time vs light range (radius)
+and report.md: the devices and their calibration, a summary table per configuration (median,
+min-max, wall time, % of the device limit, error), the recommended tile size per scene and
+device (fastest median), and the figures.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import re
+import sys
+from collections import OrderedDict, defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+# Columns of bench.csv after the sweep dimensions (which sit between config_id and device_name).
+NUMERIC = {
+    "frame", "lights", "geometry_pixels", "total_ms", "wall_ms", "upload_ms", "compile_ms",
+    "raster_ms", "warmup", "repeat", "lighting_computations", "evaluations", "gbuffer_bytes_read",
+    "list_min", "list_mean", "list_max", "min_bytes", "min_flops", "bandwidth_gbs", "peak_gflops",
+    "limit_ms", "limit_pct", "reference_contributing", "err_max_abs", "err_rmse", "err_psnr_db",
+    "err_max_rel_peak", "err_p50", "err_p99", "err_p999",
+}
+MAX_PANELS = 12  # figures per kind, at most
+
+
+def number(text):
+    if text is None or text == "":
+        return float("nan")
+    try:
+        return float(text)
+    except ValueError:
+        return float("nan")
+
+
+def load_csv(path):
+    rows, dims = [], []
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        header = None
+        for fields in reader:
+            if not fields:
+                continue
+            if header is None or fields == header:
+                header = fields
+                if "device_name" in header:
+                    dims = header[header.index("config_id") + 1:header.index("device_name")]
+                continue
+            row = dict(zip(header, fields))
+            rows.append(row)
+    return rows, dims
+
+
+def load_json(path):
+    with open(path) as f:
+        doc = json.load(f)
+    rows, dims = [], []
+    for r in doc.get("rows", []):
+        flat = {"config_id": r.get("config_id", "")}
+        config = r.get("config", {})
+        for k, v in config.items():
+            flat[k] = str(v)
+            if k not in dims:
+                dims.append(k)
+        for k in ("device_name", "frame", "lights", "geometry_pixels", "total_ms", "wall_ms",
+                  "upload_ms", "compile_ms", "raster_ms", "lighting_computations", "evaluations",
+                  "gbuffer_bytes_read", "reference_contributing"):
+            if k in r and r[k] is not None:
+                flat[k] = str(r[k])
+        for k, v in (r.get("limit") or {}).items():
+            flat[k] = str(v)
+        for k, v in (r.get("error") or {}).items():
+            flat["err_" + k] = str(v)
+        flat["kernels"] = ";".join("%s=%s" % (k["name"], k["ms"]) for k in r.get("kernels", []))
+        rows.append(flat)
+    return rows, dims
+
+
+def load(paths):
+    rows, dims = [], []
+    for p in paths:
+        r, d = load_json(p) if p.endswith(".json") else load_csv(p)
+        for k in d:
+            if k not in dims:
+                dims.append(k)
+        for row in r:
+            row["_source"] = p
+        rows.extend(r)
+    # The last measurement of a (configuration, frame) wins.
+    latest = OrderedDict()
+    for row in rows:
+        latest[(row.get("config_id"), row.get("frame"))] = row
+    rows = list(latest.values())
+    for row in rows:
+        for k in NUMERIC:
+            if k in row:
+                row[k] = number(row[k])
+        row["_kernels"] = OrderedDict()
+        for item in (row.get("kernels") or "").split(";"):
+            if "=" in item:
+                name, ms = item.split("=", 1)
+                row["_kernels"][name] = number(ms)
+    return rows, dims
+
+
+def median(values):
+    v = sorted(x for x in values if isinstance(x, float) and math.isfinite(x))
+    if not v:
+        return float("nan")
+    n = len(v)
+    return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
+
+
+def finite(values):
+    return [x for x in values if isinstance(x, float) and math.isfinite(x)]
+
+
+def summarize(rows, dims):
+    by = OrderedDict()
+    for row in rows:
+        by.setdefault(row["config_id"], []).append(row)
+    out = []
+    for cid, rs in by.items():
+        rs.sort(key=lambda r: r["frame"])
+        s = {d: rs[0].get(d, "") for d in dims}
+        s["config_id"] = cid
+        s["device_name"] = rs[0].get("device_name", "")
+        s["rows"] = rs
+        s["frames"] = len(rs)
+        total = finite([r.get("total_ms") for r in rs])
+        s["median"] = median(total)
+        s["min"] = min(total) if total else float("nan")
+        s["max"] = max(total) if total else float("nan")
+        s["mean"] = sum(total) / len(total) if total else float("nan")
+        s["wall"] = median([r.get("wall_ms") for r in rs])
+        s["compile"] = max(finite([r.get("compile_ms") for r in rs]) or [float("nan")])
+        s["lights_n"] = median([r.get("lights") for r in rs])
+        s["lighting"] = median([r.get("lighting_computations") for r in rs])
+        s["limit_pct"] = median([r.get("limit_pct") for r in rs])
+        bases = {r.get("flops_basis", "") for r in rs} - {""}
+        s["basis"] = bases.pop() if len(bases) == 1 else ("mixed" if bases else "")
+        kernels = OrderedDict()
+        for r in rs:
+            for k, v in r["_kernels"].items():
+                kernels.setdefault(k, []).append(v)
+        s["kernels"] = OrderedDict((k, median(v)) for k, v in kernels.items())
+        errs = finite([r.get("err_max_rel_peak") for r in rs])
+        s["err_rel"] = max(errs) if errs else float("nan")
+        psnr = [r.get("err_psnr_db") for r in rs if isinstance(r.get("err_psnr_db"), float)
+                and not math.isnan(r.get("err_psnr_db"))]
+        s["psnr"] = min(psnr) if psnr else float("nan")
+        out.append(s)
+    return out
+
+
+def tile_key(t):
+    m = re.match(r"(\d+)x(\d+)", t or "")
+    if not m:
+        return (0, 0, t)
+    w, h = int(m.group(1)), int(m.group(2))
+    return (w * h, w, t)
+
+
+def slug(text):
+    s = re.sub(r"[^A-Za-z0-9]+", "-", text).strip("-").lower()
+    return s[:90] or "all"
+
+
+def fmt(v, digits=2):
+    if not isinstance(v, float) or math.isnan(v):
+        return "-"
+    if math.isinf(v):
+        return "inf"
+    return "%.*f" % (digits, v)
+
+
+class Report:
+    def __init__(self, out_dir):
+        self.out = out_dir
+        self.figures = []  # (section, title, file)
+
+    def save(self, fig, name, section, title):
+        base = os.path.join(self.out, name)
+        fig.tight_layout()
+        fig.savefig(base + ".png", dpi=110)
+        fig.savefig(base + ".svg")
+        plt.close(fig)
+        self.figures.append((section, title, name + ".png"))
+
+
+def varying(summaries, dims, exclude):
+    return [d for d in dims if d not in exclude and len({s.get(d) for s in summaries}) > 1]
+
+
+def panel_title(values):
+    parts = []
+    for k, v in values:
+        if k in ("light_count", "light_range", "light_threshold") and v in ("-1", "0"):
+            continue
+        if k in ("culling", "math", "slices", "seed", "device") and len(values) > 4:
+            continue
+        parts.append("%s=%s" % (k, v) if k not in ("scene", "light_set", "resolution", "gbuffer")
+                     else v.replace("builtin:", ""))
+    return ", ".join(parts)
+
+
+def panels(summaries, dims, exclude):
+    """Groups summaries by every dimension not in `exclude` (the axes and series of a figure)."""
+    keys = [d for d in dims if d not in exclude]
+    groups = OrderedDict()
+    for s in summaries:
+        k = tuple((d, s.get(d, "")) for d in keys)
+        groups.setdefault(k, []).append(s)
+    return groups
+
+
+def series_label(s, with_tile):
+    return s["technique"] + (" " + s["tile"] if with_tile and s.get("tile") else "")
+
+
+def best_tile_per_technique(group):
+    best = OrderedDict()
+    for s in group:
+        t = s["technique"]
+        if t not in best or s["median"] < best[t]["median"]:
+            best[t] = s
+    return best
+
+
+def plot_over_frames(report, summaries, dims, field, ylabel, prefix, section, title_what):
+    made = 0
+    for key, group in panels(summaries, dims, {"technique", "tile"}).items():
+        if max(s["frames"] for s in group) < 2 or made >= MAX_PANELS:
+            continue
+        fig, ax = plt.subplots(figsize=(8, 4.2))
+        for t, s in best_tile_per_technique(group).items():
+            xs = [r["frame"] for r in s["rows"]]
+            ys = [r.get(field, float("nan")) for r in s["rows"]]
+            ax.plot(xs, ys, marker="o", ms=3, label=series_label(s, len(group) > 1 and
+                                                                 len({g["tile"] for g in group}) > 1))
+        ax.set_xlabel("frame of the camera path")
+        ax.set_ylabel(ylabel)
+        if field == "lighting_computations":
+            ax.ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
+        else:
+            ax.set_ylim(bottom=0)
+        title = panel_title(key)
+        ax.set_title("%s\n%s" % (title_what, title), fontsize=9)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+        report.save(fig, "%s_%s" % (prefix, slug(title)), section, title)
+        made += 1
+
+
+def plot_kernels(report, summaries, dims):
+    made = 0
+    for key, group in panels(summaries, dims, {"technique", "tile"}).items():
+        if made >= MAX_PANELS:
+            break
+        group = sorted(group, key=lambda s: (s["technique"], tile_key(s["tile"])))[:40]
+        names = []
+        for s in group:
+            for k in s["kernels"]:
+                if k not in names:
+                    names.append(k)
+        fig, ax = plt.subplots(figsize=(max(5, 0.55 * len(group) + 2), 4.5))
+        bottom = [0.0] * len(group)
+        labels = [series_label(s, True) for s in group]
+        for k in names:
+            vals = [s["kernels"].get(k, 0.0) if math.isfinite(s["kernels"].get(k, 0.0)) else 0.0
+                    for s in group]
+            ax.bar(range(len(group)), vals, bottom=bottom, label=k)
+            bottom = [b + v for b, v in zip(bottom, vals)]
+        ax.set_xticks(range(len(group)))
+        ax.set_xticklabels(labels, rotation=60, ha="right", fontsize=7)
+        ax.set_ylabel("median kernel time (ms)")
+        title = panel_title(key)
+        ax.set_title("per-kernel median times\n" + title, fontsize=9)
+        ax.legend(fontsize=7, ncol=2)
+        ax.grid(axis="y", alpha=0.3)
+        report.save(fig, "kernels_%s" % slug(title), "Per-kernel times", title)
+        made += 1
+
+
+def plot_vs(report, summaries, dims, dim, xlabel, prefix, section, xvalue, logy=False):
+    made = 0
+    exclude = {"technique", "tile", dim}
+    for key, group in panels(summaries, dims, exclude).items():
+        xs_all = {s.get(dim) for s in group}
+        if len(xs_all) < 2 or made >= MAX_PANELS:
+            continue
+        fig, ax = plt.subplots(figsize=(7, 4.2))
+        series = OrderedDict()
+        with_tile = len({s["tile"] for s in group}) > 1 and dim != "tile"
+        for s in group:
+            series.setdefault(series_label(s, with_tile) if dim != "tile" else s["technique"],
+                              []).append(s)
+        plotted = False
+        for label, ss in series.items():
+            pts = sorted(((xvalue(s), s) for s in ss if xvalue(s) is not None), key=lambda p: p[0])
+            if len(pts) < 2:
+                continue
+            xs = [p[0] for p in pts]
+            ys = [p[1]["median"] for p in pts]
+            lo = [p[1]["median"] - p[1]["min"] for p in pts]
+            hi = [p[1]["max"] - p[1]["median"] for p in pts]
+            ax.errorbar(xs, ys, yerr=[lo, hi], marker="o", ms=3, capsize=2, label=label)
+            plotted = True
+        if not plotted:
+            plt.close(fig)
+            continue
+        if dim == "tile":
+            ticks = sorted(xs_all, key=tile_key)
+            ax.set_xticks(range(len(ticks)))
+            ax.set_xticklabels(ticks)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("frame time, median over frames (ms)")
+        if logy:
+            ax.set_yscale("log")
+        else:
+            ax.set_ylim(bottom=0)
+        title = panel_title(key)
+        ax.set_title("%s\n%s" % (section, title), fontsize=9)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+        report.save(fig, "%s_%s" % (prefix, slug(title)), section, title)
+        made += 1
+
+
+def recommendations(summaries, dims):
+    """Fastest median tile per (device, scene, lights, resolution, precision, technique)."""
+    keys = [d for d in dims if d not in ("tile", "device")]
+    groups = OrderedDict()
+    for s in summaries:
+        k = (s["device_name"],) + tuple(s.get(d, "") for d in keys)
+        groups.setdefault(k, []).append(s)
+    out = []
+    for k, group in groups.items():
+        if len({s["tile"] for s in group}) < 2:
+            continue
+        best = min(group, key=lambda s: s["median"])
+        worst = max(group, key=lambda s: s["median"])
+        out.append((best, worst, sorted(group, key=lambda s: tile_key(s["tile"]))))
+    return out
+
+
+def write_report(report, rows, summaries, dims, paths, title):
+    lines = ["# %s" % title, ""]
+    lines.append("Inputs: " + ", ".join("`%s`" % p for p in paths) +
+                 " — %d rows, %d configurations." % (len(rows), len(summaries)))
+    lines.append("")
+    devices = OrderedDict()
+    for r in rows:
+        d = r.get("device_name", "")
+        if d not in devices:
+            devices[d] = (r.get("bandwidth_gbs"), r.get("peak_gflops"))
+    lines.append("## Devices")
+    lines.append("")
+    lines.append("| device | copy bandwidth (GB/s) | peak (GFLOP/s) |")
+    lines.append("|---|---:|---:|")
+    for d, (bw, pk) in devices.items():
+        lines.append("| %s | %s | %s |" % (d, fmt(bw, 1), fmt(pk, 1)))
+    lines.append("")
+
+    shown = ["technique", "tile", "gbuffer"] + varying(summaries, dims,
+                                                       {"technique", "tile", "gbuffer"})
+    has_err = any(math.isfinite(s["err_rel"]) for s in summaries)
+    lines.append("## Summary per configuration")
+    lines.append("")
+    lines.append("Frame time = sum of the kernels' profiled times; median and (min–max) over the "
+                 "timed frames; wall = host time from upload to readback; % limit = device-limit "
+                 "time / measured kernel time (evaluations from the reference, or * the "
+                 "technique's own count).")
+    lines.append("")
+    head = shown + ["frames", "median ms", "min–max ms", "wall ms", "compile ms", "% limit",
+                    "per-kernel median ms"] + (["max err / peak", "min PSNR dB"] if has_err else [])
+    lines.append("| " + " | ".join(head) + " |")
+    lines.append("|" + "---|" * len(shown) + "---:|" * 6 + "---|" + ("---:|---:|" if has_err else ""))
+    for s in summaries:
+        kern = " ".join("%s %s" % (k, fmt(v, 3)) for k, v in s["kernels"].items())
+        star = "" if s["basis"] == "reference" else ("*" if s["basis"] == "evaluations" else "~")
+        pct = fmt(s["limit_pct"], 1)
+        cells = [str(s.get(d, "")) for d in shown] + [
+            str(s["frames"]), fmt(s["median"], 3), "%s–%s" % (fmt(s["min"], 3), fmt(s["max"], 3)),
+            fmt(s["wall"], 2), fmt(s["compile"], 0), pct + (star if pct != "-" else ""), kern]
+        if has_err:
+            cells += ["%.2e" % s["err_rel"] if math.isfinite(s["err_rel"]) else "-", fmt(s["psnr"], 1)]
+        lines.append("| " + " | ".join(cells) + " |")
+    lines.append("")
+
+    recs = recommendations(summaries, dims)
+    if recs:
+        lines.append("## Recommended tile size (fastest median)")
+        lines.append("")
+        other = varying(summaries, dims, {"tile", "device", "technique"})
+        lines.append("| device | " + " | ".join(other + ["technique", "best tile", "median ms",
+                                                         "slowest tile", "median ms", "all tiles (ms)"]) + " |")
+        lines.append("|---|" + "---|" * (len(other) + 1) + "---|---:|---|---:|---|")
+        for best, worst, group in recs:
+            alltiles = ", ".join("%s %s" % (s["tile"], fmt(s["median"], 2)) for s in group)
+            lines.append("| %s | " % best["device_name"] + " | ".join(
+                [str(best.get(d, "")) for d in other] +
+                [best["technique"], "**%s**" % best["tile"], fmt(best["median"], 3),
+                 worst["tile"], fmt(worst["median"], 3), alltiles]) + " |")
+        lines.append("")
+
+    sections = OrderedDict()
+    for section, t, f in report.figures:
+        sections.setdefault(section, []).append((t, f))
+    for section, figs in sections.items():
+        lines.append("## " + section)
+        lines.append("")
+        for t, f in figs:
+            lines.append("![%s](%s)" % (t, f))
+            lines.append("")
+    with open(os.path.join(report.out, "report.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("inputs", nargs="+", help="bench.csv or bench.json files")
+    ap.add_argument("--out", required=True, help="output folder for plots and report.md")
+    ap.add_argument("--title", default="tileshade bench report")
+    a = ap.parse_args(argv)
+    for p in a.inputs:
+        if not os.path.exists(p):
+            sys.exit("plot.py: no such file: %s" % p)
+    rows, dims = load(a.inputs)
+    if not rows:
+        sys.exit("plot.py: no rows in " + ", ".join(a.inputs))
+    os.makedirs(a.out, exist_ok=True)
+    summaries = summarize(rows, dims)
+    report = Report(a.out)
+
+    plot_over_frames(report, summaries, dims, "total_ms", "frame time (ms, sum of kernels)",
+                     "frame_time", "Frame time over the camera path", "frame time")
+    plot_over_frames(report, summaries, dims, "lighting_computations", "lighting computations",
+                     "lighting", "Lighting computations per frame", "lighting computations")
+    plot_kernels(report, summaries, dims)
+    if "tile" in dims:
+        def tile_x(s, order=sorted({x["tile"] for x in summaries}, key=tile_key)):
+            return order.index(s["tile"])
+        plot_vs(report, summaries, dims, "tile", "tile size (pixels)", "vs_tile",
+                "Frame time vs tile size", tile_x)
+    if "light_count" in dims:
+        plot_vs(report, summaries, dims, "light_count", "number of lights", "vs_light_count",
+                "Frame time vs number of lights",
+                lambda s: s["lights_n"] if math.isfinite(s["lights_n"]) else None)
+    if "light_range" in dims:
+        plot_vs(report, summaries, dims, "light_range", "light range (scene units)",
+                "vs_light_range", "Frame time vs light range",
+                lambda s: number(s.get("light_range")) if number(s.get("light_range")) > 0 else None)
+    write_report(report, rows, summaries, dims, a.inputs, a.title)
+    print("plot.py: %d rows, %d configurations, %d figures -> %s/report.md"
+          % (len(rows), len(summaries), len(report.figures), a.out))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

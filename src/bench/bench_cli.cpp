@@ -1,0 +1,217 @@
+// `tileshade bench`: the options (one per sweep dimension, from benchDimensions(), plus the run
+// options), an optional JSON config holding the same fields, then runBench().
+#include "bench/bench_cli.h"
+
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/bench_config.h"
+#include "bench/bench_run.h"
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+struct BenchCliState {
+  std::map<std::string, std::vector<std::string>> dims;
+  std::map<std::string, CLI::Option*> dimOptions;
+  std::string config, frames = "8", errorFrames = "all", out = "bench-out", shard = "0/1";
+  int warmup = 1, repeat = 1, calibMiB = 256;
+  bool error = false, resume = false, overwrite = false, noCalibrate = false, quiet = false,
+       list = false;
+  CLI::Option *framesOpt = nullptr, *warmupOpt = nullptr, *repeatOpt = nullptr,
+              *errorOpt = nullptr, *errorFramesOpt = nullptr, *calibOpt = nullptr;
+};
+
+std::string commandLine() {
+  std::ifstream in("/proc/self/cmdline", std::ios::binary);
+  std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), s;
+  std::string arg;
+  for (char c : all) {
+    if (c) {
+      arg += c;
+      continue;
+    }
+    bool quote = arg.empty() || arg.find_first_of(" \t\"'$") != std::string::npos;
+    s += (s.empty() ? "" : " ") + (quote ? "'" + arg + "'" : arg);
+    arg.clear();
+  }
+  return s;
+}
+
+std::vector<std::string> jsonValues(const std::string& key, const nlohmann::json& v) {
+  std::vector<std::string> out;
+  auto one = [&](const nlohmann::json& x) {
+    if (x.is_string()) out.push_back(x.get<std::string>());
+    else if (x.is_number_integer()) out.push_back(std::to_string(x.get<long long>()));
+    else if (x.is_number()) {
+      std::ostringstream s;
+      s << x.get<double>();
+      out.push_back(s.str());
+    } else {
+      throw Error("bench config: '" + key + "' expects strings or numbers, got " + x.dump());
+    }
+  };
+  if (v.is_array()) {
+    for (const auto& x : v) one(x);
+  } else {
+    one(v);
+  }
+  return out;
+}
+
+// Applies a JSON config file; command-line options that were given win.
+void applyConfigFile(BenchCliState& s, BenchOptions& o) {
+  std::ifstream in(s.config);
+  if (!in) throw Error("cannot read bench config " + s.config);
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, false, true);
+  if (j.is_discarded() || !j.is_object())
+    throw Error("bench config " + s.config + " is not a JSON object");
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    const std::string& key = it.key();
+    const auto& v = it.value();
+    auto want = [&](bool ok, const char* what) {
+      if (!ok) throw Error("bench config " + s.config + ": '" + key + "' expects " + what);
+    };
+    if (key == "description") {
+      want(v.is_string(), "a string");
+      o.description = v.get<std::string>();
+    } else if (key == "comment" || key == "notes") {
+      // free text
+    } else if (key == "frames") {
+      want(v.is_string() || v.is_number_integer(), "a frame spec string");
+      if (!s.framesOpt->count()) o.frames.text = v.is_string() ? v.get<std::string>() : std::to_string(v.get<int>());
+    } else if (key == "warmup") {
+      want(v.is_number_integer(), "an integer");
+      if (!s.warmupOpt->count()) o.warmup = v.get<int>();
+    } else if (key == "repeat") {
+      want(v.is_number_integer(), "an integer");
+      if (!s.repeatOpt->count()) o.repeat = v.get<int>();
+    } else if (key == "error") {
+      want(v.is_boolean(), "true or false");
+      if (!s.errorOpt->count()) o.error = v.get<bool>();
+    } else if (key == "error_frames") {
+      want(v.is_string() || v.is_number_integer(), "a frame spec string");
+      if (!s.errorFramesOpt->count())
+        o.errorFrames = v.is_string() ? v.get<std::string>() : std::to_string(v.get<int>());
+    } else if (key == "calib_mib") {
+      want(v.is_number_integer(), "an integer");
+      if (!s.calibOpt->count()) o.calibration.copyBytes = size_t(v.get<int>()) << 20;
+    } else {
+      std::string known;
+      const BenchDimension* dim = nullptr;
+      for (const auto& d : benchDimensions()) {
+        known += d.name + ", ";
+        if (d.matchesKey(key)) dim = &d;
+      }
+      if (!dim)
+        throw Error("bench config " + s.config + ": unknown field '" + key + "' (known: " + known +
+                    "frames, warmup, repeat, error, error_frames, calib_mib, description)");
+      if (!s.dimOptions.at(dim->name)->count()) o.sweep.set(dim->name, jsonValues(key, v));
+    }
+  }
+}
+
+void runCommand(BenchCliState& s) {
+  BenchOptions o;
+  o.frames.text = s.frames;
+  o.warmup = s.warmup;
+  o.repeat = s.repeat;
+  o.error = s.error;
+  o.errorFrames = s.errorFrames;
+  o.outDir = s.out;
+  o.shard = Shard::parse(s.shard);
+  o.resume = s.resume;
+  o.overwrite = s.overwrite;
+  o.calibrate = !s.noCalibrate;
+  if (s.calibMiB < 1 || s.calibMiB > 65536) throw Error("--calib-mib: expected 1..65536");
+  o.calibration.copyBytes = size_t(s.calibMiB) << 20;
+  o.progress = !s.quiet;
+  o.command = commandLine();
+  for (const auto& [name, values] : s.dims)
+    if (s.dimOptions.at(name)->count()) o.sweep.set(name, values);
+  if (!s.config.empty()) applyConfigFile(s, o);
+
+  if (s.list) {
+    auto configs = expandSweep(o.sweep);
+    o.frames.validate();
+    std::cout << configs.size() << " configuration(s); frames '" << o.frames.text << "'\n";
+    for (size_t i = 0; i < configs.size(); ++i)
+      std::cout << i << (o.shard.selects(i) ? " * " : "   ") << configs[i].id() << "  "
+                << configs[i].key() << "\n";
+    if (o.shard.count > 1)
+      std::cout << "* = in shard " << o.shard.index << "/" << o.shard.count << "\n";
+    return;
+  }
+  BenchRunResult r = runBench(o);
+  if (!r.failures.empty())
+    throw Error(std::to_string(r.failures.size()) + " configuration(s) failed (listed above); the "
+                "others were written");
+}
+
+}  // namespace
+
+CliCommand addBenchCommand(CLI::App& app) {
+  auto state = std::make_shared<BenchCliState>();
+  BenchCliState& s = *state;
+  CLI::App* cmd = app.add_subcommand(
+      "bench",
+      "sweep techniques x tile sizes x light sets x precisions x resolutions x devices over a "
+      "scene's camera path; per-kernel times, counters, error and % of the device limit to "
+      "CSV/JSON (see bench/README.md)");
+  for (const auto& d : benchDimensions()) {
+    auto* opt = cmd->add_option(d.optionName(), s.dims[d.name],
+                                d.help + " [default: " + d.defaultValue + "]")
+                    ->delimiter(',')
+                    ->group("Sweep (comma lists; the cartesian product is run)");
+    s.dimOptions[d.name] = opt;
+  }
+  const char* run = "Run";
+  cmd->add_option("--config", s.config, "JSON file with the same fields (dimension names as keys, "
+                                        "lists or single values; frames, warmup, repeat, error, "
+                                        "error_frames); command-line options win")
+      ->group(run);
+  s.framesOpt = cmd->add_option("--frames", s.frames,
+                                "timed frames of the camera path: A:B[:S] (half-open range), N "
+                                "(N frames spread over the path), all, or a;b;c")
+                    ->capture_default_str()->group(run);
+  s.warmupOpt = cmd->add_option("--warmup", s.warmup,
+                                "untimed renders of each configuration before its first timed "
+                                "frame")
+                    ->capture_default_str()->group(run);
+  s.repeatOpt = cmd->add_option("--repeat", s.repeat,
+                                "timed renders per frame; the row keeps the one with the median "
+                                "kernel total")
+                    ->capture_default_str()->group(run);
+  s.errorOpt = cmd->add_flag("--error", s.error,
+                             "error against the double reference (max abs, RMSE, PSNR, max rel "
+                             "peak, quantiles); expensive on a CPU")
+                   ->group(run);
+  s.errorFramesOpt = cmd->add_option("--error-frames", s.errorFrames,
+                                     "with --error: all, N (N of the timed frames) or a frame "
+                                     "range/list")
+                         ->capture_default_str()->group(run);
+  cmd->add_option("--out", s.out, "output folder: bench.csv, bench.json, summary.csv")
+      ->capture_default_str()->group(run);
+  cmd->add_option("--shard", s.shard, "k/n: run configuration i only when i mod n == k")
+      ->capture_default_str()->group(run);
+  cmd->add_flag("--resume", s.resume, "skip (configuration, frame) rows already in OUT/bench.csv")
+      ->group(run);
+  cmd->add_flag("--overwrite", s.overwrite, "start over even if OUT/bench.csv exists")->group(run);
+  cmd->add_flag("--no-calibrate", s.noCalibrate,
+                "skip the bandwidth/peak calibration (no limit columns)")
+      ->group(run);
+  s.calibOpt = cmd->add_option("--calib-mib", s.calibMiB, "size of each buffer of the copy calibration")
+                   ->capture_default_str()->group(run);
+  cmd->add_flag("--quiet", s.quiet, "no progress on stderr")->group(run);
+  cmd->add_flag("--list", s.list, "print the expanded configurations (and the shard's) and exit")
+      ->group(run);
+  return {cmd, [state] { runCommand(*state); }};
+}
+
+}  // namespace ts

@@ -1,0 +1,360 @@
+#include "bench/bench_config.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+std::string trim(const std::string& s) {
+  size_t b = 0, e = s.size();
+  while (b < e && std::isspace((unsigned char)s[b])) ++b;
+  while (e > b && std::isspace((unsigned char)s[e - 1])) --e;
+  return s.substr(b, e - b);
+}
+
+[[noreturn]] void bad(const std::string& option, const std::string& value, const std::string& what) {
+  throw Error(option + ": " + what + ", got '" + value + "'");
+}
+
+long long parseInteger(const std::string& option, const std::string& value, long long lo,
+                       long long hi) {
+  std::string s = trim(value);
+  if (!std::regex_match(s, std::regex(R"([-+]?\d{1,18})")))
+    bad(option, value, "expected an integer");
+  long long v = std::stoll(s);
+  if (v < lo || v > hi)
+    bad(option, value, "expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
+  return v;
+}
+
+float parseNumber(const std::string& option, const std::string& value, float lo) {
+  std::string s = trim(value);
+  size_t used = 0;
+  float v = 0.0f;
+  try {
+    v = std::stof(s, &used);
+  } catch (const std::exception&) {
+    bad(option, value, "expected a number");
+  }
+  if (used != s.size() || !std::isfinite(v)) bad(option, value, "expected a number");
+  if (v < lo) bad(option, value, lo == 0.0f ? "expected a number >= 0" : "number too small");
+  return v;
+}
+
+// Shortest text that reads back as the same float ("12.5", not "12.500000").
+std::string floatText(float v) {
+  char buf[32];
+  for (int p = 1; p <= 9; ++p) {
+    std::snprintf(buf, sizeof buf, "%.*g", p, double(v));
+    if (std::stof(buf) == v) break;
+  }
+  return buf;
+}
+
+std::string oneOf(const std::string& option, const std::string& value,
+                  const std::vector<std::string>& known) {
+  std::string s = trim(value);
+  if (std::find(known.begin(), known.end(), s) != known.end()) return s;
+  std::string list;
+  for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+  bad(option, value, "expected one of " + list);
+}
+
+std::vector<BenchDimension> makeDimensions() {
+  std::vector<BenchDimension> d;
+  auto add = [&](std::string name, std::string help, bool affectsFrame,
+                 std::function<void(BenchConfig&, const std::string&)> set,
+                 std::function<std::string(const BenchConfig&)> get) {
+    BenchDimension dim;
+    dim.name = std::move(name);
+    dim.help = std::move(help);
+    dim.affectsFrame = affectsFrame;
+    dim.set = std::move(set);
+    dim.get = std::move(get);
+    dim.defaultValue = dim.get(BenchConfig{});
+    d.push_back(std::move(dim));
+  };
+  // Order = nesting order of the product (first = outermost) and of the CSV columns.
+  add("device", "OpenCL device(s): cpu, gpu, an index or a name substring (`tileshade devices`)",
+      false, [](BenchConfig& c, const std::string& v) {
+        std::string s = trim(v);
+        c.device = s == "default" ? "" : s;
+      },
+      [](const BenchConfig& c) { return c.device.empty() ? std::string("default") : c.device; });
+  add("scene", "scene(s): builtin:street, builtin:atrium, or a .gltf/.glb path", true,
+      [](BenchConfig& c, const std::string& v) {
+        std::string s = trim(v);
+        if (s.empty()) bad("--scene", v, "expected a scene");
+        c.scene = s;
+      },
+      [](const BenchConfig& c) { return c.scene; });
+  add("light_set", "light set(s) (street: many, few; atrium: small, big, mixed); default: the scene's",
+      true,
+      [](BenchConfig& c, const std::string& v) {
+        std::string s = trim(v);
+        c.lightSet = s == "default" ? "" : s;
+      },
+      [](const BenchConfig& c) { return c.lightSet.empty() ? std::string("default") : c.lightSet; });
+  d.back().option = "--lights";  // as in `tileshade render`
+  add("light_count", "number(s) of lights (-1: the set's own)", true,
+      [](BenchConfig& c, const std::string& v) {
+        c.lightCount = int(parseInteger("--light-count", v, -1, 1 << 24));
+      },
+      [](const BenchConfig& c) { return std::to_string(c.lightCount); });
+  add("light_range", "light range(s) overriding every light's (0: keep), scene units", true,
+      [](BenchConfig& c, const std::string& v) { c.lightRange = parseNumber("--light-range", v, 0.0f); },
+      [](const BenchConfig& c) { return floatText(c.lightRange); });
+  add("light_threshold", "ranges from the attenuation threshold t (0: keep the scene's)", true,
+      [](BenchConfig& c, const std::string& v) {
+        c.lightThreshold = parseNumber("--light-threshold", v, 0.0f);
+      },
+      [](const BenchConfig& c) { return floatText(c.lightThreshold); });
+  add("seed", "seed(s) of the built-in scenes", true,
+      [](BenchConfig& c, const std::string& v) {
+        c.seed = uint32_t(parseInteger("--seed", v, 0, 0xffffffffLL));
+      },
+      [](const BenchConfig& c) { return std::to_string(c.seed); });
+  add("resolution", "image size(s) WxH, e.g. 1280x720,1920x1080", true,
+      [](BenchConfig& c, const std::string& v) {
+        auto [w, h] = parseResolution(v);
+        c.width = w;
+        c.height = h;
+      },
+      [](const BenchConfig& c) { return std::to_string(c.width) + "x" + std::to_string(c.height); });
+  add("gbuffer", "G-buffer precision(s): fp32, fp16", false,
+      [](BenchConfig& c, const std::string& v) {
+        c.format = parseGBufferFormat(oneOf("--gbuffer", v, {"fp32", "fp16"}));
+      },
+      [](const BenchConfig& c) { return toString(c.format); });
+  add("technique", "technique(s), or all", false,
+      [](BenchConfig& c, const std::string& v) {
+        c.technique = oneOf("--technique", v, techniqueNames());
+      },
+      [](const BenchConfig& c) { return c.technique; });
+  add("tile", "tile size(s) N or WxH, e.g. 8,16,32,64,32x16", false,
+      [](BenchConfig& c, const std::string& v) {
+        auto [w, h] = parseTileSize(v);
+        c.tileWidth = w;
+        c.tileHeight = h;
+      },
+      [](const BenchConfig& c) {
+        return std::to_string(c.tileWidth) + "x" + std::to_string(c.tileHeight);
+      });
+  add("culling", "per-tile light test(s): rect, frustum, aabb", false,
+      [](BenchConfig& c, const std::string& v) { c.culling = oneOf("--culling", v, {"rect", "frustum", "aabb"}); },
+      [](const BenchConfig& c) { return c.culling; });
+  add("math", "shading arithmetic: precise, fast, native", false,
+      [](BenchConfig& c, const std::string& v) { c.math = oneOf("--math", v, {"precise", "fast", "native"}); },
+      [](const BenchConfig& c) { return c.math; });
+  add("slices", "depth slices of clustered shading", false,
+      [](BenchConfig& c, const std::string& v) { c.clusterSlices = int(parseInteger("--slices", v, 1, 1024)); },
+      [](const BenchConfig& c) { return std::to_string(c.clusterSlices); });
+  return d;
+}
+
+uint64_t fnv1a(const std::string& s) {
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+}  // namespace
+
+std::string BenchDimension::optionName() const {
+  if (!option.empty()) return option;
+  std::string o = "--" + name;
+  std::replace(o.begin(), o.end(), '_', '-');
+  return o;
+}
+
+const std::vector<BenchDimension>& benchDimensions() {
+  static const std::vector<BenchDimension> dims = makeDimensions();
+  return dims;
+}
+
+bool BenchDimension::matchesKey(const std::string& key) const {
+  std::string stem = optionName().substr(2), underscored = stem;
+  std::replace(underscored.begin(), underscored.end(), '-', '_');
+  return key == name || key == stem || key == underscored;
+}
+
+const BenchDimension& findDimension(const std::string& name) {
+  for (const auto& d : benchDimensions())
+    if (d.name == name) return d;
+  for (const auto& d : benchDimensions())
+    if (d.matchesKey(name)) return d;
+  std::string known;
+  for (const auto& d : benchDimensions()) known += (known.empty() ? "" : ", ") + d.name;
+  throw Error("unknown sweep dimension '" + name + "' (known: " + known + ")");
+}
+
+void BenchSweep::set(const std::string& dimension, std::vector<std::string> list) {
+  values[findDimension(dimension).name] = std::move(list);
+}
+
+TechniqueConfig BenchConfig::techniqueConfig() const {
+  TechniqueConfig t;
+  t.format = format;
+  t.tileWidth = tileWidth;
+  t.tileHeight = tileHeight;
+  t.clusterSlices = clusterSlices;
+  t.culling = parseCulling(culling);
+  t.math = math;
+  return t;
+}
+
+SceneOptions BenchConfig::sceneOptions() const {
+  SceneOptions s;
+  s.lightSet = lightSet;
+  s.seed = seed;
+  s.lightCount = lightCount;
+  s.lightRange = lightRange;
+  return s;
+}
+
+std::string BenchConfig::key() const {
+  std::string k;
+  for (const auto& d : benchDimensions()) k += (k.empty() ? "" : ";") + d.name + "=" + d.get(*this);
+  return k;
+}
+
+std::string BenchConfig::frameKey() const {
+  std::string k;
+  for (const auto& d : benchDimensions())
+    if (d.affectsFrame) k += (k.empty() ? "" : ";") + d.name + "=" + d.get(*this);
+  return k;
+}
+
+std::string BenchConfig::id() const {
+  char buf[20];
+  std::snprintf(buf, sizeof buf, "%012llx", (unsigned long long)(fnv1a(key()) >> 16));
+  return buf;
+}
+
+std::vector<std::string> splitList(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::string item;
+  std::istringstream in(s);
+  while (std::getline(in, item, sep)) {
+    item = trim(item);
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+std::pair<int, int> parseTileSize(const std::string& value) {
+  std::smatch m;
+  std::string s = trim(value);
+  if (!std::regex_match(s, m, std::regex(R"((\d{1,6})(?:[xX](\d{1,6}))?)")))
+    bad("--tile", value, "expected N or WxH (e.g. 16 or 32x16)");
+  int w = std::stoi(m[1]), h = m[2].matched ? std::stoi(m[2]) : w;
+  if (w < 1 || h < 1 || w > 256 || h > 256) bad("--tile", value, "tile sides must be within 1..256");
+  return {w, h};
+}
+
+std::pair<int, int> parseResolution(const std::string& value) {
+  std::smatch m;
+  std::string s = trim(value);
+  if (!std::regex_match(s, m, std::regex(R"((\d{1,6})[xX](\d{1,6}))")))
+    bad("--resolution", value, "expected WxH (e.g. 1280x720)");
+  int w = std::stoi(m[1]), h = std::stoi(m[2]);
+  if (w < 1 || h < 1 || w > 16384 || h > 16384)
+    bad("--resolution", value, "sides must be within 1..16384");
+  return {w, h};
+}
+
+std::vector<BenchConfig> expandSweep(const BenchSweep& sweep) {
+  for (const auto& [name, list] : sweep.values) findDimension(name);
+  std::vector<BenchConfig> configs{BenchConfig{}};
+  for (const auto& dim : benchDimensions()) {
+    auto it = sweep.values.find(dim.name);
+    if (it == sweep.values.end()) continue;
+    std::vector<std::string> list;
+    for (const auto& v : it->second)
+      for (const auto& item : splitList(v)) {
+        if (dim.name == "technique" && item == "all") {
+          for (const auto& t : techniqueNames()) list.push_back(t);
+        } else {
+          list.push_back(item);
+        }
+      }
+    if (list.empty()) throw Error(dim.optionName() + ": empty list");
+    std::vector<BenchConfig> next;
+    next.reserve(configs.size() * list.size());
+    for (const auto& c : configs)
+      for (const auto& v : list) {
+        BenchConfig x = c;
+        dim.set(x, v);
+        next.push_back(x);
+      }
+    configs = std::move(next);
+  }
+  std::vector<BenchConfig> unique;
+  std::set<std::string> seen;
+  for (auto& c : configs)
+    if (seen.insert(c.key()).second) unique.push_back(std::move(c));
+  return unique;
+}
+
+void FrameSpec::validate() const { resolve(240); }
+
+std::vector<int> FrameSpec::resolve(int pathLength) const {
+  std::string s = trim(text);
+  std::smatch m;
+  std::vector<int> frames;
+  const int kMaxFrame = 1 << 20;
+  auto badFrames = [&](const std::string& what) {
+    bad("--frames", text, what + " (forms: A:B[:S], N, all, a;b;c)");
+  };
+  if (s == "all") {
+    for (int k = 0; k < std::max(pathLength, 1); ++k) frames.push_back(k);
+  } else if (std::regex_match(s, m, std::regex(R"((\d{1,7}):(\d{1,7})(?::(\d{1,7}))?)"))) {
+    int a = std::stoi(m[1]), b = std::stoi(m[2]), step = m[3].matched ? std::stoi(m[3]) : 1;
+    if (step < 1) badFrames("the step must be at least 1");
+    if (b <= a) badFrames("the range A:B must have B > A");
+    if (b > kMaxFrame) badFrames("frames must be below 2^20");
+    for (int k = a; k < b; k += step) frames.push_back(k);
+  } else if (std::regex_match(s, std::regex(R"(\d{1,7})"))) {
+    int n = std::stoi(s);
+    if (n < 1) badFrames("the frame count must be at least 1");
+    if (n > 100000) badFrames("at most 100000 frames");
+    if (pathLength < n) {
+      for (int k = 0; k < n; ++k) frames.push_back(k);
+    } else {
+      for (int k = 0; k < n; ++k) frames.push_back(int((long long)k * pathLength / n));
+    }
+  } else if (std::regex_match(s, std::regex(R"(\d{1,7}(\s*;\s*\d{1,7})+)"))) {
+    for (const auto& item : splitList(s, ';')) frames.push_back(std::stoi(item));
+  } else {
+    badFrames("unrecognised frame list");
+  }
+  std::sort(frames.begin(), frames.end());
+  frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
+  return frames;
+}
+
+Shard Shard::parse(const std::string& value) {
+  std::smatch m;
+  std::string s = trim(value);
+  if (!std::regex_match(s, m, std::regex(R"((\d{1,6})/(\d{1,6}))")))
+    bad("--shard", value, "expected k/n with 0 <= k < n (e.g. 0/3)");
+  Shard sh;
+  sh.index = std::stoi(m[1]);
+  sh.count = std::stoi(m[2]);
+  if (sh.count < 1 || sh.index >= sh.count)
+    bad("--shard", value, "expected k/n with 0 <= k < n (e.g. 0/3)");
+  return sh;
+}
+
+}  // namespace ts
