@@ -98,33 +98,8 @@ __kernel void bin_lights(__global const float4 *light_pos_range, int light_count
   }
 }
 
-/* Exclusive prefix sum of n counts by a single work-group (the grid has at most ~10^5 tiles, so one
- * group sweeping in chunks is enough and keeps the order deterministic). total[0] = sum. */
-#define SCAN_GROUP 256
-__kernel void exclusive_scan(__global const uint *count, int n, __global uint *offset,
-                             __global uint *total) {
-  __local uint tmp[SCAN_GROUP];
-  int lid = get_local_id(0);
-  uint carry = 0;
-  for (int base = 0; base < n; base += SCAN_GROUP) {
-    int i = base + lid;
-    uint v = i < n ? count[i] : 0u;
-    tmp[lid] = v;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    /* Hillis-Steele inclusive scan in local memory. */
-    for (int s = 1; s < SCAN_GROUP; s <<= 1) {
-      uint add = lid >= s ? tmp[lid - s] : 0u;
-      barrier(CLK_LOCAL_MEM_FENCE);
-      tmp[lid] += add;
-      barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    if (i < n) offset[i] = carry + tmp[lid] - v;
-    uint chunk_sum = tmp[SCAN_GROUP - 1];
-    barrier(CLK_LOCAL_MEM_FENCE);
-    carry += chunk_sum;
-  }
-  if (lid == 0) total[0] = carry;
-}
+/* exclusive_scan: tile_offset = exclusive prefix sum of tile_count (shared with clustered.cl). */
+#include "scan.h"
 
 /* ---- 3. shading --------------------------------------------------------------------------- */
 
@@ -139,7 +114,11 @@ __kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
   ts_surface s;
   float3 sum = (float3)(0.0f);
   if (ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)) {
-    int tile = (y / TILE_H) * ((width + TILE_W - 1) / TILE_W) + x / TILE_W;
+    /* From the group id, not from x/y: the host launches groups that divide the tile, so the
+     * compiler sees one tile (and one light list) per work-group and can keep the loads below
+     * uniform (on PoCL this vectorizes the loop across the group). */
+    int tile = (int)(get_group_id(1) * get_local_size(1) / TILE_H) * ((width + TILE_W - 1) / TILE_W) +
+               (int)(get_group_id(0) * get_local_size(0) / TILE_W);
     uint begin = tile_offset[tile], n = tile_count[tile];
     /* A list that overflowed the buffer is read only as far as it was written; the host sees the
      * overflow, grows the buffer and runs the frame again, so this image is never kept. */

@@ -11,6 +11,23 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
   static const std::vector<TechniqueInfo> registry = {
       {"tiled", "multi-kernel tiled deferred: depth min/max, light binning, per-pixel shading",
        makeTiledTechnique},
+      {"tiled-single",
+       "single-kernel tiled deferred: one work-group per tile reduces depth, tests every light "
+       "and shades in local memory",
+       makeTiledSingleTechnique},
+      {"clustered",
+       "clustered deferred: tiles x exponential depth slices, lights binned per non-empty cluster",
+       makeClusteredTechnique},
+      {"deferred",
+       "traditional deferred: one launch per light over its screen rectangle, each pixel re-reads "
+       "the G-buffer and blends into an accumulation buffer",
+       [](ClContext& cl, const TechniqueConfig& c) { return makeDeferredTechnique(cl, c, false); }},
+      {"deferred-stencil",
+       "traditional deferred with the stencil test's effect: only pixels inside the light sphere "
+       "read the full G-buffer and shade",
+       [](ClContext& cl, const TechniqueConfig& c) { return makeDeferredTechnique(cl, c, true); }},
+      {"brute", "every light for every pixel, range test only: the naive baseline",
+       makeBruteTechnique},
   };
   return registry;
 }

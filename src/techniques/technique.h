@@ -24,6 +24,8 @@ struct TechniqueConfig {
   int tileWidth = 16;
   int tileHeight = 16;
   int clusterSlices = 16;  // depth slices of the clustered technique
+  int localListCapacity = 256;  // tiled-single: lights its local-memory list holds before it
+                                // shades a chunk (raised to the work-group size if smaller)
   int shadingModel = 0;    // TS_MODEL_WINDOWED (0) or TS_MODEL_PHYSICAL (1), kernels/shading.h
   int culling = 0;         // per-tile test: TS_CULL_RECT (0), _FRUSTUM (1), _AABB (2), culling.h
   std::string math = "precise";  // shading arithmetic: precise, fast (-cl-fast-relaxed-math),

@@ -7,5 +7,9 @@
 namespace ts {
 
 std::unique_ptr<Technique> makeTiledTechnique(ClContext& cl, const TechniqueConfig& config);
+std::unique_ptr<Technique> makeClusteredTechnique(ClContext& cl, const TechniqueConfig& config);
+std::unique_ptr<Technique> makeTiledSingleTechnique(ClContext& cl, const TechniqueConfig& config);
+std::unique_ptr<Technique> makeBruteTechnique(ClContext& cl, const TechniqueConfig& config);
+std::unique_ptr<Technique> makeDeferredTechnique(ClContext&, const TechniqueConfig&, bool stencil);
 
 }  // namespace ts

@@ -1,0 +1,65 @@
+/*
+ * Traditional deferred shading (the bandwidth-hungry baseline of Olsson & Assarsson 2011), host
+ * side in src/techniques/deferred.cpp. Per frame:
+ *   1. deferred_base   per pixel: the light-independent base (emission + ambient) into a float4
+ *                      accumulation buffer; background 0
+ *   2. deferred_light  one launch per light over its screen rectangle (the projected sphere,
+ *                      computed on the host as a vertex stage would): every covered pixel reads
+ *                      the G-buffer again, shades this one light and read-modify-writes the
+ *                      accumulation buffer (the blend of a light volume's fragments)
+ * Launches follow each other on an in-order queue, so the read-modify-writes of successive lights
+ * never overlap and the sum is taken in light order.
+ *
+ * Build-time constants: TS_STENCIL (the stencil optimisation: a pixel reads its depth first and
+ * the rest of the G-buffer only when its position lies inside the light sphere), TS_MODEL (shading
+ * model), the G-buffer layout (gbuffer.h).
+ */
+#include "gbuffer.h"
+
+#ifndef TS_MODEL
+#define TS_MODEL TS_MODEL_WINDOWED
+#endif
+
+/* ---- 1. base ------------------------------------------------------------------------------ */
+
+__kernel void deferred_base(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
+                            __global float4 *accum) {
+  int x = get_global_id(0), y = get_global_id(1);
+  int width = (int)camera.z, height = (int)camera.w;
+  if (x >= width || y >= height) return;
+  ts_surface s;
+  float3 base = (float3)(0.0f);
+  if (ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s))
+    base = ts_surface_base(s.ke, s.kd, ambient.xyz);
+  accum[y * width + x] = (float4)(base, 0.0f);
+}
+
+/* ---- 2. one light ------------------------------------------------------------------------- */
+
+/* rect = (x0, y0, x1, y1), x1/y1 exclusive; the NDRange is the rectangle rounded up to whole
+ * work-groups, so work-items past its edge return. */
+__kernel void deferred_light(float4 camera, TS_GBUFFER_PARAMS,
+                             __global const float4 *light_pos_range,
+                             __global const float4 *light_color, int light, int4 rect,
+                             __global float4 *accum) {
+  int x = rect.x + (int)get_global_id(0), y = rect.y + (int)get_global_id(1);
+  if (x >= rect.z || y >= rect.w) return;
+  int width = (int)camera.z;
+  float4 pr = light_pos_range[light];
+#ifdef TS_STENCIL
+  /* The stencil test's effect: depth alone decides whether the pixel's surface lies inside the
+   * light volume. d2 < r*r is the shading function's own range cut, evaluated on the same
+   * reconstructed position, so no pixel it would light is skipped. (The physical model has no
+   * range cut; like the rectangles and every technique's culling, this bounds it by the range.) */
+  float depth = ts_load_depth(x, y, width, gb_depth);
+  if (depth <= 0.0f) return;
+  float3 P = ts_view_position(x, y, depth, camera.x, camera.y, width, (int)camera.w);
+  float3 v = pr.xyz - P;
+  if (!(dot(v, v) < pr.w * pr.w)) return;
+#endif
+  ts_surface s;
+  if (!ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)) return;
+  int i = y * width + x;
+  float3 c = ts_shade_light(&s, pr, light_color[light], TS_MODEL);
+  accum[i] += (float4)(c, 0.0f);
+}

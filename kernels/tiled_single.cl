@@ -1,0 +1,158 @@
+/*
+ * Single-kernel tiled deferred shading (Andersson 2009, Lauritzen 2010), host side in
+ * src/techniques/tiled_single.cpp. One work-group per tile does everything in local memory:
+ *   1. reduce the tile's geometry depth to [zmin, zmax] (background pixels left out);
+ *   2. test every light of the frame against the tile, appending accepted lights to a list in
+ *      local memory;
+ *   3. shade the tile's pixels over that list.
+ * Every tile repeats the light tests that the multi-kernel variant (tiled.cl) does once per light
+ * rectangle: simple, but redundant per-tile work. The per-tile test is the same as tiled.cl's
+ * (projected-sphere rectangle, depth range, then TS_CULL), so both build identical tile sets.
+ *
+ * The local list holds LIST_CAPACITY lights. A tile that accepts more is shaded in chunks: when
+ * the next batch of tests could overflow the list, the list is shaded into private accumulators
+ * and emptied. No light is ever dropped.
+ *
+ * Build-time constants: TILE_W, TILE_H (pixels), GROUP_W, GROUP_H (work-group shape, at most the
+ * tile), LIST_CAPACITY (>= GROUP_W*GROUP_H), TS_MODEL, TS_CULL, the G-buffer layout (gbuffer.h).
+ */
+#include "gbuffer.h"
+
+#ifndef TS_MODEL
+#define TS_MODEL TS_MODEL_WINDOWED
+#endif
+#ifndef TS_CULL
+#define TS_CULL TS_CULL_RECT
+#endif
+
+#define GROUP_SIZE (GROUP_W * GROUP_H)
+/* Pixels of the tile each work-item owns (the tile may be larger than the work-group). */
+#define PIXELS_PER_ITEM (((TILE_W + GROUP_W - 1) / GROUP_W) * ((TILE_H + GROUP_H - 1) / GROUP_H))
+
+/* Does the light `pr` (view-space centre, range) reach tile (tx, ty) with depth range zr? */
+static int light_meets_tile(float4 pr, int tx, int ty, float2 zr, float4 camera, float znear) {
+  int width = (int)camera.z, height = (int)camera.w;
+  float3 c = pr.xyz;
+  float r = pr.w;
+  if (!ts_sphere_meets_depth_range(c, r, zr.x, zr.y)) return 0;
+  float4 b = ts_sphere_ndc_bounds(c, r, znear, camera.x, camera.y);
+  int x0, y0, x1, y1;
+  if (!ts_ndc_bounds_to_tiles(b, width, height, TILE_W, TILE_H, &x0, &y0, &x1, &y1)) return 0;
+  if (tx < x0 || tx > x1 || ty < y0 || ty > y1) return 0;
+  return ts_sphere_meets_tile(c, r, TS_CULL, tx * TILE_W, ty * TILE_H, min((tx + 1) * TILE_W, width),
+                              min((ty + 1) * TILE_H, height), width, height, camera.x, camera.y,
+                              zr.x, zr.y);
+}
+
+/* Screen position of the k-th pixel owned by this work-item; returns 0 when it is off the tile
+ * or off the screen. */
+static int owned_pixel(int k, int tx, int ty, int width, int height, int *x, int *y) {
+  const int cols = (TILE_W + GROUP_W - 1) / GROUP_W;
+  int px = get_local_id(0) + (k % cols) * GROUP_W, py = get_local_id(1) + (k / cols) * GROUP_H;
+  *x = tx * TILE_W + px;
+  *y = ty * TILE_H + py;
+  return px < TILE_W && py < TILE_H && *x < width && *y < height;
+}
+
+/* Adds the listed lights' contributions to this work-item's pixels. The last call (`image` not
+ * null) also adds the light-independent base and writes the pixels, so the common single-chunk
+ * tile decodes each pixel's G-buffer once. */
+static void shade_list(__local const uint *list, uint n, int tx, int ty, float4 camera,
+                       float4 ambient, TS_GBUFFER_PARAMS, __global const float4 *light_pos_range,
+                       __global const float4 *light_color, float3 *sum, __global float4 *image) {
+  int width = (int)camera.z, height = (int)camera.w;
+  for (int k = 0; k < PIXELS_PER_ITEM; ++k) {
+    int x, y;
+    ts_surface s;
+    if (!owned_pixel(k, tx, ty, width, height, &x, &y)) continue;
+    if (!ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)) {
+      if (image) image[y * width + x] = (float4)(0.0f);
+      continue;
+    }
+    for (uint i = 0; i < n; ++i) {
+      uint light = list[i];
+      sum[k] += ts_shade_light(&s, light_pos_range[light], light_color[light], TS_MODEL);
+    }
+    if (image) image[y * width + x] = (float4)(sum[k] + ts_surface_base(s.ke, s.kd, ambient.xyz), 0.0f);
+  }
+}
+
+/* tile_count[tile] receives the number of lights the tile accepted. When record_stride > 0 the
+ * accepted light indices are also written to tile_lights[tile * record_stride + ...] (for tests and
+ * statistics; record_stride must then be >= light_count). `list` is the local light list of
+ * LIST_CAPACITY entries, passed from the host (PoCL miscompiles a kernel-scope __local array
+ * handed to a helper function; an argument works everywhere). */
+__kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_tiled_single(
+    float4 camera, float4 ambient, float znear, TS_GBUFFER_PARAMS,
+    __global const float4 *light_pos_range, __global const float4 *light_color, int light_count,
+    __global uint *tile_count, __global uint *tile_lights, uint record_stride,
+    __global float4 *image, __local uint *list) {
+  __local float lmin[GROUP_SIZE];
+  __local float lmax[GROUP_SIZE];
+  __local uint list_len;
+  int width = (int)camera.z, height = (int)camera.w;
+  int tx = get_group_id(0), ty = get_group_id(1);
+  int tile = ty * get_num_groups(0) + tx;
+  int lid = get_local_id(1) * GROUP_W + get_local_id(0);
+
+  /* 1. Depth bounds of the tile's geometry (float min/max in local memory, no atomics). */
+  float zmin = FLT_MAX, zmax = 0.0f;
+  for (int k = 0; k < PIXELS_PER_ITEM; ++k) {
+    int x, y;
+    if (!owned_pixel(k, tx, ty, width, height, &x, &y)) continue;
+    float z = ts_load_depth(x, y, width, gb_depth);
+    if (z > 0.0f) {
+      zmin = fmin(zmin, z);
+      zmax = fmax(zmax, z);
+    }
+  }
+  lmin[lid] = zmin;
+  lmax[lid] = zmax;
+  if (lid == 0) list_len = 0;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  /* Tree reduction that also handles group sizes that are not powers of two. */
+  for (int active = GROUP_SIZE; active > 1;) {
+    int half_up = (active + 1) / 2;
+    if (lid + half_up < active) {
+      lmin[lid] = fmin(lmin[lid], lmin[lid + half_up]);
+      lmax[lid] = fmax(lmax[lid], lmax[lid + half_up]);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    active = half_up;
+  }
+  float2 zr = (float2)(lmin[0], lmax[0]);
+
+  /* 2 + 3. Test the lights a batch of GROUP_SIZE at a time; shade and empty the list whenever the
+   * next batch might not fit. */
+  float3 sum[PIXELS_PER_ITEM];
+  for (int k = 0; k < PIXELS_PER_ITEM; ++k) sum[k] = (float3)(0.0f);
+  uint accepted = 0; /* lights shaded so far (flushed chunks) */
+  int any_geometry = zr.x <= zr.y;
+  for (int base = 0; any_geometry && base < light_count; base += GROUP_SIZE) {
+    /* Every work-item must read the same length: barriers on both sides of the read. */
+    barrier(CLK_LOCAL_MEM_FENCE);
+    uint n = list_len;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (n + GROUP_SIZE > LIST_CAPACITY) {
+      shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, light_pos_range, light_color,
+                 sum, 0);
+      if (record_stride > 0)
+        for (uint i = lid; i < n; i += GROUP_SIZE)
+          tile_lights[(size_t)tile * record_stride + accepted + i] = list[i];
+      accepted += n;
+      if (lid == 0) list_len = 0;
+      barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    int light = base + lid;
+    if (light < light_count && light_meets_tile(light_pos_range[light], tx, ty, zr, camera, znear))
+      list[atomic_inc(&list_len)] = (uint)light;
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  uint n = list_len;
+  shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, light_pos_range, light_color, sum,
+             image);
+  if (record_stride > 0)
+    for (uint i = lid; i < n; i += GROUP_SIZE)
+      tile_lights[(size_t)tile * record_stride + accepted + i] = list[i];
+  if (lid == 0) tile_count[tile] = accepted + n;
+}

@@ -1,0 +1,74 @@
+// Brute force: every light for every pixel (kernels/brute.cl). The yardstick the culling
+// techniques are measured against; its light "list" is all lights for every pixel.
+#include <numeric>
+
+#include "techniques/tile_grid.h"
+#include "techniques/techniques.h"
+
+namespace ts {
+namespace {
+
+class BruteTechnique : public Technique {
+ public:
+  BruteTechnique(ClContext& cl, const TechniqueConfig& config) : cl_(cl) {
+    program_ = cl.build("brute.cl", config.kernelOptions());
+    kernel_ = cl::Kernel(program_, "shade_brute");
+  }
+
+  std::string name() const override { return "brute"; }
+
+  FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
+    size_t pixels = size_t(frame.width()) * frame.height();
+    if (imageBytes_ != pixels * sizeof(cl_float4)) {
+      imageBytes_ = pixels * sizeof(cl_float4);
+      image_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY, imageBytes_);
+    }
+    timer_.clear();
+    cl_uint arg = 0;
+    kernel_.setArg(arg++, toCl(frame.camera.kernelCamera()));
+    kernel_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
+    frame.setGBufferArgs(kernel_, arg);
+    arg += 5;
+    kernel_.setArg(arg++, frame.lightPositionRange);
+    kernel_.setArg(arg++, frame.lightColor);
+    kernel_.setArg(arg++, frame.lightCount());
+    kernel_.setArg(arg++, image_);
+    cl_.queue().enqueueNDRangeKernel(
+        kernel_, cl::NullRange, cl::NDRange(roundUp(frame.width(), 16), roundUp(frame.height(), 16)),
+        cl::NDRange(16, 16), nullptr, timer_.next("shade"));
+    cl_.queue().finish();
+
+    FrameResult result;
+    result.kernels = timer_.kernels();
+    result.totalMs = timer_.totalMs();
+    result.image = readImage(cl_, image_, frame);
+    // One bin (the whole screen) listing every light: the tile counters with a screen-sized tile.
+    TileGrid screen(frame.width(), frame.height(), frame.width(), frame.height());
+    std::vector<uint32_t> counts{uint32_t(frame.lightCount())};
+    result.counters = tileWorkCounters(screen, counts, frame);
+    // Depth is read once here (tileWorkCounters assumes a separate depth pass reading it twice).
+    result.counters.gbufferBytesRead -= 4 * pixels;
+    if (request.wantAssignment) {
+      std::vector<uint32_t> all(frame.lightCount());
+      std::iota(all.begin(), all.end(), 0u);
+      result.assignment = tileAssignment(screen, {0}, counts, all);
+    }
+    return result;
+  }
+
+ private:
+  ClContext& cl_;
+  cl::Program program_;
+  cl::Kernel kernel_;
+  cl::Buffer image_;
+  size_t imageBytes_ = 0;
+  FrameTimer timer_;
+};
+
+}  // namespace
+
+std::unique_ptr<Technique> makeBruteTechnique(ClContext& cl, const TechniqueConfig& config) {
+  return std::make_unique<BruteTechnique>(cl, config);
+}
+
+}  // namespace ts

@@ -1,0 +1,176 @@
+// Traditional deferred shading, one light at a time over its screen footprint (the baseline that
+// tiled shading improves on); the kernels, in launch order, are in kernels/deferred.cl.
+//
+// "deferred": every pixel of a light's rectangle re-reads the G-buffer and shades that light.
+// "deferred-stencil": the same rectangles, but a pixel reads only its depth first and the rest
+// of the G-buffer only when its surface lies inside the light sphere (what a stencil pass over
+// the light volume achieves on a GPU).
+//
+// Work counters (computed on the host from the uploaded G-buffer and lights, with the float
+// culling/position code of the kernels, kernels/culling.h and shading.h via ts::shading_f):
+//   lightingComputations  deferred: on-screen pixels covered by light rectangles (sum of areas),
+//                         the paper's count for light volumes; stencil: geometry pixels whose
+//                         position lies inside a light sphere (d2 < r*r)
+//   evaluations           shading-function calls the kernels make: deferred, geometry pixels in
+//                         rectangles; stencil, the same as its lighting computations
+//   gbufferBytesRead      base pass: depth for every pixel, the other planes for geometry pixels;
+//                         per light and covered pixel: deferred reads the whole pixel
+//                         (bytesPerPixel) plus the 16 B accumulation value for geometry pixels,
+//                         the depth alone (4 B) for background; stencil reads 4 B depth, plus the
+//                         other planes and the accumulation value only inside the sphere
+//   listMin/Mean/Max      0: there are no bins (lights are applied per rectangle)
+// The light assignment is the rectangle per light (pixelBin empty).
+#include <algorithm>
+
+#include "reference/shading_cpu.h"
+#include "techniques/tile_grid.h"
+#include "techniques/techniques.h"
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+constexpr size_t kAccumBytes = sizeof(cl_float4);  // one accumulation value per pixel
+constexpr int kGroup = 16;                            // work-group edge of the per-light launch
+
+// The pixel rectangle (x0, y0, x1, y1; x1/y1 exclusive) covered by a light's sphere clipped to
+// the near plane: culling.h's tile rectangle with 1x1 tiles, in float like the kernels, as a
+// vertex stage would compute it. Empty (all zero) when the sphere misses the screen.
+glm::ivec4 lightRectangle(glm::vec4 posRange, const CameraIntrinsics& camera) {
+  glm::vec4 b = shading_f::ts_sphere_ndc_bounds(glm::vec3(posRange), posRange.w, camera.znear,
+                                                camera.tanHalfFovX, camera.tanHalfFovY);
+  int x0, y0, x1, y1;
+  if (!shading_f::ts_ndc_bounds_to_tiles(b, camera.width, camera.height, 1, 1, &x0, &y0, &x1, &y1))
+    return glm::ivec4(0);
+  return {x0, y0, x1 + 1, y1 + 1};
+}
+
+bool isEmpty(const glm::ivec4& r) { return r.z <= r.x || r.w <= r.y; }
+
+WorkCounters deferredCounters(const DeviceFrame& frame, const std::vector<glm::ivec4>& rects,
+                              bool stencil) {
+  WorkCounters c;
+  const EncodedGBuffer& gb = *frame.gbuffer;
+  const CameraIntrinsics& cam = frame.camera;
+  const uint64_t full = gb.bytesPerPixel(), rest = full - 4;
+  uint64_t geometry = 0;
+  for (float d : gb.depth) geometry += d > 0.0f;
+  c.gbufferBytesRead = 4 * gb.pixelCount() + geometry * rest;  // base pass
+  for (size_t i = 0; i < rects.size(); ++i) {
+    const glm::ivec4& r = rects[i];
+    if (isEmpty(r)) continue;
+    glm::vec4 pr = frame.lights->positionRange[i];
+    glm::vec3 lp(pr);
+    uint64_t covered = uint64_t(r.z - r.x) * uint64_t(r.w - r.y), hits = 0;
+    for (int y = r.y; y < r.w; ++y)
+      for (int x = r.x; x < r.z; ++x) {
+        float depth = gb.depth[size_t(y) * gb.width + x];
+        if (depth <= 0.0f) continue;
+        if (stencil) {
+          // The kernel's test, on the same float position reconstruction.
+          glm::vec3 v = lp - shading_f::ts_view_position(x, y, depth, cam.tanHalfFovX,
+                                                          cam.tanHalfFovY, cam.width, cam.height);
+          if (!(shading_f::dot(v, v) < pr.w * pr.w)) continue;
+        }
+        ++hits;
+      }
+    if (stencil) {
+      c.lightingComputations += hits;
+      c.gbufferBytesRead += 4 * covered + hits * (rest + kAccumBytes);
+    } else {
+      c.lightingComputations += covered;
+      c.gbufferBytesRead += 4 * (covered - hits) + hits * (full + kAccumBytes);
+    }
+    c.evaluations += hits;
+  }
+  return c;
+}
+
+class DeferredTechnique : public Technique {
+ public:
+  DeferredTechnique(ClContext& cl, const TechniqueConfig& config, bool stencil)
+      : cl_(cl), stencil_(stencil) {
+    program_ = cl.build("deferred.cl", config.kernelOptions() + (stencil ? " -DTS_STENCIL" : ""));
+    base_ = cl::Kernel(program_, "deferred_base");
+    light_ = cl::Kernel(program_, "deferred_light");
+  }
+
+  std::string name() const override { return stencil_ ? "deferred-stencil" : "deferred"; }
+
+  FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
+    size_t pixels = size_t(frame.width()) * frame.height();
+    if (pixels != accumPixels_) {
+      accum_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE, pixels * kAccumBytes);
+      accumPixels_ = pixels;
+    }
+    std::vector<glm::ivec4> rects(frame.lights->size());
+    for (size_t i = 0; i < rects.size(); ++i)
+      rects[i] = lightRectangle(frame.lights->positionRange[i], frame.camera);
+
+    timer_.clear();
+    enqueueFrame(frame, rects);
+    cl_.queue().finish();
+    FrameResult result;
+    result.kernels = timer_.kernels();
+    result.totalMs = timer_.totalMs();
+    result.image = readImage(cl_, accum_, frame);
+    result.counters = deferredCounters(frame, rects, stencil_);
+    if (request.wantAssignment) {
+      LightAssignment a;
+      a.lightRect = std::move(rects);
+      result.assignment = std::move(a);
+    }
+    return result;
+  }
+
+ private:
+  void enqueueFrame(DeviceFrame& frame, const std::vector<glm::ivec4>& rects) {
+    auto& q = cl_.queue();
+    cl_float4 camera = toCl(frame.camera.kernelCamera());
+    cl::NDRange local(kGroup, kGroup);
+
+    // 1. Base: every pixel, so the accumulation buffer needs no separate clear.
+    base_.setArg(0, camera);
+    base_.setArg(1, toCl(glm::vec4(frame.ambient, 0.0f)));
+    frame.setGBufferArgs(base_, 2);
+    base_.setArg(7, accum_);
+    q.enqueueNDRangeKernel(base_, cl::NullRange,
+                           cl::NDRange(roundUp(frame.width(), kGroup),
+                                       roundUp(frame.height(), kGroup)),
+                           local, nullptr, timer_.next("base"));
+
+    // 2. One launch per light, all enqueued before waiting: arguments are captured at enqueue
+    // time, and the in-order queue serialises the read-modify-writes of successive lights.
+    light_.setArg(0, camera);
+    frame.setGBufferArgs(light_, 1);
+    light_.setArg(6, frame.lightPositionRange);
+    light_.setArg(7, frame.lightColor);
+    light_.setArg(10, accum_);
+    for (size_t i = 0; i < rects.size(); ++i) {
+      const glm::ivec4& r = rects[i];
+      if (isEmpty(r)) continue;
+      light_.setArg(8, cl_int(i));
+      light_.setArg(9, cl_int4{{r.x, r.y, r.z, r.w}});
+      q.enqueueNDRangeKernel(light_, cl::NullRange,
+                             cl::NDRange(roundUp(r.z - r.x, kGroup), roundUp(r.w - r.y, kGroup)),
+                             local, nullptr, timer_.next("light"));
+    }
+  }
+
+  ClContext& cl_;
+  bool stencil_;
+  cl::Program program_;
+  cl::Kernel base_, light_;
+  cl::Buffer accum_;
+  size_t accumPixels_ = 0;
+  FrameTimer timer_;
+};
+
+}  // namespace
+
+std::unique_ptr<Technique> makeDeferredTechnique(ClContext& cl, const TechniqueConfig& config,
+                                                 bool stencil) {
+  return std::make_unique<DeferredTechnique>(cl, config, stencil);
+}
+
+}  // namespace ts

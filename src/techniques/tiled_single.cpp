@@ -1,0 +1,113 @@
+// Single-kernel tiled deferred shading; the kernel is kernels/tiled_single.cl. One launch per
+// frame: a work-group per tile reduces depth, tests every light and shades, all in local memory.
+// The tile light counts (and, on request, the lists) come back for the counters and the
+// conservativeness checks; they are the same quantities the multi-kernel `tiled` reports.
+#include <algorithm>
+
+#include "techniques/tile_grid.h"
+#include "techniques/techniques.h"
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+class TiledSingleTechnique : public Technique {
+ public:
+  TiledSingleTechnique(ClContext& cl, const TechniqueConfig& config) : cl_(cl), config_(config) {
+    if (config.tileWidth < 1 || config.tileHeight < 1) throw Error("tile size must be positive");
+    groupW_ = std::min(config.tileWidth, 16);
+    groupH_ = std::min(config.tileHeight, 16);
+    capacity_ = std::max(config.localListCapacity, groupW_ * groupH_);
+    std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
+                          " -DTILE_H=" + std::to_string(config.tileHeight) +
+                          " -DGROUP_W=" + std::to_string(groupW_) +
+                          " -DGROUP_H=" + std::to_string(groupH_) +
+                          " -DLIST_CAPACITY=" + std::to_string(capacity_);
+    program_ = cl.build("tiled_single.cl", options);
+    kernel_ = cl::Kernel(program_, "shade_tiled_single");
+  }
+
+  std::string name() const override { return "tiled-single"; }
+
+  FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
+    allocate(frame, request.wantAssignment);
+    auto& q = cl_.queue();
+    timer_.clear();
+    // The lists are recorded only when asked for: a tile may hold every light, so the buffer is
+    // tiles x lights entries.
+    cl_uint stride = request.wantAssignment ? cl_uint(std::max(frame.lightCount(), 1)) : 0;
+    cl_uint arg = 0;
+    kernel_.setArg(arg++, toCl(frame.camera.kernelCamera()));
+    kernel_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
+    kernel_.setArg(arg++, frame.camera.znear);
+    frame.setGBufferArgs(kernel_, arg);
+    arg += 5;
+    kernel_.setArg(arg++, frame.lightPositionRange);
+    kernel_.setArg(arg++, frame.lightColor);
+    kernel_.setArg(arg++, frame.lightCount());
+    kernel_.setArg(arg++, tileCount_);
+    kernel_.setArg(arg++, tileLights_);
+    kernel_.setArg(arg++, stride);
+    kernel_.setArg(arg++, image_);
+    kernel_.setArg(arg++, cl::Local(size_t(capacity_) * sizeof(cl_uint)));
+    q.enqueueNDRangeKernel(kernel_, cl::NullRange,
+                           cl::NDRange(size_t(grid_.tilesX) * groupW_, size_t(grid_.tilesY) * groupH_),
+                           cl::NDRange(groupW_, groupH_), nullptr, timer_.next("tile_shade"));
+    q.finish();
+
+    FrameResult result;
+    result.kernels = timer_.kernels();
+    result.totalMs = timer_.totalMs();
+    result.image = readImage(cl_, image_, frame);
+    std::vector<uint32_t> counts(grid_.count());
+    q.enqueueReadBuffer(tileCount_, CL_TRUE, 0, counts.size() * 4, counts.data());
+    result.counters = tileWorkCounters(grid_, counts, frame);
+    if (request.wantAssignment) {
+      std::vector<uint32_t> recorded(size_t(grid_.count()) * stride), offsets, lights;
+      q.enqueueReadBuffer(tileLights_, CL_TRUE, 0, recorded.size() * 4, recorded.data());
+      for (int t = 0; t < grid_.count(); ++t) {
+        offsets.push_back(uint32_t(lights.size()));
+        lights.insert(lights.end(), recorded.begin() + size_t(t) * stride,
+                      recorded.begin() + size_t(t) * stride + counts[t]);
+      }
+      result.assignment = tileAssignment(grid_, offsets, counts, lights);
+    }
+    return result;
+  }
+
+ private:
+  void allocate(const DeviceFrame& frame, bool record) {
+    TileGrid grid(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight);
+    auto& ctx = cl_.context();
+    if (grid.count() != grid_.count() || grid.width != grid_.width || grid.height != grid_.height) {
+      grid_ = grid;
+      tileCount_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, size_t(grid_.count()) * sizeof(uint32_t));
+      image_ = cl::Buffer(ctx, CL_MEM_WRITE_ONLY,
+                          size_t(frame.width()) * frame.height() * sizeof(cl_float4));
+      recordEntries_ = 0;
+    }
+    size_t entries = record ? size_t(grid_.count()) * std::max(frame.lightCount(), 1) : 1;
+    if (entries > recordEntries_) {
+      tileLights_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, entries * sizeof(uint32_t));
+      recordEntries_ = entries;
+    }
+  }
+
+  ClContext& cl_;
+  TechniqueConfig config_;
+  int groupW_ = 16, groupH_ = 16, capacity_ = 256;
+  cl::Program program_;
+  cl::Kernel kernel_;
+  TileGrid grid_;
+  cl::Buffer tileCount_, tileLights_, image_;
+  size_t recordEntries_ = 0;
+  FrameTimer timer_;
+};
+
+}  // namespace
+
+std::unique_ptr<Technique> makeTiledSingleTechnique(ClContext& cl, const TechniqueConfig& config) {
+  return std::make_unique<TiledSingleTechnique>(cl, config);
+}
+
+}  // namespace ts

@@ -1,0 +1,279 @@
+// Clustered deferred shading (src/techniques/clustered.cpp, kernels/clustered.cl): equal to the
+// double reference with no missed light across tile sizes, slice counts and G-buffer precisions;
+// one slice reproduces tiled's lists; depth slicing saves evaluations where tiles span depth
+// discontinuities; conservative on random cameras; an overflowing list grows.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <random>
+#include <tuple>
+
+#include "reference/error_metrics.h"
+#include "reference/reference.h"
+#include "render/frame_setup.h"
+#include "scene/scene_loader.h"
+#include "techniques/technique.h"
+#include "test_support.h"
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+// The same bound as tiled's (tests/pipeline_test.cpp): fp32 rounding of a few hundred light terms
+// per pixel stays ~10x below it, a missed or doubled light is >= 1e-3 of the peak.
+constexpr double kFp32RelativeTolerance = 2e-5;
+
+Technique& technique(const std::string& name, GBufferFormat format, int tile, int slices,
+                     int culling = 0) {
+  static std::map<std::tuple<std::string, int, int, int, int>, std::unique_ptr<Technique>> cache;
+  auto& t = cache[{name, int(format), tile, slices, culling}];
+  if (!t) {
+    TechniqueConfig config;
+    config.format = format;
+    config.tileWidth = config.tileHeight = tile;
+    config.clusterSlices = slices;
+    config.culling = culling;
+    t = createTechnique(name, test::context(), config);
+  }
+  return *t;
+}
+
+const Scene& builtin(const std::string& name, const std::string& lights) {
+  static std::map<std::string, Scene> cache;
+  auto key = name + "/" + lights;
+  auto it = cache.find(key);
+  if (it == cache.end()) it = cache.emplace(key, makeBuiltinScene(name, lights, 1)).first;
+  return it->second;
+}
+
+struct Checked {
+  ErrorStats error;
+  uint64_t missed = 0;
+  uint64_t contributing = 0;  // the reference's non-zero (pixel, light) pairs
+  FrameResult result;
+};
+
+Checked renderAndCheck(const PreparedFrame& f, Technique& t) {
+  DeviceFrame frame = f.upload(test::context());
+  FrameRequest request;
+  request.wantAssignment = true;
+  Checked c;
+  c.result = t.render(frame, request);
+  ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+  c.contributing = ref.contributing;
+  c.error = compareToReference(c.result.image, ref, kFp32RelativeTolerance * ref.peak);
+  c.missed = countMissedContributions(*c.result.assignment, f.encoded, f.intrinsics, f.lights, 0);
+  return c;
+}
+
+FrameResult renderOnly(const PreparedFrame& f, Technique& t, bool wantAssignment) {
+  DeviceFrame frame = f.upload(test::context());
+  FrameRequest request;
+  request.wantAssignment = wantAssignment;
+  return t.render(frame, request);
+}
+
+struct Case {
+  std::string scene, lights;
+  int frame, tile, slices, width, height;
+  GBufferFormat format;
+};
+
+void PrintTo(const Case& k, std::ostream* os) {
+  *os << k.scene << "/" << k.lights << " frame " << k.frame << " tile " << k.tile << " slices "
+      << k.slices << " " << k.width << "x" << k.height << " " << toString(k.format);
+}
+
+class ClusteredMatchesReference : public ::testing::TestWithParam<Case> {};
+
+TEST_P(ClusteredMatchesReference, WithinFp32RoundingAndNoMissedLight) {
+  const Case& k = GetParam();
+  PreparedFrame f = prepareFrame(builtin(k.scene, k.lights), k.frame, k.width, k.height, k.format);
+  ASSERT_GT(f.gbuffer.geometryPixels(), f.gbuffer.pixelCount() / 4) << "camera sees little";
+  Checked c = renderAndCheck(f, technique("clustered", k.format, k.tile, k.slices));
+  EXPECT_EQ(c.missed, 0u);
+  EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance)
+      << "max abs " << c.error.maxAbs << " peak " << c.error.peak;
+  const WorkCounters& w = c.result.counters;
+  EXPECT_GT(w.evaluations, 0u);
+  EXPECT_EQ(w.lightingComputations, w.evaluations);
+  // Conservative lists hold at least every contributing pair.
+  EXPECT_GE(w.evaluations, c.contributing);
+  EXPECT_LE(w.listMin, w.listMax);
+  EXPECT_GT(w.listMax, 0u);
+  // Every geometry pixel, and only those, is in a cluster, and the cluster is in range.
+  const LightAssignment& a = *c.result.assignment;
+  size_t clustered = 0;
+  for (int32_t b : a.pixelBin) {
+    if (b < 0) continue;
+    ++clustered;
+    ASSERT_LT(size_t(b), a.binCount.size());
+  }
+  EXPECT_EQ(clustered, f.gbuffer.geometryPixels());
+  int tiles = ((k.width + k.tile - 1) / k.tile) * ((k.height + k.tile - 1) / k.tile);
+  EXPECT_EQ(a.binCount.size(), size_t(tiles) * k.slices);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Builtins, ClusteredMatchesReference,
+    ::testing::Values(Case{"street", "many", 0, 16, 16, 200, 120, GBufferFormat::FP32},
+                      Case{"street", "many", 60, 8, 32, 200, 120, GBufferFormat::FP16},
+                      Case{"street", "many", 0, 16, 1, 200, 120, GBufferFormat::FP32},
+                      Case{"street", "few", 30, 32, 16, 203, 117, GBufferFormat::FP32},
+                      Case{"atrium", "mixed", 90, 16, 16, 200, 120, GBufferFormat::FP32},
+                      Case{"atrium", "mixed", 0, 32, 32, 203, 117, GBufferFormat::FP16},
+                      Case{"atrium", "mixed", 45, 8, 1, 200, 120, GBufferFormat::FP16}),
+    [](const auto& info) {
+      const Case& k = info.param;
+      return k.scene + "_" + k.lights + "_f" + std::to_string(k.frame) + "_t" +
+             std::to_string(k.tile) + "_s" + std::to_string(k.slices) + "_" + toString(k.format);
+    });
+
+// The per-tile tests of culling.h (frustum planes, box) are applied per cluster with the
+// cluster's depth range: still conservative.
+TEST(ClusteredCulling, FrustumAndBoxTestsStayConservative) {
+  PreparedFrame f = prepareFrame(builtin("street", "many"), 0, 200, 120, GBufferFormat::FP32);
+  uint64_t rectEvaluations = 0;
+  for (int culling : {0, 1, 2}) {
+    Checked c = renderAndCheck(f, technique("clustered", GBufferFormat::FP32, 16, 16, culling));
+    EXPECT_EQ(c.missed, 0u) << "culling " << culling;
+    EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << "culling " << culling;
+    if (culling == 0) rectEvaluations = c.result.counters.evaluations;
+    else EXPECT_LE(c.result.counters.evaluations, rectEvaluations) << "culling " << culling;
+  }
+}
+
+// With one slice a cluster is its tile's geometry: the same depth range (min/max of the tile's
+// geometry pixels) and the same tests as tiled, so every tile lists the same lights (the order
+// within a list depends on atomics, so the lists are compared sorted) and each geometry pixel
+// makes the same evaluations. Only lightingComputations differs: tiled counts every tile pixel,
+// clustered only geometry pixels.
+TEST(ClusteredVsTiled, OneSliceListsEqualTiledPerTile) {
+  for (const auto& [name, lights, frameIndex] :
+       {std::tuple{"street", "many", 0}, std::tuple{"atrium", "mixed", 90}}) {
+    PreparedFrame f = prepareFrame(builtin(name, lights), frameIndex, 200, 120, GBufferFormat::FP32);
+    FrameResult clustered = renderOnly(f, technique("clustered", GBufferFormat::FP32, 16, 1), true);
+    FrameResult tiled = renderOnly(f, technique("tiled", GBufferFormat::FP32, 16, 1), true);
+    const LightAssignment& c = *clustered.assignment;
+    const LightAssignment& t = *tiled.assignment;
+    ASSERT_EQ(c.binCount.size(), t.binCount.size()) << name;
+    EXPECT_EQ(c.binLights.size(), t.binLights.size()) << name;
+    size_t emptyTilesWithLights = 0;
+    for (size_t b = 0; b < c.binCount.size(); ++b) {
+      auto list = [](const LightAssignment& a, size_t b) {
+        std::vector<uint32_t> l(a.binLights.begin() + a.binOffset[b],
+                                a.binLights.begin() + a.binOffset[b] + a.binCount[b]);
+        std::sort(l.begin(), l.end());
+        return l;
+      };
+      EXPECT_EQ(list(c, b), list(t, b)) << name << " tile " << b;
+      if (t.binCount[b] > 0 && c.binCount[b] == 0) ++emptyTilesWithLights;
+    }
+    EXPECT_EQ(emptyTilesWithLights, 0u) << name;
+    EXPECT_EQ(clustered.counters.evaluations, tiled.counters.evaluations) << name;
+    EXPECT_LE(clustered.counters.lightingComputations, tiled.counters.lightingComputations);
+  }
+}
+
+// Looking down the street, a tile spans a near facade or robot and the far end of the street; its
+// depth range then holds lights its pixels are nowhere near. Slices separate those depths.
+TEST(ClusteredVsTiled, FewerEvaluationsAcrossDepthDiscontinuities) {
+  for (int frameIndex : {0, 60}) {
+    PreparedFrame f = prepareFrame(builtin("street", "many"), frameIndex, 200, 120,
+                                   GBufferFormat::FP32);
+    uint64_t tiled =
+        renderOnly(f, technique("tiled", GBufferFormat::FP32, 16, 1), false).counters.evaluations;
+    uint64_t previous = tiled;
+    for (int slices : {16, 32}) {
+      uint64_t clustered = renderOnly(f, technique("clustered", GBufferFormat::FP32, 16, slices),
+                                      false)
+                               .counters.evaluations;
+      EXPECT_LT(clustered, tiled) << "frame " << frameIndex << " slices " << slices;
+      EXPECT_LE(clustered, previous) << "frame " << frameIndex << " slices " << slices;
+      previous = clustered;
+    }
+  }
+}
+
+// Random cameras inside the scene (looking anywhere, lights behind and around the camera, near
+// plane through light volumes): the cluster lists must hold every contributing light.
+TEST(ClusteredCulling, ConservativeOnRandomCameras) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (const auto& [name, lights] : {std::pair{"street", "many"}, std::pair{"atrium", "mixed"}}) {
+    Scene scene = builtin(name, lights);
+    Bounds b = scene.bounds();
+    for (int i = 0; i < 4; ++i) {
+      glm::vec3 eye = b.min + glm::vec3(u(rng), 0.05f + 0.4f * u(rng), u(rng)) * b.extent();
+      glm::vec3 dir(u(rng) - 0.5f, 0.3f * (u(rng) - 0.5f), u(rng) - 0.5f);
+      scene.cameraPath = {Camera::lookAt(eye, eye + dir, {0, 1, 0}, 1.0f + u(rng), 0.1f, 500.0f)};
+      PreparedFrame f = prepareFrame(scene, 0, 160, 96, GBufferFormat::FP32);
+      Checked c = renderAndCheck(f, technique("clustered", GBufferFormat::FP32, 16, 16));
+      EXPECT_EQ(c.missed, 0u) << name << " camera " << i;
+      EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << name << " camera " << i;
+    }
+  }
+}
+
+// Far more list entries than the initial buffer holds: the list grows and the frame re-runs,
+// nothing is dropped, and the run says so.
+TEST(ClusteredCulling, OverflowingListGrowsInsteadOfDropping) {
+  Scene scene = makeBuiltinScene("atrium", "big", 1);
+  Bounds b = scene.bounds();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  scene.lights.clear();
+  for (int i = 0; i < 300; ++i)  // 300 huge lights: every non-empty cluster lists all of them
+    scene.lights.push_back({b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
+                            glm::vec3(0.05f), 1000.0f});
+  PreparedFrame f = prepareFrame(scene, 0, 96, 64, GBufferFormat::FP32);
+  TechniqueConfig config;
+  config.tileWidth = config.tileHeight = 8;
+  config.clusterSlices = 8;
+  auto clustered = createTechnique("clustered", test::context(), config);
+  Checked c = renderAndCheck(f, *clustered);
+  EXPECT_EQ(c.missed, 0u);
+  EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance);
+  EXPECT_EQ(c.result.counters.listMin, 300u);
+  EXPECT_EQ(c.result.counters.listMax, 300u);
+  ASSERT_FALSE(c.result.counters.notes.empty());
+  EXPECT_NE(c.result.counters.notes[0].find("grown"), std::string::npos);
+  // The grown buffer is kept: the next frame needs no re-run.
+  EXPECT_TRUE(renderOnly(f, *clustered, false).counters.notes.empty());
+}
+
+// No lights, and a frame without geometry: nothing binned, nothing evaluated, no failure.
+TEST(ClusteredCulling, NoLightsAndNoGeometry) {
+  Scene scene = builtin("street", "many");
+  scene.lights.clear();
+  PreparedFrame f = prepareFrame(scene, 0, 64, 40, GBufferFormat::FP32);
+  Checked c = renderAndCheck(f, technique("clustered", GBufferFormat::FP32, 16, 16));
+  EXPECT_EQ(c.missed, 0u);
+  EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance);
+  EXPECT_EQ(c.result.counters.evaluations, 0u);
+
+  Scene sky = builtin("street", "many");
+  Bounds b = sky.bounds();
+  glm::vec3 eye(0.0f, b.max.y + 10.0f, 0.0f);
+  sky.cameraPath = {Camera::lookAt(eye, eye + glm::vec3(0, 1, 0.01f), {0, 0, 1}, 1.0f, 0.1f, 500.0f)};
+  PreparedFrame empty = prepareFrame(sky, 0, 64, 40, GBufferFormat::FP32);
+  ASSERT_EQ(empty.gbuffer.geometryPixels(), 0u);
+  Checked e = renderAndCheck(empty, technique("clustered", GBufferFormat::FP32, 16, 16));
+  EXPECT_EQ(e.missed, 0u);
+  EXPECT_EQ(e.result.counters.evaluations, 0u);
+  EXPECT_EQ(e.result.counters.listMax, 0u);
+  for (const auto& p : e.result.image) EXPECT_EQ(p, glm::vec4(0.0f));
+}
+
+TEST(ClusteredConfig, RejectsBadSliceCounts) {
+  for (int slices : {0, -1, 100000}) {
+    TechniqueConfig config;
+    config.clusterSlices = slices;
+    EXPECT_THROW(createTechnique("clustered", test::context(), config), Error) << slices;
+  }
+}
+
+}  // namespace
+}  // namespace ts

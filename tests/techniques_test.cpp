@@ -1,0 +1,192 @@
+// Every registered technique against the double-precision reference: same tolerance, zero missed
+// contributions, for both G-buffer precisions, several tile sizes, scenes and frames. A new
+// technique in registry.cpp is picked up here without an edit. Also: tiled and tiled-single build
+// the same tile light sets, and tiled-single shades lists longer than its local memory in chunks.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <random>
+#include <set>
+
+#include "reference/error_metrics.h"
+#include "reference/reference.h"
+#include "render/frame_setup.h"
+#include "scene/scene_loader.h"
+#include "techniques/technique.h"
+#include "test_support.h"
+
+namespace ts {
+namespace {
+
+// Same bound and reasoning as tests/pipeline_test.cpp: fp32 rounding of a few hundred light terms
+// per pixel stays well below 2e-5 of the peak; a missed or doubled light is >= 1e-3 of it.
+constexpr double kFp32RelativeTolerance = 2e-5;
+
+const Scene& builtin(const std::string& name, const std::string& lights) {
+  static std::map<std::string, Scene> cache;
+  auto key = name + "/" + lights;
+  auto it = cache.find(key);
+  if (it == cache.end()) it = cache.emplace(key, makeBuiltinScene(name, lights, 1)).first;
+  return it->second;
+}
+
+const PreparedFrame& prepared(const std::string& scene, const std::string& lights, int frame,
+                              GBufferFormat format) {
+  static std::map<std::string, std::unique_ptr<PreparedFrame>> cache;
+  auto key = scene + lights + std::to_string(frame) + toString(format);
+  auto& p = cache[key];
+  if (!p)
+    p = std::make_unique<PreparedFrame>(prepareFrame(builtin(scene, lights), frame, 160, 96, format));
+  return *p;
+}
+
+struct Checked {
+  ErrorStats error;
+  uint64_t missed = 0;
+  FrameResult result;
+};
+
+Checked renderAndCheck(const PreparedFrame& f, Technique& technique) {
+  DeviceFrame frame = f.upload(test::context());
+  FrameRequest request;
+  request.wantAssignment = true;
+  Checked c;
+  c.result = technique.render(frame, request);
+  ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+  c.error = compareToReference(c.result.image, ref, kFp32RelativeTolerance * ref.peak);
+  c.missed = countMissedContributions(*c.result.assignment, f.encoded, f.intrinsics, f.lights, 0);
+  return c;
+}
+
+struct Case {
+  std::string technique, scene, lights;
+  int frame, tile;
+  GBufferFormat format;
+};
+
+void PrintTo(const Case& k, std::ostream* os) {
+  *os << k.technique << " " << k.scene << "/" << k.lights << " frame " << k.frame << " tile "
+      << k.tile << " " << toString(k.format);
+}
+
+class EveryTechnique : public ::testing::TestWithParam<Case> {};
+
+TEST_P(EveryTechnique, MatchesReferenceWithNoMissedLight) {
+  const Case& k = GetParam();
+  const PreparedFrame& f = prepared(k.scene, k.lights, k.frame, k.format);
+  TechniqueConfig config;
+  config.format = k.format;
+  config.tileWidth = config.tileHeight = k.tile;
+  auto technique = createTechnique(k.technique, test::context(), config);
+  Checked c = renderAndCheck(f, *technique);
+  EXPECT_EQ(c.missed, 0u);
+  EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance)
+      << "max abs " << c.error.maxAbs << " peak " << c.error.peak;
+  EXPECT_GT(c.result.counters.evaluations, 0u);
+  // No technique can do with fewer evaluations than the lights that actually contribute.
+  ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+  EXPECT_GE(c.result.counters.evaluations, ref.contributing);
+  EXPECT_GE(c.result.counters.lightingComputations, c.result.counters.evaluations / 2)
+      << "lighting computations should count at least the covered pixels";
+  EXPECT_GT(c.result.totalMs, 0.0);
+  EXPECT_FALSE(c.result.kernels.empty());
+}
+
+std::vector<Case> everyTechniqueCases() {
+  // Scenes x light sets x precisions x tile sizes x frames, spread so each technique sees each.
+  const std::vector<Case> shapes = {
+      {"", "street", "many", 0, 16, GBufferFormat::FP32},
+      {"", "street", "few", 40, 32, GBufferFormat::FP16},
+      {"", "atrium", "mixed", 20, 8, GBufferFormat::FP32},
+      {"", "atrium", "big", 70, 64, GBufferFormat::FP16},
+  };
+  std::vector<Case> cases;
+  for (const auto& name : techniqueNames())
+    for (Case c : shapes) {
+      c.technique = name;
+      cases.push_back(c);
+    }
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Builtins, EveryTechnique, ::testing::ValuesIn(everyTechniqueCases()),
+                         [](const auto& info) {
+                           const Case& k = info.param;
+                           std::string t = k.technique;
+                           std::replace(t.begin(), t.end(), '-', '_');
+                           return t + "_" + k.scene + "_" + k.lights + "_f" +
+                                  std::to_string(k.frame) + "_t" + std::to_string(k.tile) + "_" +
+                                  toString(k.format);
+                         });
+
+// Per tile, the set of listed lights.
+std::vector<std::set<uint32_t>> tileSets(const LightAssignment& a) {
+  std::vector<std::set<uint32_t>> sets(a.binCount.size());
+  for (size_t b = 0; b < sets.size(); ++b)
+    sets[b].insert(a.binLights.begin() + a.binOffset[b],
+                   a.binLights.begin() + a.binOffset[b] + a.binCount[b]);
+  return sets;
+}
+
+// Both tiled variants run the same per-tile test (culling.h) on the same tile depth range, so
+// their tile light sets are identical, for every culling test (the order within a list differs:
+// both append with atomics).
+TEST(TiledSingle, SameTileSetsAsMultiKernelTiled) {
+  const PreparedFrame& f = prepared("street", "many", 30, GBufferFormat::FP32);
+  DeviceFrame frame = f.upload(test::context());
+  FrameRequest request;
+  request.wantAssignment = true;
+  for (auto [culling, tile] : {std::pair{0, 16}, std::pair{1, 16}, std::pair{2, 16},
+                               std::pair{0, 32}}) {
+    TechniqueConfig config;
+    config.culling = culling;
+    config.tileWidth = config.tileHeight = tile;
+    FrameResult a = createTechnique("tiled", test::context(), config)->render(frame, request);
+    FrameResult b = createTechnique("tiled-single", test::context(), config)->render(frame, request);
+    EXPECT_EQ(tileSets(*a.assignment), tileSets(*b.assignment))
+        << cullingName(culling) << " tile " << tile;
+    EXPECT_EQ(a.counters.lightingComputations, b.counters.lightingComputations);
+    EXPECT_GT(a.counters.lightingComputations, 0u);
+  }
+}
+
+// A tile accepting far more lights than the local list holds is shaded in chunks: nothing dropped.
+TEST(TiledSingle, ListsLongerThanLocalMemoryAreShadedInChunks) {
+  Scene scene = makeBuiltinScene("atrium", "big", 1);
+  Bounds b = scene.bounds();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  scene.lights.clear();
+  for (int i = 0; i < 300; ++i)  // 300 huge lights: every tile lists all of them
+    scene.lights.push_back({b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
+                            glm::vec3(0.05f), 1000.0f});
+  PreparedFrame f = prepareFrame(scene, 0, 96, 64, GBufferFormat::FP32);
+  TechniqueConfig config;
+  config.tileWidth = config.tileHeight = 8;  // 64 work-items
+  config.localListCapacity = 64;             // so 300 lights take 5 chunks
+  auto single = createTechnique("tiled-single", test::context(), config);
+  Checked c = renderAndCheck(f, *single);
+  EXPECT_EQ(c.missed, 0u);
+  EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance);
+  EXPECT_EQ(c.result.counters.listMax, 300u);
+  for (const auto& set : tileSets(*c.result.assignment)) {
+    if (set.empty()) continue;  // sky-only tiles list nothing
+    EXPECT_EQ(set.size(), 300u) << "each light listed once";
+  }
+}
+
+// Brute force lists every light for every pixel, so its counters are exact products.
+TEST(Brute, CountsEveryLightForEveryPixel) {
+  const PreparedFrame& f = prepared("street", "few", 0, GBufferFormat::FP32);
+  auto brute = createTechnique("brute", test::context(), {});
+  Checked c = renderAndCheck(f, *brute);
+  uint64_t lights = f.lights.size();
+  EXPECT_EQ(c.result.counters.lightingComputations, f.gbuffer.pixelCount() * lights);
+  EXPECT_EQ(c.result.counters.evaluations, f.gbuffer.geometryPixels() * lights);
+  EXPECT_EQ(c.missed, 0u);
+}
+
+}  // namespace
+}  // namespace ts
