@@ -1,20 +1,25 @@
 #!/usr/bin/env python3
 """Plots and a Markdown report from `tileshade bench` results.
 
-    python3 bench/plot.py OUT/bench.csv [more.csv | bench.json ...] --out DIR [--title T]
+    python3 bench/plot.py OUT/bench.csv [more.csv | bench.json | OUT ...] --out DIR [--title T]
 
 Reads one or more bench.csv files (shards of one sweep, or several sweeps: rows are concatenated,
 a repeated header line is skipped, a (configuration, frame) measured twice keeps the last row) or
-bench.json files. Writes into DIR, as PNG and SVG:
+bench.json files; a folder stands for its bench.csv (else its bench.json). Writes into DIR, as PNG
+and SVG:
   frame_time_*.png         frame time over the camera path per technique (the paper's Figure 2)
   lighting_*.png           lighting computations per frame (the paper's Figure 3)
   kernels_*.png            stacked per-kernel median times per configuration
   vs_tile_*.png            median frame time vs tile size
   vs_light_count_*.png     median frame time vs number of lights
   vs_light_range_*.png     median frame time vs light range (radius)
+  pareto_*.png             with `bench --error`: speed against error per scene and device, median
+                           frame time (x) against max error / peak (y, log) and against PSNR,
+                           the Pareto-optimal configurations marked and connected
 and report.md: the devices and their calibration, a summary table per configuration (median,
 min-max, wall time, % of the device limit, error), the recommended tile size per scene and
-device (fastest median), and the figures.
+device (fastest median), the Pareto front per scene and device with the fastest configuration
+with PSNR >= 50 dB and the fastest exact one, and the figures.
 """
 import argparse
 import csv
@@ -88,6 +93,13 @@ def load_json(path):
             flat[k] = str(v)
         for k, v in (r.get("error") or {}).items():
             flat["err_" + k] = str(v)
+        # Further error objects (e.g. "error_vs_physical") as err_vs_physical_*, for --error-prefix.
+        for name, obj in r.items():
+            if name.startswith("error_") and isinstance(obj, dict):
+                for k, v in obj.items():
+                    flat["err_" + name[len("error_"):] + "_" + k] = str(v)
+        if "missed_contributions" in r:
+            flat["missed_contributions"] = str(r["missed_contributions"])
         flat["kernels"] = ";".join("%s=%s" % (k["name"], k["ms"]) for k in r.get("kernels", []))
         rows.append(flat)
     return rows, dims
@@ -197,6 +209,11 @@ class Report:
         self.figures = []  # (section, title, file)
 
     def save(self, fig, name, section, title):
+        used = {f for _, _, f in self.figures}
+        unique, k = name, 2
+        while unique + ".png" in used:  # two panels with the same title keep both figures
+            unique, k = "%s-%d" % (name, k), k + 1
+        name = unique
         base = os.path.join(self.out, name)
         fig.tight_layout()
         fig.savefig(base + ".png", dpi=110)
@@ -209,13 +226,17 @@ def varying(summaries, dims, exclude):
     return [d for d in dims if d not in exclude and len({s.get(d) for s in summaries}) > 1]
 
 
+PANEL_DEFAULTS = {"culling": "rect", "math": "precise", "slices": "16", "seed": "1",
+                  "device": "default"}
+
+
 def panel_title(values):
     parts = []
     for k, v in values:
         if k in ("light_count", "light_range", "light_threshold") and v in ("-1", "0"):
             continue
-        if k in ("culling", "math", "slices", "seed", "device") and len(values) > 4:
-            continue
+        if k in PANEL_DEFAULTS and v == PANEL_DEFAULTS[k] and len(values) > 4:
+            continue  # a default knob: left out of a long title (other values stay: unique names)
         parts.append("%s=%s" % (k, v) if k not in ("scene", "light_set", "resolution", "gbuffer")
                      else v.replace("builtin:", ""))
     return ", ".join(parts)
@@ -344,6 +365,235 @@ def plot_vs(report, summaries, dims, dim, xlabel, prefix, section, xvalue, logy=
         made += 1
 
 
+# ---- speed against error (issue 5) ----
+
+EXACT_REL = 2e-5     # "exact": max error / peak within fp32 rounding (docs/accuracy.md)
+PSNR_GOAL = 50.0     # dB, the "good enough" line of the report
+ERROR_FLOOR = 1e-9   # errors of exactly 0 are drawn here (a log axis has no 0)
+# Sweep dimensions that are accuracy/speed knobs of one rendering; every other dimension (scene,
+# lights, resolution, device, ...) defines the scene and device a Pareto front is drawn for.
+KNOBS = ["technique", "tile", "slices", "culling", "gbuffer", "math", "light_threshold"]
+
+
+def error_of(s, prefix):
+    """Worst max-error/peak and PSNR over a configuration's error frames, missed contributions."""
+    rel = finite([number(str(r.get(prefix + "max_rel_peak", ""))) for r in s["rows"]])
+    psnr = [number(str(r.get(prefix + "psnr_db", ""))) for r in s["rows"]]
+    psnr = [p for p in psnr if not math.isnan(p)]
+    missed = finite([number(str(r.get("missed_contributions", ""))) for r in s["rows"]])
+    return (max(rel) if rel else float("nan"), min(psnr) if psnr else float("nan"),
+            max(missed) if missed else None)
+
+
+def knob_label(s, knobs):
+    parts = []
+    for k in knobs:
+        v = str(s.get(k, ""))
+        if k == "light_threshold":
+            parts.append("t=" + v if v not in ("", "0") else "t=scene")
+        elif k == "slices":
+            if s.get("technique") == "clustered":
+                parts.append(v + " slices")
+        elif k == "tile":
+            parts.append(v)
+        else:
+            parts.append(v)
+    return " ".join(p for p in parts if p)
+
+
+def pareto_front(points):
+    """Points (time, error, item) not dominated by a faster-or-equal one with lower-or-equal error
+    (one strictly better); sorted by time."""
+    pts = sorted(points, key=lambda p: (p[0], p[1]))
+    front, best = [], float("inf")
+    for t, e, item in pts:
+        if e < best:
+            front.append((t, e, item))
+            best = e
+    return front
+
+
+def speed_error_groups(summaries, dims, prefix):
+    context = [d for d in dims if d not in KNOBS and d != "device"]
+    groups = OrderedDict()
+    for s in summaries:
+        rel, psnr, missed = error_of(s, prefix)
+        if math.isnan(rel) or not math.isfinite(s["median"]):
+            continue
+        s["_rel"], s["_psnr"], s["_missed"] = rel, psnr, missed
+        s["_exact"] = rel <= EXACT_REL and (missed is None or missed == 0)
+        key = (s["device_name"],) + tuple((d, s.get(d, "")) for d in context)
+        groups.setdefault(key, []).append(s)
+    return groups
+
+
+def group_title(key):
+    device, rest = key[0], key[1:]
+    text = panel_title([(d, v) for d, v in rest if d not in ("light_count", "light_range", "seed")
+                        or v not in ("-1", "0", "1")])
+    return text, device
+
+
+def plot_speed_error(report, summaries, dims, prefix):
+    """One figure per scene and device; returns [(title, device, group, knobs, front_rel)]."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+    out = []
+    for key, group in speed_error_groups(summaries, dims, prefix).items():
+        knobs = [k for k in KNOBS if k in dims and len({s.get(k) for s in group}) > 1]
+        title, device = group_title(key)
+        front = [p[2] for p in pareto_front([(s["median"], s["_rel"], s) for s in group])]
+        front_psnr = [p[2] for p in pareto_front(
+            [(s["median"], -s["_psnr"], s) for s in group if not math.isnan(s["_psnr"])])]
+        out.append((title, device, group, knobs, front))
+        if len(out) > MAX_PANELS:
+            continue
+        # Front members are numbered (1, 2, ... by time on the error front, then letters for
+        # PSNR-front members not on it) and named in a key under the plots.
+        tag = OrderedDict()
+        for i, s in enumerate(front):
+            tag[s["config_id"]] = (str(i + 1), s)
+        for s in front_psnr:
+            if s["config_id"] not in tag:
+                tag[s["config_id"]] = (chr(ord("a") + len(tag) - len(front)), s)
+        finite_psnr = [s["_psnr"] for s in group if math.isfinite(s["_psnr"])]
+        psnr_ceiling = max(finite_psnr + [PSNR_GOAL]) + 15.0  # where an infinite PSNR is drawn
+        techniques = sorted({s.get("technique", "") for s in group})
+        formats = sorted({s.get("gbuffer", "") for s in group})
+        colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+        shapes = ["o", "s", "^", "D", "v", "P", "X", "*"]
+        color = {t: colors[i % len(colors)] for i, t in enumerate(techniques)}
+        shape = {g: shapes[i % len(shapes)] for i, g in enumerate(formats)}
+
+        def rel_y(s):
+            return max(s["_rel"], ERROR_FLOOR)
+
+        def psnr_y(s):
+            return s["_psnr"] if math.isfinite(s["_psnr"]) else psnr_ceiling
+
+        key_lines = ["%s: %s" % (t, knob_label(s, knobs) or s.get("technique", ""))
+                     for t, s in tag.values()]
+        ncol = 2 if len(key_lines) > 5 else 1
+        rows_needed = max((len(key_lines) + ncol - 1) // ncol, 4)  # 4: the legend's rows
+        fig = plt.figure(figsize=(13, 5.4 + 0.22 * rows_needed))
+        grid = fig.add_gridspec(2, 2, height_ratios=[5.4, 0.3 + 0.22 * rows_needed])
+        ax, bx = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])
+        kx = fig.add_subplot(grid[1, :])
+        kx.axis("off")
+        for s in group:
+            style = dict(color=color[s.get("technique", "")], marker=shape[s.get("gbuffer", "")],
+                         ms=7, ls="none", alpha=0.85,
+                         mfc=color[s.get("technique", "")] if s["_exact"] else "white")
+            ax.plot([s["median"]], [rel_y(s)], **style)
+            if not math.isnan(s["_psnr"]):
+                bx.plot([s["median"]], [psnr_y(s)], **style)
+        for axis, pts, yf in ((ax, front, rel_y), (bx, front_psnr, psnr_y)):
+            axis.plot([s["median"] for s in pts], [yf(s) for s in pts], color="black", lw=1.2,
+                      zorder=0, drawstyle="steps-post")
+            for i, s in enumerate(pts):
+                axis.plot([s["median"]], [yf(s)], marker="o", ms=13, mfc="none", mec="black",
+                          ls="none")
+                axis.annotate(tag[s["config_id"]][0], (s["median"], yf(s)),
+                              textcoords="offset points", xytext=(7, 6 if i % 2 == 0 else -14),
+                              fontsize=8, fontweight="bold")
+        ax.set_yscale("log")
+        lo = min([rel_y(s) for s in group] + [EXACT_REL])
+        hi = max([rel_y(s) for s in group] + [EXACT_REL])
+        ax.set_ylim(lo / 3.0, hi * 3.0)
+        ax.axhline(EXACT_REL, color="grey", ls=":", lw=1)
+        ax.annotate("exact: fp32 rounding (%.0e)" % EXACT_REL, (0.01, EXACT_REL),
+                    xycoords=("axes fraction", "data"), fontsize=7, va="bottom", color="grey")
+        if any(s["_rel"] <= ERROR_FLOOR for s in group):
+            ax.axhline(ERROR_FLOOR, color="grey", ls="--", lw=0.8)
+            ax.annotate("error 0, drawn at %.0e" % ERROR_FLOOR, (0.01, ERROR_FLOOR),
+                        xycoords=("axes fraction", "data"), fontsize=7, va="bottom",
+                        color="grey")
+        ax.set_ylabel("max error / reference peak (worst frame, log)")
+        bx.axhline(PSNR_GOAL, color="grey", ls=":", lw=1)
+        bx.annotate("%g dB" % PSNR_GOAL, (0.01, PSNR_GOAL), xycoords=("axes fraction", "data"),
+                    fontsize=7, va="bottom", color="grey")
+        if any(math.isinf(s["_psnr"]) for s in group):
+            bx.axhline(psnr_ceiling, color="grey", ls="--", lw=0.8)
+            bx.annotate("PSNR infinite (error 0), drawn here", (0.01, psnr_ceiling),
+                        xycoords=("axes fraction", "data"), fontsize=7, va="bottom",
+                        color="grey")
+        bx.set_ylabel("PSNR (dB, worst frame; higher is better)")
+        for a in (ax, bx):
+            a.set_xlabel("frame time, median over frames (ms, sum of kernels)")
+            a.grid(alpha=0.3, which="both")
+        handles = [Patch(color=color[t], label=t) for t in techniques]
+        handles += [Line2D([], [], color="dimgrey", marker=shape[g], ls="none", label=g)
+                    for g in formats if g]
+        handles += [Line2D([], [], color="dimgrey", marker="o", mfc="white", ls="none",
+                           label="not exact (hollow)"),
+                    Line2D([], [], color="black", lw=1.2, label="Pareto front (circled)")]
+        kx.legend(handles=handles, fontsize=7, loc="upper right", ncol=2)
+        ax.set_title("max error / peak against time", fontsize=9)
+        bx.set_title("PSNR against time", fontsize=9)
+        per_col = rows_needed
+        for c in range(ncol):
+            kx.text(0.01 + 0.31 * c, 1.0, "\n".join(key_lines[c * per_col:(c + 1) * per_col]),
+                    transform=kx.transAxes, va="top", ha="left", fontsize=8, family="monospace")
+        fig.suptitle("speed against error (columns %s*) — %s — %s" % (prefix, title, device),
+                     fontsize=9)
+        report.save(fig, "pareto_%s" % slug(title + " " + device), "Speed against error",
+                    "%s — %s" % (title, device))
+    return out
+
+
+def speed_error_lines(groups, prefix):
+    if not groups:
+        return []
+    lines = ["## Speed against error (Pareto front)", ""]
+    if prefix == "err_":
+        reference = (
+            "These are the errors `tileshade bench --error` writes: against the windowed double "
+            "reference shaded from the same stored G-buffer values and the same light ranges. They "
+            "measure culling and shading arithmetic, not the storage precision (fp16, packed) nor "
+            "the range change of `light_threshold`, whose bounds docs/accuracy.md gives.")
+    else:
+        reference = "Error columns `%s*` (chosen with --error-prefix)." % prefix
+    has_missed = any(s["_missed"] is not None for g in groups for s in g[2])
+    lines.append(
+        "Time = median over the timed frames of the kernels' total; error = worst over the error "
+        "frames of the `%smax_rel_peak` and `%spsnr_db` columns (max error relative to the "
+        "reference's peak pixel, and PSNR). %s A configuration is on the Pareto front when no "
+        "other one is at least as fast and at least as exact (one of them strictly). **Exact** = "
+        "max error / peak ≤ %.0e (fp32 rounding)%s. Errors of exactly 0 are drawn at %.0e (a log "
+        "axis has no 0), infinite PSNRs at the top of the PSNR plot."
+        % (prefix, prefix, reference, EXACT_REL,
+           " and zero missed light contributions" if has_missed else
+           " (missed light contributions are not in these results; the tests check they are 0)",
+           ERROR_FLOOR))
+    lines.append("")
+    for title, device, group, knobs, front in groups:
+        cols = knobs or ["technique"]
+        lines.append("### %s — %s" % (title, device))
+        lines.append("")
+        lines.append("| " + " | ".join(cols + ["median ms", "max err / peak", "PSNR dB",
+                                               "exact"]) + " |")
+        lines.append("|" + "---|" * len(cols) + "---:|---:|---:|---|")
+        for s in front:
+            lines.append("| " + " | ".join([str(s.get(k, "")) for k in cols] + [
+                fmt(s["median"], 3), "%.2e" % s["_rel"], fmt(s["_psnr"], 1),
+                "yes" if s["_exact"] else "no"]) + " |")
+        lines.append("")
+
+        def describe(s):
+            return "%s — %s ms, max error / peak %.2e, PSNR %s dB" % (
+                knob_label(s, cols) or s.get("technique", ""), fmt(s["median"], 3), s["_rel"],
+                fmt(s["_psnr"], 1))
+        good = [s for s in group if not math.isnan(s["_psnr"]) and s["_psnr"] >= PSNR_GOAL]
+        exact = [s for s in group if s["_exact"]]
+        lines.append("- Fastest configuration with PSNR ≥ %g dB: %s" % (
+            PSNR_GOAL, describe(min(good, key=lambda s: s["median"])) if good else "none"))
+        lines.append("- Fastest exact configuration: %s" % (
+            describe(min(exact, key=lambda s: s["median"])) if exact else "none"))
+        lines.append("- %d configurations, %d on the front." % (len(group), len(front)))
+        lines.append("")
+    return lines
+
+
 def recommendations(summaries, dims):
     """Fastest median tile per (device, scene, lights, resolution, precision, technique)."""
     keys = [d for d in dims if d not in ("tile", "device")]
@@ -361,7 +611,7 @@ def recommendations(summaries, dims):
     return out
 
 
-def write_report(report, rows, summaries, dims, paths, title):
+def write_report(report, rows, summaries, dims, paths, title, pareto_lines=()):
     lines = ["# %s" % title, ""]
     lines.append("Inputs: " + ", ".join("`%s`" % p for p in paths) +
                  " — %d rows, %d configurations." % (len(rows), len(summaries)))
@@ -421,6 +671,8 @@ def write_report(report, rows, summaries, dims, paths, title):
                  worst["tile"], fmt(worst["median"], 3), alltiles]) + " |")
         lines.append("")
 
+    lines.extend(pareto_lines)
+
     sections = OrderedDict()
     for section, t, f in report.figures:
         sections.setdefault(section, []).append((t, f))
@@ -436,12 +688,23 @@ def write_report(report, rows, summaries, dims, paths, title):
 
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("inputs", nargs="+", help="bench.csv or bench.json files")
+    ap.add_argument("inputs", nargs="+",
+                    help="bench.csv or bench.json files, or bench output folders")
     ap.add_argument("--out", required=True, help="output folder for plots and report.md")
     ap.add_argument("--title", default="tileshade bench report")
+    ap.add_argument("--error-prefix", default="err_",
+                    help="error columns of the speed/error plots: PREFIXmax_rel_peak and "
+                         "PREFIXpsnr_db (default err_, what bench --error writes)")
     a = ap.parse_args(argv)
-    for p in a.inputs:
-        if not os.path.exists(p):
+    for i, p in enumerate(a.inputs):
+        if os.path.isdir(p):
+            for name in ("bench.csv", "bench.json"):
+                if os.path.exists(os.path.join(p, name)):
+                    a.inputs[i] = os.path.join(p, name)
+                    break
+            else:
+                sys.exit("plot.py: no bench.csv or bench.json in %s" % p)
+        elif not os.path.exists(p):
             sys.exit("plot.py: no such file: %s" % p)
     rows, dims = load(a.inputs)
     if not rows:
@@ -468,7 +731,9 @@ def main(argv):
         plot_vs(report, summaries, dims, "light_range", "light range (scene units)",
                 "vs_light_range", "Frame time vs light range",
                 lambda s: number(s.get("light_range")) if number(s.get("light_range")) > 0 else None)
-    write_report(report, rows, summaries, dims, a.inputs, a.title)
+    pareto = plot_speed_error(report, summaries, dims, a.error_prefix)
+    write_report(report, rows, summaries, dims, a.inputs, a.title,
+                 speed_error_lines(pareto, a.error_prefix))
     print("plot.py: %d rows, %d configurations, %d figures -> %s/report.md"
           % (len(rows), len(summaries), len(report.figures), a.out))
 

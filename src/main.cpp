@@ -81,7 +81,9 @@ int main(int argc, char** argv) {
   renderCmd->add_option("--tile", tile, "tile size N or WxH (pixels)")->capture_default_str();
   renderCmd->add_option("--slices", render.clusterSlices, "depth slices of clustered shading")
       ->capture_default_str();
-  renderCmd->add_option("--gbuffer", format, "G-buffer precision: fp32 or fp16")
+  renderCmd->add_option("--gbuffer", format,
+                        "G-buffer precision: fp32, fp16 or packed (octahedral normals, unorm8 "
+                        "colours; see docs/accuracy.md)")
       ->capture_default_str();
   renderCmd->add_option("--width", render.width, "image width")->capture_default_str();
   renderCmd->add_option("--height", render.height, "image height")->capture_default_str();

@@ -1,9 +1,12 @@
-// G-buffer storage layouts (src/raster/gbuffer_layout.cpp): sizes, format names, the fp32/fp16
-// encodings and decodeSurface, the host mirror of ts_load_surface in kernels/gbuffer.h.
+// G-buffer storage layouts (src/raster/gbuffer_layout.cpp): sizes, format names, the fp32/fp16/
+// packed encodings and decodeSurface, the host mirror of ts_load_surface in kernels/gbuffer.h.
+// The packed bounds checked here are the ones docs/accuracy.md documents.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <random>
 
 #include "raster/gbuffer.h"
 #include "raster/gbuffer_layout.h"
@@ -64,10 +67,14 @@ TEST(GBufferLayout, SizesNamesAndDefines) {
   GBuffer g = sampleGBuffer();
   EncodedGBuffer e32 = ts::encode(g, GBufferFormat::FP32);
   EncodedGBuffer e16 = ts::encode(g, GBufferFormat::FP16);
+  EncodedGBuffer ep = ts::encode(g, GBufferFormat::PACKED);
   EXPECT_EQ(e32.bytesPerPixel(), 68u);
   EXPECT_EQ(e16.bytesPerPixel(), 36u);
+  EXPECT_EQ(ep.bytesPerPixel(), 24u);  // depth 4 + normal 4 + diffuse 4 + specular 4 + half4 8
   EXPECT_EQ(e32.kernelDefines(), "");
   EXPECT_EQ(e16.kernelDefines(), "-DTS_GBUFFER_FP16");
+  EXPECT_EQ(ep.kernelDefines(), "-DTS_GBUFFER_PACKED");
+  EXPECT_EQ(ts::gbufferKernelDefines(GBufferFormat::PACKED), "-DTS_GBUFFER_PACKED");
   size_t n = g.pixelCount();
   EXPECT_EQ(e32.depth.size(), n);
   EXPECT_EQ(e32.normal.size(), n * 16);
@@ -76,12 +83,23 @@ TEST(GBufferLayout, SizesNamesAndDefines) {
   EXPECT_EQ(n * 4 + e16.normal.size() + e16.diffuse.size() + e16.specular.size() +
                 e16.emissive.size(),
             n * e16.bytesPerPixel());
+  EXPECT_EQ(ep.depth.size(), n);
+  EXPECT_EQ(ep.normal.size(), n * 4);
+  EXPECT_EQ(ep.diffuse.size(), n * 4);
+  EXPECT_EQ(ep.specular.size(), n * 4);
+  EXPECT_EQ(ep.emissive.size(), n * 8);
+  EXPECT_EQ(n * 4 + ep.normal.size() + ep.diffuse.size() + ep.specular.size() +
+                ep.emissive.size(),
+            n * ep.bytesPerPixel());
   EXPECT_EQ(ts::toString(GBufferFormat::FP32), "fp32");
   EXPECT_EQ(ts::toString(GBufferFormat::FP16), "fp16");
+  EXPECT_EQ(ts::toString(GBufferFormat::PACKED), "packed");
   EXPECT_EQ(ts::parseGBufferFormat("fp32"), GBufferFormat::FP32);
   EXPECT_EQ(ts::parseGBufferFormat("fp16"), GBufferFormat::FP16);
+  EXPECT_EQ(ts::parseGBufferFormat("packed"), GBufferFormat::PACKED);
   EXPECT_THROW(ts::parseGBufferFormat("FP16"), ts::Error);
-  EXPECT_THROW(ts::parseGBufferFormat("packed"), ts::Error);
+  EXPECT_THROW(ts::parseGBufferFormat("PACKED"), ts::Error);
+  EXPECT_THROW(ts::parseGBufferFormat("unorm8"), ts::Error);
   EXPECT_THROW(ts::parseGBufferFormat(""), ts::Error);
 }
 
@@ -191,7 +209,7 @@ TEST(GBufferLayout, DecodedPositionsReconstructTheRasterizedPlane) {
   scene.triangleMaterial = {0, 0};
   GBuffer g = ts::rasterize(scene, cam, W, H);
   ASSERT_EQ(g.geometryPixels(), size_t(W) * H);
-  for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16}) {
+  for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16, GBufferFormat::PACKED}) {
     EncodedGBuffer e = ts::encode(g, format);
     double worstPlane = 0, worstN = 0;
     for (int y = 0; y < H; ++y)
@@ -208,8 +226,194 @@ TEST(GBufferLayout, DecodedPositionsReconstructTheRasterizedPlane) {
         EXPECT_NEAR(glm::length(s.V), 1.0, 1e-12);
       }
     EXPECT_LT(worstPlane, 1e-6);  // float depth rounding
-    EXPECT_LT(worstN, format == GBufferFormat::FP32 ? 1e-6 : 1e-3);
+    EXPECT_LT(worstN, format == GBufferFormat::FP32     ? 1e-6
+                      : format == GBufferFormat::PACKED ? ts::packed::kMaxNormalErrorRad + 1e-6
+                                                        : 1e-3);
   }
+}
+
+// ---- packed layout (kernels/gbuffer.h, TS_GBUFFER_PACKED) ----
+
+uint32_t u32At(const std::vector<uint8_t>& plane, size_t pixel) {
+  uint32_t v;
+  std::memcpy(&v, plane.data() + pixel * 4, 4);
+  return v;
+}
+
+double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
+  return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+// Independent decoder of the packed normal, written from the layout comment in kernels/gbuffer.h
+// (double precision, before normalization).
+glm::dvec3 octahedralDecode(uint32_t v) {
+  double x = std::max(double(int16_t(v & 0xffffu)) / 32767.0, -1.0);
+  double y = std::max(double(int16_t(v >> 16)) / 32767.0, -1.0);
+  double z = 1.0 - std::abs(x) - std::abs(y);
+  if (z < 0.0) {
+    double fx = (1.0 - std::abs(y)) * (x >= 0.0 ? 1.0 : -1.0);
+    double fy = (1.0 - std::abs(x)) * (y >= 0.0 ? 1.0 : -1.0);
+    x = fx;
+    y = fy;
+  }
+  return glm::normalize(glm::dvec3(x, y, z));
+}
+
+TEST(GBufferLayout, PackedOctahedralNormalsWithinTheirBound) {
+  namespace pk = ts::packed;
+  // Exact points of the octahedral map: the axes and the fold.
+  EXPECT_EQ(pk::encodeNormal({0, 0, 1}), 0u);
+  EXPECT_EQ(pk::encodeNormal({1, 0, 0}), 32767u);
+  EXPECT_EQ(pk::encodeNormal({0, -1, 0}), uint32_t(uint16_t(-32767)) << 16);
+  EXPECT_EQ(pk::encodeNormal({0, 0, -1}), 32767u | 32767u << 16);  // folded corner (+1, +1)
+  EXPECT_EQ(pk::encodeNormal({0, 0, 0}), 0u);                      // degenerate: +Z, no NaN
+  EXPECT_EQ(pk::encodeNormal({NAN, 0, 1}), 0u);
+  EXPECT_EQ(octahedralDecode(pk::encodeNormal({0, 0, -1})), glm::dvec3(0, 0, -1));
+  EXPECT_EQ(octahedralDecode(pk::encodeNormal({-1, 0, 0})), glm::dvec3(-1, 0, 0));
+
+  std::mt19937 rng(5);
+  std::normal_distribution<double> gauss;
+  std::vector<glm::vec3> normals = {{1, 1, 1},   {-1, 1, -1}, {1, -1, 0}, {0, 1, -1e-7f},
+                                    {3, 0, -4},  {0.6f, 0.8f, 0},         {-1e-6f, 0, -1}};
+  for (int i = 0; i < 200000; ++i)
+    normals.emplace_back(glm::normalize(glm::dvec3(gauss(rng), gauss(rng), gauss(rng))));
+  double worst = 0.0, worstHost = 0.0;
+  for (size_t i = 0; i < normals.size(); ++i) {
+    const glm::vec3 n = normals[i];
+    const glm::dvec3 unit = glm::normalize(glm::dvec3(n));
+    const uint32_t v = pk::encodeNormal(n);
+    const double a = angleBetween(octahedralDecode(v), unit);
+    worst = std::max(worst, a);
+    // The host decoder (the kernel's float arithmetic) agrees with the double decoder.
+    const glm::dvec3 host = glm::normalize(glm::dvec3(pk::decodeNormalUnnormalized(v)));
+    worstHost = std::max(worstHost, glm::distance(host, octahedralDecode(v)));
+    // "Correct rounding": no neighbouring lattice point decodes closer to n.
+    const int x = int16_t(v & 0xffffu), y = int16_t(v >> 16);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy) {
+        if (std::abs(x + dx) > 32767 || std::abs(y + dy) > 32767) continue;
+        uint32_t w =
+            uint32_t(uint16_t(int16_t(x + dx))) | uint32_t(uint16_t(int16_t(y + dy))) << 16;
+        ASSERT_GE(angleBetween(octahedralDecode(w), unit), a - 2e-7) << i << " " << dx << dy;
+      }
+  }
+  RecordProperty("worst_normal_error_rad", std::to_string(worst));
+  EXPECT_LE(worst, pk::kMaxNormalErrorRad);  // docs/accuracy.md: <= 4.5e-5 rad (0.0026 deg)
+  EXPECT_GT(worst, 1e-5);                    // 16-bit coordinates do lose something
+  EXPECT_LT(worstHost, 1e-6);                // float decode vs double decode
+}
+
+TEST(GBufferLayout, PackedColoursAreUnorm8WithinHalfAStep) {
+  namespace pk = ts::packed;
+  GBuffer g;
+  g.resize(64, 64);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (size_t i = 0; i < g.pixelCount(); ++i) {
+    g.depth[i] = 2.0f;
+    g.normal[i] = glm::vec4(0, 0, 1, 0);
+    g.diffuse[i] = glm::vec4(u(rng), u(rng), u(rng), 1.0f);
+    g.specular[i] = glm::vec4(u(rng), u(rng), u(rng), 32.0f);
+  }
+  // Exact codes, the rounding midpoints and out-of-range values (clamped).
+  g.diffuse[0] = glm::vec4(0.0f, 1.0f, 0.5f, 1.0f);       // 0, 255, 127.5 -> 128 (half up)
+  g.diffuse[1] = glm::vec4(-0.3f, 1.7f, 1.0f / 255.0f, 0.0f);  // 0, 255, 1
+  g.specular[0] = glm::vec4(0.04f, NAN, 0.001f, 32.0f);   // 10.2 -> 10, NaN -> 0, 0.255 -> 0
+  EncodedGBuffer e = ts::encode(g, GBufferFormat::PACKED);
+  EXPECT_EQ(u32At(e.diffuse, 0), 0u | 255u << 8 | 128u << 16 | 255u << 24);
+  EXPECT_EQ(u32At(e.diffuse, 1), 0u | 255u << 8 | 1u << 16 | 0u << 24);
+  EXPECT_EQ(u32At(e.specular, 0) & 0xffffffu, 10u);
+  const ts::CameraIntrinsics cam = intrinsics(64, 64);
+  double worst = 0.0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const size_t i = size_t(y) * 64 + x;
+      const uint32_t d = u32At(e.diffuse, i), sp = u32At(e.specular, i);
+      ts::SurfaceD s;
+      ASSERT_TRUE(ts::decodeSurface(e, cam, x, y, s));
+      for (int c = 0; c < 3; ++c) {
+        // The decoder returns exactly float(byte) / 255.
+        EXPECT_EQ(s.kd[c], double(float((d >> (8 * c)) & 255u) / 255.0f));
+        EXPECT_EQ(s.ks[c], double(float((sp >> (8 * c)) & 255u) / 255.0f));
+        if (i < 2) continue;  // the clamped and NaN ones above
+        const double kd = g.diffuse[i][c], ks = g.specular[i][c];
+        worst = std::max({worst, std::abs(s.kd[c] - kd), std::abs(s.ks[c] - ks)});
+        // Stored byte = round(255 c) (independently: floor(255 c + 0.5) in double).
+        EXPECT_EQ((d >> (8 * c)) & 255u, uint32_t(std::floor(255.0 * kd + 0.5)));
+      }
+    }
+  RecordProperty("worst_colour_error", std::to_string(worst));
+  EXPECT_LE(worst, pk::kMaxUnorm8Error);  // docs/accuracy.md: 0.5/255 (+ float rounding)
+  EXPECT_GT(worst, 0.49 / 255.0);
+  EXPECT_EQ(pk::encodeUnorm8(0.5f / 255.0f), 1);  // halfway rounds up
+  EXPECT_EQ(pk::decodeUnorm8(255), 1.0f);
+}
+
+TEST(GBufferLayout, PackedShininessByteWithinItsRelativeBound) {
+  namespace pk = ts::packed;
+  // b = round(255 log2(clamp(s, 1, 2048)) / 11); s' = 2^(11 b / 255).
+  EXPECT_EQ(pk::encodeShininess(1.0f), 0);
+  EXPECT_EQ(pk::encodeShininess(2048.0f), 255);
+  EXPECT_EQ(pk::encodeShininess(0.0f), 0);        // clamped to 1
+  EXPECT_EQ(pk::encodeShininess(-5.0f), 0);
+  EXPECT_EQ(pk::encodeShininess(1e6f), 255);      // clamped to 2048
+  EXPECT_EQ(pk::encodeShininess(NAN), 0);
+  EXPECT_EQ(pk::encodeShininess(32.0f), 116);     // 255 * 5 / 11 = 115.9
+  EXPECT_EQ(pk::decodeShininess(0), 1.0f);
+  EXPECT_NEAR(pk::decodeShininess(255), 2048.0, 2048.0 * 1e-6);
+  double worst = 0.0;
+  uint8_t last = 0;
+  for (int k = 0; k <= 40000; ++k) {
+    const float s = float(std::pow(2048.0, k / 40000.0));
+    const uint8_t b = pk::encodeShininess(s);
+    EXPECT_EQ(b, uint8_t(std::lround(255.0 * std::log2(double(s)) / 11.0))) << s;
+    EXPECT_GE(b, last);  // monotonic
+    last = b;
+    worst = std::max(worst, std::abs(double(pk::decodeShininess(b)) / s - 1.0));
+  }
+  RecordProperty("worst_shininess_rel_error", std::to_string(worst));
+  EXPECT_LE(worst, pk::kMaxShininessRelError);  // docs/accuracy.md: 2^(11/510) - 1 = 1.51%
+  EXPECT_GT(worst, 0.015);
+  // Through the G-buffer: the top byte of the specular plane.
+  GBuffer g = sampleGBuffer();
+  EncodedGBuffer e = ts::encode(g, GBufferFormat::PACKED);
+  ts::SurfaceD s;
+  ASSERT_TRUE(ts::decodeSurface(e, intrinsics(3, 2), 2, 0, s));
+  EXPECT_EQ(u32At(e.specular, 2) >> 24, pk::encodeShininess(g.specular[2].w));
+  EXPECT_EQ(s.shininess, double(pk::decodeShininess(uint8_t(u32At(e.specular, 2) >> 24))));
+  EXPECT_NEAR(s.shininess, g.specular[2].w, g.specular[2].w * pk::kMaxShininessRelError);
+}
+
+TEST(GBufferLayout, PackedEmissiveIsHalfAndDepthFloat) {
+  GBuffer g = sampleGBuffer();
+  g.emissive[1] = glm::vec4(70000.0f, 1e-6f, -2.5f, 0.0f);  // inf, subnormal half, exact
+  EncodedGBuffer e = ts::encode(g, GBufferFormat::PACKED);
+  EncodedGBuffer e16 = ts::encode(g, GBufferFormat::FP16);
+  EXPECT_EQ(e.emissive, e16.emissive);  // the same half4 plane as the fp16 layout
+  EXPECT_EQ(e.depth, g.depth);
+  const ts::CameraIntrinsics cam = intrinsics(3, 2);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 3; ++x) {
+      const size_t i = size_t(y) * 3 + x;
+      ts::SurfaceD s;
+      if (!ts::decodeSurface(e, cam, x, y, s)) continue;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(s.ke[c], halfToDouble(halfBits(e.emissive, i, c)));
+        if (std::isfinite(s.ke[c]) && std::abs(g.emissive[i][c]) >= 6.2e-5f)  // normal halves
+          EXPECT_LE(std::abs(s.ke[c] - g.emissive[i][c]), std::abs(g.emissive[i][c]) * 0x1p-11);
+      }
+      EXPECT_NEAR(-s.P.z, double(g.depth[i]), 1e-15);
+      // Normal and colours through the codecs.
+      EXPECT_LE(angleBetween(s.N, glm::normalize(glm::dvec3(glm::vec3(g.normal[i])))),
+                ts::packed::kMaxNormalErrorRad + 1e-7);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(s.kd[c], std::clamp(g.diffuse[i][c], 0.0f, 1.0f), ts::packed::kMaxUnorm8Error);
+    }
+  ts::SurfaceD s;
+  ASSERT_TRUE(ts::decodeSurface(e, cam, 1, 0, s));
+  EXPECT_TRUE(std::isinf(s.ke.x));
+  EXPECT_EQ(s.ke.y, 17.0 * std::ldexp(1.0, -24));
+  EXPECT_EQ(s.ke.z, -2.5);
 }
 
 TEST(GBufferLayout, DecodeRejectsMismatchedCameraAndOutOfRangePixels) {
@@ -218,6 +422,10 @@ TEST(GBufferLayout, DecodeRejectsMismatchedCameraAndOutOfRangePixels) {
   EXPECT_THROW(ts::decodeSurface(e, intrinsics(4, 2), 0, 0, s), ts::Error);
   EXPECT_THROW(ts::decodeSurface(e, intrinsics(3, 2), 3, 0, s), std::out_of_range);
   EXPECT_FALSE(ts::decodeSurface(e, intrinsics(3, 2), 1, 1, s));  // pixel 4: background
+  EncodedGBuffer p = ts::encode(sampleGBuffer(), GBufferFormat::PACKED);
+  EXPECT_THROW(ts::decodeSurface(p, intrinsics(3, 3), 0, 0, s), ts::Error);
+  EXPECT_THROW(ts::decodeSurface(p, intrinsics(3, 2), 0, -1, s), std::out_of_range);
+  EXPECT_FALSE(ts::decodeSurface(p, intrinsics(3, 2), 1, 1, s));
 }
 
 }  // namespace

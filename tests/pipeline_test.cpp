@@ -147,7 +147,7 @@ TEST(TiledCulling, OverflowingListGrowsInsteadOfDropping) {
 
 // Decoding: the dump kernel's values equal the host decoder's (which feeds the reference).
 TEST(GBufferDecode, KernelMatchesHostDecoder) {
-  for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16}) {
+  for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16, GBufferFormat::PACKED}) {
     PreparedFrame f = prepareFrame(builtin("street", "few"), 10, 120, 72, format);
     DeviceFrame frame = f.upload(test::context());
     TechniqueConfig config;

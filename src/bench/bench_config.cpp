@@ -129,9 +129,9 @@ std::vector<BenchDimension> makeDimensions() {
         c.height = h;
       },
       [](const BenchConfig& c) { return std::to_string(c.width) + "x" + std::to_string(c.height); });
-  add("gbuffer", "G-buffer precision(s): fp32, fp16", false,
+  add("gbuffer", "G-buffer precision(s): fp32, fp16, packed", false,
       [](BenchConfig& c, const std::string& v) {
-        c.format = parseGBufferFormat(oneOf("--gbuffer", v, {"fp32", "fp16"}));
+        c.format = parseGBufferFormat(oneOf("--gbuffer", v, {"fp32", "fp16", "packed"}));
       },
       [](const BenchConfig& c) { return toString(c.format); });
   add("technique", "technique(s), or all", false,

@@ -648,11 +648,13 @@ BenchRunResult runBench(const BenchOptions& o) {
 
     for (int f : frames) {
       PreparedFrame prepared = prepareFrame(scene, f, g.width, g.height, GBufferFormat::FP32);
-      std::optional<EncodedGBuffer> fp16;
+      std::map<GBufferFormat, EncodedGBuffer> otherFormats;  // encoded once each, when needed
       auto encoded = [&](GBufferFormat format) -> const EncodedGBuffer& {
         if (format == GBufferFormat::FP32) return prepared.encoded;
-        if (!fp16) fp16 = encode(prepared.gbuffer, GBufferFormat::FP16);
-        return *fp16;
+        auto it = otherFormats.find(format);
+        if (it == otherFormats.end())
+          it = otherFormats.emplace(format, encode(prepared.gbuffer, format)).first;
+        return it->second;
       };
       std::map<std::pair<int, int>, ReferenceImage> references;
       const size_t pixels = size_t(g.width) * g.height;

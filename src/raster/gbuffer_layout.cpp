@@ -1,5 +1,7 @@
 #include "raster/gbuffer_layout.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -18,9 +20,45 @@ namespace {
 
 constexpr size_t kFp32Element = 4 * sizeof(float);     // float4
 constexpr size_t kFp16Element = 4 * sizeof(uint16_t);  // half4
+constexpr size_t kPackedElement = sizeof(uint32_t);    // one uint (normal, diffuse, specular)
 
+// Bytes per pixel of the normal, diffuse and specular planes, and of the emissive plane.
 size_t elementBytes(GBufferFormat format) {
-  return format == GBufferFormat::FP16 ? kFp16Element : kFp32Element;
+  switch (format) {
+    case GBufferFormat::FP32: return kFp32Element;
+    case GBufferFormat::FP16: return kFp16Element;
+    case GBufferFormat::PACKED: return kPackedElement;
+  }
+  return kFp32Element;
+}
+size_t emissiveBytes(GBufferFormat format) {
+  return format == GBufferFormat::FP32 ? kFp32Element : kFp16Element;  // packed: half4
+}
+
+// The packed layout's uint planes, one element per pixel.
+template <typename F>
+std::vector<uint8_t> encodePacked(const std::vector<glm::vec4>& plane, size_t pixels, F pack) {
+  std::vector<uint8_t> out;
+  raster_detail::assignZeroed(out, pixels * kPackedElement);
+  uint32_t* dst = reinterpret_cast<uint32_t*>(out.data());
+  for (size_t i = 0; i < pixels; ++i) dst[i] = pack(plane[i]);
+  return out;
+}
+
+uint32_t loadPacked(const std::vector<uint8_t>& plane, size_t i) {
+  uint32_t v;
+  std::memcpy(&v, plane.data() + i * kPackedElement, kPackedElement);
+  return v;
+}
+
+glm::vec3 unorm8x3(uint32_t v) {
+  return {packed::decodeUnorm8(uint8_t(v)), packed::decodeUnorm8(uint8_t(v >> 8)),
+          packed::decodeUnorm8(uint8_t(v >> 16))};
+}
+
+uint32_t packUnorm8x4(const glm::vec4& c) {
+  return uint32_t(packed::encodeUnorm8(c.x)) | uint32_t(packed::encodeUnorm8(c.y)) << 8 |
+         uint32_t(packed::encodeUnorm8(c.z)) << 16 | uint32_t(packed::encodeUnorm8(c.w)) << 24;
 }
 
 std::vector<uint8_t> encodePlane(const std::vector<glm::vec4>& plane, size_t pixels,
@@ -40,7 +78,8 @@ std::vector<uint8_t> encodePlane(const std::vector<glm::vec4>& plane, size_t pix
   return out;
 }
 
-// The element at pixel i as the kernels read it (vload4 / vload_half4; both exact).
+// The element at pixel i as the kernels read it (vload4 / vload_half4; both exact). Not for the
+// packed uint planes (the packed emissive plane is half4: pass FP16).
 glm::vec4 load4(const std::vector<uint8_t>& plane, size_t i, GBufferFormat format) {
   glm::vec4 v;
   if (format == GBufferFormat::FP32) {
@@ -65,10 +104,83 @@ glm::dvec3 normalizeLikeOpenCL(const glm::dvec3& v) {
 
 }  // namespace
 
+namespace packed {
+
+// Mirrors ts_decode_normal (kernels/gbuffer.h) operation by operation, in float.
+glm::vec3 decodeNormalUnnormalized(uint32_t v) {
+  float ex = std::fmax(float(int16_t(uint16_t(v & 0xffffu))) / 32767.0f, -1.0f);
+  float ey = std::fmax(float(int16_t(uint16_t(v >> 16))) / 32767.0f, -1.0f);
+  glm::vec3 n(ex, ey, 1.0f - std::fabs(ex) - std::fabs(ey));
+  if (n.z < 0.0f) {
+    float nx = (1.0f - std::fabs(ey)) * (ex >= 0.0f ? 1.0f : -1.0f);
+    float ny = (1.0f - std::fabs(ex)) * (ey >= 0.0f ? 1.0f : -1.0f);
+    n.x = nx;
+    n.y = ny;
+  }
+  return n;
+}
+
+uint32_t encodeNormal(glm::vec3 n) {
+  const glm::dvec3 d(n);
+  const double l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+  if (!(l1 > 0.0) || !std::isfinite(l1)) return 0u;  // decodes to +Z
+  // Exact octahedral coordinates in [-1, 1]^2; the lower hemisphere folds over the diagonals
+  // (sign(0) = +1, as the decoder's `>= 0` test).
+  double px = d.x / l1, py = d.y / l1;
+  if (d.z < 0.0) {
+    double fx = (1.0 - std::abs(py)) * (px >= 0.0 ? 1.0 : -1.0);
+    double fy = (1.0 - std::abs(px)) * (py >= 0.0 ? 1.0 : -1.0);
+    px = fx;
+    py = fy;
+  }
+  // The four snorm16 lattice points around (px, py); keep the one whose decoded normal (exactly
+  // as the kernel decodes it) makes the smallest angle with n. Ties keep the first, which is the
+  // nearest lattice point when it is among the best.
+  const glm::dvec3 target = d / std::sqrt(glm::dot(d, d));
+  const double sx = std::clamp(px, -1.0, 1.0) * 32767.0, sy = std::clamp(py, -1.0, 1.0) * 32767.0;
+  const double rx = std::nearbyint(sx), ry = std::nearbyint(sy);
+  const double ox = rx == std::floor(sx) ? std::ceil(sx) : std::floor(sx);
+  const double oy = ry == std::floor(sy) ? std::ceil(sy) : std::floor(sy);
+  uint32_t best = 0u;
+  double bestCos = -2.0;
+  for (double cx : {rx, ox})
+    for (double cy : {ry, oy}) {
+      const int ix = int(std::clamp(cx, -32767.0, 32767.0));
+      const int iy = int(std::clamp(cy, -32767.0, 32767.0));
+      const uint32_t v = uint32_t(uint16_t(int16_t(ix))) | uint32_t(uint16_t(int16_t(iy))) << 16;
+      const glm::dvec3 m(decodeNormalUnnormalized(v));
+      const double len = std::sqrt(glm::dot(m, m));
+      const double c = len > 0.0 ? glm::dot(m, target) / len : -2.0;
+      if (c > bestCos) {
+        bestCos = c;
+        best = v;
+      }
+    }
+  return best;
+}
+
+uint8_t encodeUnorm8(float c) {
+  if (!(c > 0.0f)) return 0;  // negative, zero or NaN
+  if (c >= 1.0f) return 255;
+  return uint8_t(std::floor(double(c) * 255.0 + 0.5));  // round half up, in double: exact
+}
+
+float decodeUnorm8(uint8_t b) { return float(b) / 255.0f; }
+
+uint8_t encodeShininess(float s) {
+  const double c = std::isnan(s) ? 1.0 : std::clamp(double(s), 1.0, 2048.0);
+  return uint8_t(std::clamp(std::round(255.0 * std::log2(c) / 11.0), 0.0, 255.0));
+}
+
+float decodeShininess(uint8_t b) { return std::exp2(float(b) * (11.0f / 255.0f)); }
+
+}  // namespace packed
+
 std::string toString(GBufferFormat format) {
   switch (format) {
     case GBufferFormat::FP32: return "fp32";
     case GBufferFormat::FP16: return "fp16";
+    case GBufferFormat::PACKED: return "packed";
   }
   return "?";
 }
@@ -76,16 +188,25 @@ std::string toString(GBufferFormat format) {
 GBufferFormat parseGBufferFormat(const std::string& name) {
   if (name == "fp32") return GBufferFormat::FP32;
   if (name == "fp16") return GBufferFormat::FP16;
-  throw Error("unknown G-buffer format '" + name + "' (expected fp32 or fp16)");
+  if (name == "packed") return GBufferFormat::PACKED;
+  throw Error("unknown G-buffer format '" + name + "' (expected fp32, fp16 or packed)");
+}
+
+std::string gbufferKernelDefines(GBufferFormat format) {
+  switch (format) {
+    case GBufferFormat::FP32: return "";
+    case GBufferFormat::FP16: return "-DTS_GBUFFER_FP16";
+    case GBufferFormat::PACKED: return "-DTS_GBUFFER_PACKED";
+  }
+  return "";
 }
 
 size_t EncodedGBuffer::bytesPerPixel() const {
-  return sizeof(float) + 4 * elementBytes(format);  // depth + normal, diffuse, specular, emissive
+  // depth + normal, diffuse, specular + emissive
+  return sizeof(float) + 3 * elementBytes(format) + emissiveBytes(format);
 }
 
-std::string EncodedGBuffer::kernelDefines() const {
-  return format == GBufferFormat::FP16 ? "-DTS_GBUFFER_FP16" : "";
-}
+std::string EncodedGBuffer::kernelDefines() const { return gbufferKernelDefines(format); }
 
 EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format) {
   const size_t n = gbuffer.pixelCount();
@@ -98,6 +219,16 @@ EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format) {
   e.width = gbuffer.width;
   e.height = gbuffer.height;
   raster_detail::assignRange(e.depth, gbuffer.depth.begin(), gbuffer.depth.end());
+  if (format == GBufferFormat::PACKED) {
+    e.normal = encodePacked(gbuffer.normal, n,
+                            [](const glm::vec4& v) { return packed::encodeNormal(glm::vec3(v)); });
+    e.diffuse = encodePacked(gbuffer.diffuse, n, packUnorm8x4);
+    e.specular = encodePacked(gbuffer.specular, n, [](const glm::vec4& v) {
+      return (packUnorm8x4(v) & 0x00ffffffu) | uint32_t(packed::encodeShininess(v.w)) << 24;
+    });
+    e.emissive = encodePlane(gbuffer.emissive, n, GBufferFormat::FP16);
+    return e;
+  }
   e.normal = encodePlane(gbuffer.normal, n, format);
   e.diffuse = encodePlane(gbuffer.diffuse, n, format);
   e.specular = encodePlane(gbuffer.specular, n, format);
@@ -120,6 +251,17 @@ bool decodeSurface(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera
   surface.P = shading_d::ts_view_position(x, y, double(depth), double(camera.tanHalfFovX),
                                           double(camera.tanHalfFovY), camera.width, camera.height);
   surface.V = normalizeLikeOpenCL(-surface.P);
+  if (gbuffer.format == GBufferFormat::PACKED) {
+    // ts_decode_* of TS_GBUFFER_PACKED: the float values the kernels compute, then widened.
+    surface.N = normalizeLikeOpenCL(
+        glm::dvec3(packed::decodeNormalUnnormalized(loadPacked(gbuffer.normal, i))));
+    surface.kd = glm::dvec3(unorm8x3(loadPacked(gbuffer.diffuse, i)));
+    const uint32_t spec = loadPacked(gbuffer.specular, i);
+    surface.ks = glm::dvec3(unorm8x3(spec));
+    surface.shininess = double(packed::decodeShininess(uint8_t(spec >> 24)));
+    surface.ke = glm::dvec3(glm::vec3(load4(gbuffer.emissive, i, GBufferFormat::FP16)));
+    return true;
+  }
   surface.N = normalizeLikeOpenCL(glm::dvec3(glm::vec3(load4(gbuffer.normal, i, gbuffer.format))));
   surface.kd = glm::dvec3(glm::vec3(load4(gbuffer.diffuse, i, gbuffer.format)));
   const glm::vec4 spec = load4(gbuffer.specular, i, gbuffer.format);

@@ -67,7 +67,8 @@ std::string cullingName(int culling) {
 
 std::string TechniqueConfig::kernelOptions() const {
   std::ostringstream o;
-  o << (format == GBufferFormat::FP16 ? "-DTS_GBUFFER_FP16 " : "") << "-DTS_MODEL=" << shadingModel
+  const std::string layout = gbufferKernelDefines(format);
+  o << layout << (layout.empty() ? "" : " ") << "-DTS_MODEL=" << shadingModel
     << " -DTS_CULL=" << culling;
   if (math == "fast") o << " -cl-fast-relaxed-math";
   else if (math == "native") o << " -DTS_NATIVE_MATH";
