@@ -515,11 +515,15 @@ BenchRunResult runBench(const BenchOptions& o) {
 
   // Scenes (one per distinct scene definition) and the frames each configuration still needs.
   std::map<std::string, Scene> scenes;
+  // Per scene: its lights with the scene's own ranges (before --light-threshold), for the error
+  // reference that every configuration of the scene is measured against.
+  std::map<std::string, std::vector<PointLight>> ownRangeLights;
   size_t pendingTotal = 0;
   for (auto& e : entries) {
     std::string key = sceneKey(e.config);
     if (!scenes.count(key)) {
       Scene scene = loadScene(e.config.scene, e.config.sceneOptions());
+      ownRangeLights.emplace(key, scene.lights);
       if (e.config.lightThreshold > 0.0f) applyThresholdRanges(scene.lights, e.config.lightThreshold);
       scenes.emplace(key, std::move(scene));
     }
@@ -657,6 +661,18 @@ BenchRunResult runBench(const BenchOptions& o) {
         return it->second;
       };
       std::map<std::pair<int, int>, ReferenceImage> references;
+      // The error reference of every configuration of this frame: the windowed model in double
+      // from the fp32 G-buffer and the scene's own light ranges, so storage precision, light
+      // ranges, arithmetic and culling all show in err_* (error_vs_stored isolates the last two).
+      std::optional<ReferenceImage> sceneReference;
+      auto sceneRef = [&]() -> const ReferenceImage& {
+        if (!sceneReference)
+          sceneReference = shadeReference(
+              prepared.encoded, prepared.intrinsics,
+              toViewSpace(ownRangeLights.at(sceneKey(g)), prepared.camera.viewFromWorld),
+              prepared.ambient, TS_MODEL_WINDOWED);
+        return *sceneReference;
+      };
       const size_t pixels = size_t(g.width) * g.height;
       const uint64_t geometry = prepared.gbuffer.geometryPixels();
 
@@ -702,7 +718,7 @@ BenchRunResult runBench(const BenchOptions& o) {
           std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return reps[a].r.totalMs < reps[b].r.totalMs; });
           Timed& m = reps[idx[(idx.size() - 1) / 2]];
 
-          std::optional<ErrorStats> error;
+          std::optional<ErrorStats> error, errorStored;
           const ReferenceImage* reference = nullptr;
           if (e->errorFrames.count(f)) {
             std::pair<int, int> key{int(e->config.format), tc.shadingModel};
@@ -711,7 +727,9 @@ BenchRunResult runBench(const BenchOptions& o) {
               it = references.emplace(key, shadeReference(enc, prepared.intrinsics, prepared.lights,
                                                           prepared.ambient, tc.shadingModel)).first;
             reference = &it->second;
-            error = compareToReference(m.r.image, *reference, kTolerance * reference->peak);
+            errorStored = compareToReference(m.r.image, *reference, kTolerance * reference->peak);
+            const ReferenceImage& truth = sceneRef();
+            error = compareToReference(m.r.image, truth, kTolerance * truth.peak);
           }
 
           // The limit: G-buffer read once + float4 image written once; contributing evaluations
@@ -745,6 +763,7 @@ BenchRunResult runBench(const BenchOptions& o) {
           }
           row["limit"] = limit;
           if (reference) row["reference_contributing"] = reference->contributing;
+          if (errorStored) row["error_vs_stored"] = errorJson(*errorStored);
 
           csv << csvLine(csvFieldsOf(row)) << "\n" << std::flush;
           rows.push_back(std::move(row));
