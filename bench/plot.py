@@ -547,10 +547,11 @@ def speed_error_lines(groups, prefix):
     lines = ["## Speed against error (Pareto front)", ""]
     if prefix == "err_":
         reference = (
-            "These are the errors `tileshade bench --error` writes: against the windowed double "
-            "reference shaded from the same stored G-buffer values and the same light ranges. They "
-            "measure culling and shading arithmetic, not the storage precision (fp16, packed) nor "
-            "the range change of `light_threshold`, whose bounds docs/accuracy.md gives.")
+            "These are the errors `tileshade bench --error` writes: against the scene reference, "
+            "the windowed model in double from the fp32 G-buffer with the scene's own light "
+            "ranges, so storage precision (fp16, packed), `light_threshold`, arithmetic and "
+            "culling all show (`--error-prefix err_vs_stored_` on bench.json isolates the last "
+            "two; bounds in docs/accuracy.md).")
     else:
         reference = "Error columns `%s*` (chosen with --error-prefix)." % prefix
     has_missed = any(s["_missed"] is not None for g in groups for s in g[2])
