@@ -232,6 +232,7 @@ TEST(ClusteredCulling, OverflowingListGrowsInsteadOfDropping) {
   TechniqueConfig config;
   config.tileWidth = config.tileHeight = 8;
   config.clusterSlices = 8;
+  config.presizeLists = false;  // start from the small default buffer so it has to grow
   auto clustered = createTechnique("clustered", test::context(), config);
   Checked c = renderAndCheck(f, *clustered);
   EXPECT_EQ(c.missed, 0u);

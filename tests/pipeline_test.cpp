@@ -137,6 +137,7 @@ TEST(TiledCulling, OverflowingListGrowsInsteadOfDropping) {
   PreparedFrame f = prepareFrame(scene, 0, 96, 64, GBufferFormat::FP32);
   TechniqueConfig config;
   config.tileWidth = config.tileHeight = 8;
+  config.presizeLists = false;  // start from the small default buffer so it has to grow
   auto tiled = createTechnique("tiled", test::context(), config);
   Checked c = renderAndCheck(f, *tiled);
   EXPECT_EQ(c.missed, 0u);
@@ -144,6 +145,13 @@ TEST(TiledCulling, OverflowingListGrowsInsteadOfDropping) {
   EXPECT_EQ(c.result.counters.listMax, 300u);
   ASSERT_FALSE(c.result.counters.notes.empty());
   EXPECT_NE(c.result.counters.notes[0].find("grown"), std::string::npos);
+
+  // Presized from the host's rectangle bound (the default), the same frame needs no re-run.
+  config.presizeLists = true;
+  Checked p = renderAndCheck(f, *createTechnique("tiled", test::context(), config));
+  EXPECT_TRUE(p.result.counters.notes.empty());
+  EXPECT_EQ(p.missed, 0u);
+  EXPECT_EQ(p.result.counters.lightingComputations, c.result.counters.lightingComputations);
 }
 
 // Decoding: the dump kernel's values equal the host decoder's (which feeds the reference).

@@ -142,7 +142,8 @@ void runRender(const RenderOptions& o) {
   std::ostringstream table;
   table << std::left << std::setw(18) << "technique" << std::right << std::setw(10) << "total ms"
         << std::setw(16) << "lighting comp." << std::setw(15) << "evaluations" << std::setw(13)
-        << "max err/peak" << std::setw(8) << "missed" << "  per-kernel ms\n";
+        << "max err/peak" << std::setw(8) << "missed" << std::setw(12) << "G-buf MB"
+        << "  per-kernel ms\n";
   for (const auto& name : techniques) {
     auto technique = createTechnique(name, cl, config);
     FrameRequest request;
@@ -175,7 +176,9 @@ void runRender(const RenderOptions& o) {
     table << std::left << std::setw(18) << name << std::right << std::fixed << std::setprecision(3)
           << std::setw(10) << r.totalMs << std::setw(16) << r.counters.lightingComputations
           << std::setw(15) << r.counters.evaluations << std::setw(13) << err.str() << std::setw(8)
-          << (missed ? std::to_string(*missed) : std::string("-")) << "  " << kernelSummary(r)
+          << (missed ? std::to_string(*missed) : std::string("-")) << std::setw(12)
+          << std::setprecision(1) << double(r.counters.gbufferBytesRead) / 1e6 << "  "
+          << kernelSummary(r)
           << "\n";
     for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
   }

@@ -53,6 +53,16 @@ class ClusteredTechnique : public Technique {
 
   FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
+    if (config_.presizeLists) {
+      // Every light in every slice of its tile rectangle bounds the entries; capped, since many
+      // slices make the bound loose (the grow-and-rerun below covers a capped bound).
+      size_t bound = std::min(tileListBound(grid_, frame) * size_t(config_.clusterSlices),
+                              size_t(16) << 20);
+      if (bound > capacity_) {
+        capacity_ = bound;
+        clusterLights_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE, capacity_ * sizeof(uint32_t));
+      }
+    }
     FrameResult result;
     uint32_t total = 0;
     // A list that outgrows its buffer is never truncated: grow to fit and run the frame again

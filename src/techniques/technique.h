@@ -24,6 +24,8 @@ struct TechniqueConfig {
   int tileWidth = 16;
   int tileHeight = 16;
   int clusterSlices = 16;  // depth slices of the clustered technique
+  bool presizeLists = true;     // tiled: size the light list from the host's bound of the
+                                // frame's entries (off: start small and grow, as tests do)
   int localListCapacity = 256;  // tiled-single: lights its local-memory list holds before it
                                 // shades a chunk (raised to the work-group size if smaller)
   int shadingModel = 0;    // TS_MODEL_WINDOWED (0) or TS_MODEL_PHYSICAL (1), kernels/shading.h

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "reference/shading_cpu.h"
+
 namespace ts {
 
 TileGrid::TileGrid(int w, int h, int tw, int th)
@@ -64,6 +66,20 @@ WorkCounters tileWorkCounters(const TileGrid& grid, const std::vector<uint32_t>&
   size_t pixels = size_t(grid.width) * grid.height;
   c.gbufferBytesRead = 2 * 4 * pixels + geometry * (frame.gbuffer->bytesPerPixel() - 4);
   return c;
+}
+
+size_t tileListBound(const TileGrid& grid, const DeviceFrame& frame) {
+  const CameraIntrinsics& cam = frame.camera;
+  size_t bound = 0;
+  for (const glm::vec4& pr : frame.lights->positionRange) {
+    glm::vec4 b = shading_f::ts_sphere_ndc_bounds(glm::vec3(pr), pr.w, cam.znear, cam.tanHalfFovX,
+                                                  cam.tanHalfFovY);
+    int x0, y0, x1, y1;
+    if (shading_f::ts_ndc_bounds_to_tiles(b, grid.width, grid.height, grid.tileW, grid.tileH, &x0,
+                                          &y0, &x1, &y1))
+      bound += size_t(x1 - x0 + 1) * size_t(y1 - y0 + 1);
+  }
+  return bound;
 }
 
 LightAssignment tileAssignment(const TileGrid& grid, std::vector<uint32_t> offsets,

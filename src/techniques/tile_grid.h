@@ -39,6 +39,11 @@ class FrameTimer {
 WorkCounters tileWorkCounters(const TileGrid& grid, const std::vector<uint32_t>& counts,
                               const DeviceFrame& frame);
 
+// Upper bound of a frame's tile light list entries: the tiles of every light's screen rectangle
+// (culling.h in float on the host), before any depth-range test. Sizing the list buffer with it
+// saves the grow-and-rerun of a first frame.
+size_t tileListBound(const TileGrid& grid, const DeviceFrame& frame);
+
 // Per-tile lists as a LightAssignment (pixelBin = the pixel's tile).
 LightAssignment tileAssignment(const TileGrid& grid, std::vector<uint32_t> offsets,
                                std::vector<uint32_t> counts, std::vector<uint32_t> lights);

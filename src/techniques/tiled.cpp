@@ -26,6 +26,11 @@ class TiledTechnique : public Technique {
 
   FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
+    size_t bound = config_.presizeLists ? tileListBound(grid_, frame) : 0;
+    if (bound > capacity_) {
+      capacity_ = bound;
+      tileLights_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE, capacity_ * sizeof(uint32_t));
+    }
     FrameResult result;
     uint32_t total = 0;
     // A list that outgrows its buffer is never truncated: grow to fit and run the frame again.
