@@ -28,6 +28,7 @@
 #ifndef TS_CULL
 #define TS_CULL TS_CULL_RECT
 #endif
+#include "light_lists.h"
 
 /* The bit pattern of FLT_MAX: the "empty" minimum of the integer-atomic depth reductions. */
 #define TS_DEPTH_EMPTY_MIN 0x7f7fffffu
@@ -139,9 +140,7 @@ __kernel void cluster_depth_bounds(__global const float *gb_depth, int width, in
  * computed by the same function, but log is not guaranteed monotonic in the last ulp, and the
  * extra clusters cost one depth-range test each. The decisive test is the cluster's geometry
  * depth range, as in tiled.cl, then TS_CULL against the tile with the cluster's range.
- * fill == 0: count into cluster_count.  fill == 1: append to the cluster lists, using
- * cluster_cursor (zeroed) for slots; entries past `capacity` are not written and the host grows
- * the list and re-runs. */
+ * fill == 0: count into cluster_count; fill == 1: append to the cluster lists (ts_bin_light). */
 __kernel void bin_clusters(__global const float4 *light_pos_range, int light_count,
                            float4 camera, float znear, __global const uint *depth_range,
                            __global const float2 *cluster_depth, int fill,
@@ -172,18 +171,9 @@ __kernel void bin_clusters(__global const float4 *light_pos_range, int light_cou
     int t = i / depth_n, s = s0 + i % depth_n;
     int tx = x0 + t % rect_w, ty = y0 + t / rect_w;
     int cluster = (ty * tiles_x + tx) * SLICES + s;
-    float2 zr = cluster_depth[cluster];
-    if (!ts_sphere_meets_depth_range(c, r, zr.x, zr.y)) continue;
-    if (!ts_sphere_meets_tile(c, r, TS_CULL, tx * TILE_W, ty * TILE_H, min((tx + 1) * TILE_W, width),
-                              min((ty + 1) * TILE_H, height), width, height, camera.x, camera.y,
-                              zr.x, zr.y))
-      continue;
-    if (!fill) {
-      atomic_inc(&cluster_count[cluster]);
-    } else {
-      uint pos = cluster_offset[cluster] + atomic_inc(&cluster_cursor[cluster]);
-      if (pos < capacity) cluster_lights[pos] = (uint)light;
-    }
+    if (ts_light_meets_bin(c, r, tx, ty, cluster_depth[cluster], camera))
+      ts_bin_light((uint)light, cluster, fill, cluster_count, cluster_offset, cluster_cursor,
+                   cluster_lights, capacity);
   }
 }
 
@@ -208,14 +198,8 @@ __kernel void shade_clustered(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
   if (ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)) {
     int tile = (y / TILE_H) * ((width + TILE_W - 1) / TILE_W) + x / TILE_W;
     int cluster = tile * SLICES + pixel_slice[y * width + x];
-    uint begin = cluster_offset[cluster], n = cluster_count[cluster];
-    /* A list that overflowed the buffer is read only as far as it was written; the host sees the
-     * overflow, grows the buffer and runs the frame again, so this image is never kept. */
-    n = begin >= capacity ? 0u : min(n, capacity - begin);
-    for (uint k = 0; k < n; ++k) {
-      uint light = cluster_lights[begin + k];
-      sum += ts_shade_light(&s, light_pos_range[light], light_color[light], TS_MODEL);
-    }
+    sum = ts_shade_bin(&s, cluster_offset[cluster], cluster_count[cluster], capacity,
+                       cluster_lights, light_pos_range, light_color);
     sum += ts_surface_base(s.ke, s.kd, ambient.xyz);
   }
   image[y * width + x] = (float4)(sum, 0.0f);

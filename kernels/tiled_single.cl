@@ -24,24 +24,21 @@
 #ifndef TS_CULL
 #define TS_CULL TS_CULL_RECT
 #endif
+#include "light_lists.h"
 
 #define GROUP_SIZE (GROUP_W * GROUP_H)
 /* Pixels of the tile each work-item owns (the tile may be larger than the work-group). */
 #define PIXELS_PER_ITEM (((TILE_W + GROUP_W - 1) / GROUP_W) * ((TILE_H + GROUP_H - 1) / GROUP_H))
 
-/* Does the light `pr` (view-space centre, range) reach tile (tx, ty) with depth range zr? */
+/* Does the light `pr` (view-space centre, range) reach tile (tx, ty) with depth range zr? The
+ * same decisions as tiled.cl's bin_lights: inside the light's tile rectangle, then the bin test. */
 static int light_meets_tile(float4 pr, int tx, int ty, float2 zr, float4 camera, float znear) {
   int width = (int)camera.z, height = (int)camera.w;
-  float3 c = pr.xyz;
-  float r = pr.w;
-  if (!ts_sphere_meets_depth_range(c, r, zr.x, zr.y)) return 0;
-  float4 b = ts_sphere_ndc_bounds(c, r, znear, camera.x, camera.y);
+  float4 b = ts_sphere_ndc_bounds(pr.xyz, pr.w, znear, camera.x, camera.y);
   int x0, y0, x1, y1;
   if (!ts_ndc_bounds_to_tiles(b, width, height, TILE_W, TILE_H, &x0, &y0, &x1, &y1)) return 0;
   if (tx < x0 || tx > x1 || ty < y0 || ty > y1) return 0;
-  return ts_sphere_meets_tile(c, r, TS_CULL, tx * TILE_W, ty * TILE_H, min((tx + 1) * TILE_W, width),
-                              min((ty + 1) * TILE_H, height), width, height, camera.x, camera.y,
-                              zr.x, zr.y);
+  return ts_light_meets_bin(pr.xyz, pr.w, tx, ty, zr, camera);
 }
 
 /* Screen position of the k-th pixel owned by this work-item; returns 0 when it is off the tile

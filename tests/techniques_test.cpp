@@ -121,6 +121,21 @@ INSTANTIATE_TEST_SUITE_P(Builtins, EveryTechnique, ::testing::ValuesIn(everyTech
                                   toString(k.format);
                          });
 
+// Tile sizes that are not powers of two (nor divide the image), square or not: the binned
+// techniques launch work-groups that stay inside one tile (groupEdgeFor) and stay exact.
+TEST(BinnedTechniques, OddTileSizes) {
+  const PreparedFrame& f = prepared("street", "many", 10, GBufferFormat::FP32);
+  for (const char* name : {"tiled", "tiled-single", "clustered"})
+    for (auto [w, h] : {std::pair{24, 24}, std::pair{12, 20}, std::pair{17, 9}, std::pair{48, 40}}) {
+      TechniqueConfig config;
+      config.tileWidth = w;
+      config.tileHeight = h;
+      Checked c = renderAndCheck(f, *createTechnique(name, test::context(), config));
+      EXPECT_EQ(c.missed, 0u) << name << " " << w << "x" << h;
+      EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << name << " " << w << "x" << h;
+    }
+}
+
 // Per tile, the set of listed lights.
 std::vector<std::set<uint32_t>> tileSets(const LightAssignment& a) {
   std::vector<std::set<uint32_t>> sets(a.binCount.size());

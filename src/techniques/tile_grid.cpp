@@ -100,6 +100,12 @@ std::vector<glm::vec4> readImage(ClContext& cl, const cl::Buffer& image, const D
   return out;
 }
 
+size_t groupEdgeFor(int tile) {
+  for (int d = std::min(tile, 16); d > 1; --d)
+    if (tile % d == 0) return size_t(d);
+  return 1;
+}
+
 size_t pow2AtLeast(size_t n, size_t cap) {
   size_t p = 1;
   while (p < n && p < cap) p <<= 1;

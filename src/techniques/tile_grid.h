@@ -51,6 +51,10 @@ LightAssignment tileAssignment(const TileGrid& grid, std::vector<uint32_t> offse
 // Reads back an RGBA float image of the frame's size.
 std::vector<glm::vec4> readImage(ClContext& cl, const cl::Buffer& image, const DeviceFrame& frame);
 
+// Work-group edge for per-pixel kernels over tiles of `tile` pixels: the largest divisor of the
+// tile edge that is at most 16, so a work-group never straddles two tiles (24 -> 12, 48 -> 16).
+size_t groupEdgeFor(int tile);
+
 // Smallest power of two >= n, capped at `cap`.
 size_t pow2AtLeast(size_t n, size_t cap);
 

@@ -145,7 +145,8 @@ class TiledTechnique : public Technique {
     shade_.setArg(arg++, tileLights_);
     shade_.setArg(arg++, cl_uint(capacity_));
     shade_.setArg(arg++, image_);
-    size_t lx = std::min(grid_.tileW, 16), ly = std::min(grid_.tileH, 16);
+    // Work-groups inside one tile: shade_tiled takes the tile from the group id.
+    size_t lx = groupEdgeFor(grid_.tileW), ly = groupEdgeFor(grid_.tileH);
     q.enqueueNDRangeKernel(shade_, cl::NullRange,
                            cl::NDRange(roundUp(frame.width(), lx), roundUp(frame.height(), ly)),
                            cl::NDRange(lx, ly), nullptr, timer_.next("shade"));
