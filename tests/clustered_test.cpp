@@ -15,15 +15,18 @@
 #include "render/frame_setup.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
+#include "reference_check.h"
 #include "test_support.h"
 #include "util/error.h"
 
 namespace ts {
 namespace {
 
-// The same bound as tiled's (tests/pipeline_test.cpp): fp32 rounding of a few hundred light terms
-// per pixel stays ~10x below it, a missed or doubled light is >= 1e-3 of the peak.
-constexpr double kFp32RelativeTolerance = 2e-5;
+using test::builtinScene;
+using test::Checked;
+using test::kFp32RelativeTolerance;
+using test::renderAndCheck;
+using test::renderOnly;
 
 Technique& technique(const std::string& name, GBufferFormat format, int tile, int slices,
                      int culling = 0) {
@@ -38,41 +41,6 @@ Technique& technique(const std::string& name, GBufferFormat format, int tile, in
     t = createTechnique(name, test::context(), config);
   }
   return *t;
-}
-
-const Scene& builtin(const std::string& name, const std::string& lights) {
-  static std::map<std::string, Scene> cache;
-  auto key = name + "/" + lights;
-  auto it = cache.find(key);
-  if (it == cache.end()) it = cache.emplace(key, makeBuiltinScene(name, lights, 1)).first;
-  return it->second;
-}
-
-struct Checked {
-  ErrorStats error;
-  uint64_t missed = 0;
-  uint64_t contributing = 0;  // the reference's non-zero (pixel, light) pairs
-  FrameResult result;
-};
-
-Checked renderAndCheck(const PreparedFrame& f, Technique& t) {
-  DeviceFrame frame = f.upload(test::context());
-  FrameRequest request;
-  request.wantAssignment = true;
-  Checked c;
-  c.result = t.render(frame, request);
-  ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
-  c.contributing = ref.contributing;
-  c.error = compareToReference(c.result.image, ref, kFp32RelativeTolerance * ref.peak);
-  c.missed = countMissedContributions(*c.result.assignment, f.encoded, f.intrinsics, f.lights, 0);
-  return c;
-}
-
-FrameResult renderOnly(const PreparedFrame& f, Technique& t, bool wantAssignment) {
-  DeviceFrame frame = f.upload(test::context());
-  FrameRequest request;
-  request.wantAssignment = wantAssignment;
-  return t.render(frame, request);
 }
 
 struct Case {
@@ -90,7 +58,7 @@ class ClusteredMatchesReference : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ClusteredMatchesReference, WithinFp32RoundingAndNoMissedLight) {
   const Case& k = GetParam();
-  PreparedFrame f = prepareFrame(builtin(k.scene, k.lights), k.frame, k.width, k.height, k.format);
+  PreparedFrame f = prepareFrame(builtinScene(k.scene, k.lights), k.frame, k.width, k.height, k.format);
   ASSERT_GT(f.gbuffer.geometryPixels(), f.gbuffer.pixelCount() / 4) << "camera sees little";
   Checked c = renderAndCheck(f, technique("clustered", k.format, k.tile, k.slices));
   EXPECT_EQ(c.missed, 0u);
@@ -134,7 +102,7 @@ INSTANTIATE_TEST_SUITE_P(
 // The per-tile tests of culling.h (frustum planes, box) are applied per cluster with the
 // cluster's depth range: still conservative.
 TEST(ClusteredCulling, FrustumAndBoxTestsStayConservative) {
-  PreparedFrame f = prepareFrame(builtin("street", "many"), 0, 200, 120, GBufferFormat::FP32);
+  PreparedFrame f = prepareFrame(builtinScene("street", "many"), 0, 200, 120, GBufferFormat::FP32);
   uint64_t rectEvaluations = 0;
   for (int culling : {0, 1, 2}) {
     Checked c = renderAndCheck(f, technique("clustered", GBufferFormat::FP32, 16, 16, culling));
@@ -153,7 +121,7 @@ TEST(ClusteredCulling, FrustumAndBoxTestsStayConservative) {
 TEST(ClusteredVsTiled, OneSliceListsEqualTiledPerTile) {
   for (const auto& [name, lights, frameIndex] :
        {std::tuple{"street", "many", 0}, std::tuple{"atrium", "mixed", 90}}) {
-    PreparedFrame f = prepareFrame(builtin(name, lights), frameIndex, 200, 120, GBufferFormat::FP32);
+    PreparedFrame f = prepareFrame(builtinScene(name, lights), frameIndex, 200, 120, GBufferFormat::FP32);
     FrameResult clustered = renderOnly(f, technique("clustered", GBufferFormat::FP32, 16, 1), true);
     FrameResult tiled = renderOnly(f, technique("tiled", GBufferFormat::FP32, 16, 1), true);
     const LightAssignment& c = *clustered.assignment;
@@ -181,7 +149,7 @@ TEST(ClusteredVsTiled, OneSliceListsEqualTiledPerTile) {
 // depth range then holds lights its pixels are nowhere near. Slices separate those depths.
 TEST(ClusteredVsTiled, FewerEvaluationsAcrossDepthDiscontinuities) {
   for (int frameIndex : {0, 60}) {
-    PreparedFrame f = prepareFrame(builtin("street", "many"), frameIndex, 200, 120,
+    PreparedFrame f = prepareFrame(builtinScene("street", "many"), frameIndex, 200, 120,
                                    GBufferFormat::FP32);
     uint64_t tiled =
         renderOnly(f, technique("tiled", GBufferFormat::FP32, 16, 1), false).counters.evaluations;
@@ -203,7 +171,7 @@ TEST(ClusteredCulling, ConservativeOnRandomCameras) {
   std::mt19937 rng(23);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (const auto& [name, lights] : {std::pair{"street", "many"}, std::pair{"atrium", "mixed"}}) {
-    Scene scene = builtin(name, lights);
+    Scene scene = builtinScene(name, lights);
     Bounds b = scene.bounds();
     for (int i = 0; i < 4; ++i) {
       glm::vec3 eye = b.min + glm::vec3(u(rng), 0.05f + 0.4f * u(rng), u(rng)) * b.extent();
@@ -247,7 +215,7 @@ TEST(ClusteredCulling, OverflowingListGrowsInsteadOfDropping) {
 
 // No lights, and a frame without geometry: nothing binned, nothing evaluated, no failure.
 TEST(ClusteredCulling, NoLightsAndNoGeometry) {
-  Scene scene = builtin("street", "many");
+  Scene scene = builtinScene("street", "many");
   scene.lights.clear();
   PreparedFrame f = prepareFrame(scene, 0, 64, 40, GBufferFormat::FP32);
   Checked c = renderAndCheck(f, technique("clustered", GBufferFormat::FP32, 16, 16));
@@ -255,7 +223,7 @@ TEST(ClusteredCulling, NoLightsAndNoGeometry) {
   EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance);
   EXPECT_EQ(c.result.counters.evaluations, 0u);
 
-  Scene sky = builtin("street", "many");
+  Scene sky = builtinScene("street", "many");
   Bounds b = sky.bounds();
   glm::vec3 eye(0.0f, b.max.y + 10.0f, 0.0f);
   sky.cameraPath = {Camera::lookAt(eye, eye + glm::vec3(0, 1, 0.01f), {0, 0, 1}, 1.0f, 0.1f, 500.0f)};

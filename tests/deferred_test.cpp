@@ -15,13 +15,17 @@
 #include "render/frame_setup.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
+#include "reference_check.h"
 #include "test_support.h"
 
 namespace ts {
 namespace {
 
-// The tolerance of tests/pipeline_test.cpp (fp32 rounding of a few hundred light terms).
-constexpr double kFp32RelativeTolerance = 2e-5;
+using test::builtinScene;
+using test::Checked;
+using test::kFp32RelativeTolerance;
+using test::renderAndCheck;
+using test::renderOnly;
 
 Technique& deferred(GBufferFormat format, bool stencil) {
   static std::map<std::pair<int, bool>, std::unique_ptr<Technique>> cache;
@@ -32,33 +36,6 @@ Technique& deferred(GBufferFormat format, bool stencil) {
     t = createTechnique(stencil ? "deferred-stencil" : "deferred", test::context(), config);
   }
   return *t;
-}
-
-const Scene& builtin(const std::string& name, const std::string& lights) {
-  static std::map<std::string, Scene> cache;
-  auto key = name + "/" + lights;
-  auto it = cache.find(key);
-  if (it == cache.end()) it = cache.emplace(key, makeBuiltinScene(name, lights, 1)).first;
-  return it->second;
-}
-
-struct Checked {
-  ErrorStats error;
-  uint64_t missed = 0;
-  FrameResult result;
-};
-
-Checked renderAndCheck(const PreparedFrame& f, Technique& technique, const ReferenceImage& ref) {
-  DeviceFrame frame = f.upload(test::context());
-  FrameRequest request;
-  request.wantAssignment = true;
-  Checked c;
-  c.result = technique.render(frame, request);
-  c.error = compareToReference(c.result.image, ref, kFp32RelativeTolerance * ref.peak);
-  EXPECT_TRUE(c.result.assignment.has_value());
-  if (c.result.assignment)
-    c.missed = countMissedContributions(*c.result.assignment, f.encoded, f.intrinsics, f.lights, 0);
-  return c;
 }
 
 ReferenceImage reference(const PreparedFrame& f) {
@@ -124,7 +101,7 @@ class DeferredMatchesReference : public ::testing::TestWithParam<Case> {};
 // against brute counts on the same frame.
 TEST_P(DeferredMatchesReference, BothVariantsWithinFp32RoundingWithConsistentCounters) {
   const Case& k = GetParam();
-  PreparedFrame f = prepareFrame(builtin(k.scene, k.lights), k.frame, 200, 120, k.format);
+  PreparedFrame f = prepareFrame(builtinScene(k.scene, k.lights), k.frame, 200, 120, k.format);
   ASSERT_GT(f.gbuffer.geometryPixels(), f.gbuffer.pixelCount() / 4) << "camera sees little";
   ReferenceImage ref = reference(f);
   Checked plain = renderAndCheck(f, deferred(k.format, false), ref);
@@ -196,7 +173,7 @@ INSTANTIATE_TEST_SUITE_P(Builtins, DeferredMatchesReference,
 // the whole screen), one through the near plane beside the camera, one wholly behind it (never
 // launched, empty rectangle).
 TEST(DeferredNearPlane, LightAroundCameraCoversWholeScreen) {
-  PreparedFrame f = prepareFrame(builtin("street", "few"), 0, 200, 120, GBufferFormat::FP32);
+  PreparedFrame f = prepareFrame(builtinScene("street", "few"), 0, 200, 120, GBufferFormat::FP32);
   float zn = f.intrinsics.znear;
   f.lights = ViewLights();
   f.lights.positionRange = {glm::vec4(0.3f, -0.2f, -0.5f * zn, 40.0f),  // contains the camera
@@ -224,7 +201,7 @@ TEST(DeferredNearPlane, LightAroundCameraCoversWholeScreen) {
 
 // No lights: the base pass alone (emission + ambient), no light launches.
 TEST(DeferredNoLights, BaseOnly) {
-  PreparedFrame f = prepareFrame(builtin("atrium", "mixed"), 0, 96, 64, GBufferFormat::FP16);
+  PreparedFrame f = prepareFrame(builtinScene("atrium", "mixed"), 0, 96, 64, GBufferFormat::FP16);
   f.lights = ViewLights();
   ReferenceImage ref = reference(f);
   for (bool stencil : {false, true}) {

@@ -14,16 +14,17 @@
 #include "render/frame_setup.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
+#include "reference_check.h"
 #include "test_support.h"
 
 namespace ts {
 namespace {
 
-// fp32 kernels against the double reference: each pixel sums up to a few hundred light terms,
-// each with a relative rounding error of a few float ulps (~1e-7), plus the float position
-// reconstruction; 2e-5 of the image peak leaves a margin of ~10x over what we observe while
-// catching any missed or doubled light (those are >= 1e-3 of the peak in these scenes).
-constexpr double kFp32RelativeTolerance = 2e-5;
+using test::builtinScene;
+using test::Checked;
+using test::kFp32RelativeTolerance;
+using test::renderAndCheck;
+using test::renderOnly;
 
 Technique& tiledTechnique(GBufferFormat format, int tile) {
   static std::map<std::pair<int, int>, std::unique_ptr<Technique>> cache;
@@ -35,32 +36,6 @@ Technique& tiledTechnique(GBufferFormat format, int tile) {
     t = createTechnique("tiled", test::context(), config);
   }
   return *t;
-}
-
-const Scene& builtin(const std::string& name, const std::string& lights) {
-  static std::map<std::string, Scene> cache;
-  auto key = name + "/" + lights;
-  auto it = cache.find(key);
-  if (it == cache.end()) it = cache.emplace(key, makeBuiltinScene(name, lights, 1)).first;
-  return it->second;
-}
-
-struct Checked {
-  ErrorStats error;
-  uint64_t missed = 0;
-  FrameResult result;
-};
-
-Checked renderAndCheck(const PreparedFrame& f, Technique& technique) {
-  DeviceFrame frame = f.upload(test::context());
-  FrameRequest request;
-  request.wantAssignment = true;
-  Checked c;
-  c.result = technique.render(frame, request);
-  ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
-  c.error = compareToReference(c.result.image, ref, kFp32RelativeTolerance * ref.peak);
-  c.missed = countMissedContributions(*c.result.assignment, f.encoded, f.intrinsics, f.lights, 0);
-  return c;
 }
 
 struct Case {
@@ -79,7 +54,7 @@ class TiledMatchesReference : public ::testing::TestWithParam<Case> {};
 
 TEST_P(TiledMatchesReference, WithinFp32RoundingAndNoMissedLight) {
   const Case& k = GetParam();
-  PreparedFrame f = prepareFrame(builtin(k.scene, k.lights), k.frame, k.width, k.height, k.format);
+  PreparedFrame f = prepareFrame(builtinScene(k.scene, k.lights), k.frame, k.width, k.height, k.format);
   ASSERT_GT(f.gbuffer.geometryPixels(), f.gbuffer.pixelCount() / 4) << "camera sees little";
   Checked c = renderAndCheck(f, tiledTechnique(k.format, k.tile));
   EXPECT_EQ(c.missed, 0u);
@@ -108,7 +83,7 @@ TEST(TiledCulling, ConservativeOnRandomCameras) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (const auto& [name, lights] : {std::pair{"street", "many"}, std::pair{"atrium", "mixed"}}) {
-    Scene scene = builtin(name, lights);
+    Scene scene = builtinScene(name, lights);
     Bounds b = scene.bounds();
     for (int i = 0; i < 4; ++i) {
       glm::vec3 eye = b.min + glm::vec3(u(rng), 0.05f + 0.4f * u(rng), u(rng)) * b.extent();
@@ -157,7 +132,7 @@ TEST(TiledCulling, OverflowingListGrowsInsteadOfDropping) {
 // Decoding: the dump kernel's values equal the host decoder's (which feeds the reference).
 TEST(GBufferDecode, KernelMatchesHostDecoder) {
   for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16, GBufferFormat::PACKED}) {
-    PreparedFrame f = prepareFrame(builtin("street", "few"), 10, 120, 72, format);
+    PreparedFrame f = prepareFrame(builtinScene("street", "few"), 10, 120, 72, format);
     DeviceFrame frame = f.upload(test::context());
     TechniqueConfig config;
     config.format = format;

@@ -15,22 +15,17 @@
 #include "render/frame_setup.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
+#include "reference_check.h"
 #include "test_support.h"
 
 namespace ts {
 namespace {
 
-// Same bound and reasoning as tests/pipeline_test.cpp: fp32 rounding of a few hundred light terms
-// per pixel stays well below 2e-5 of the peak; a missed or doubled light is >= 1e-3 of it.
-constexpr double kFp32RelativeTolerance = 2e-5;
-
-const Scene& builtin(const std::string& name, const std::string& lights) {
-  static std::map<std::string, Scene> cache;
-  auto key = name + "/" + lights;
-  auto it = cache.find(key);
-  if (it == cache.end()) it = cache.emplace(key, makeBuiltinScene(name, lights, 1)).first;
-  return it->second;
-}
+using test::builtinScene;
+using test::Checked;
+using test::kFp32RelativeTolerance;
+using test::renderAndCheck;
+using test::renderOnly;
 
 const PreparedFrame& prepared(const std::string& scene, const std::string& lights, int frame,
                               GBufferFormat format) {
@@ -38,26 +33,8 @@ const PreparedFrame& prepared(const std::string& scene, const std::string& light
   auto key = scene + lights + std::to_string(frame) + toString(format);
   auto& p = cache[key];
   if (!p)
-    p = std::make_unique<PreparedFrame>(prepareFrame(builtin(scene, lights), frame, 160, 96, format));
+    p = std::make_unique<PreparedFrame>(prepareFrame(builtinScene(scene, lights), frame, 160, 96, format));
   return *p;
-}
-
-struct Checked {
-  ErrorStats error;
-  uint64_t missed = 0;
-  FrameResult result;
-};
-
-Checked renderAndCheck(const PreparedFrame& f, Technique& technique) {
-  DeviceFrame frame = f.upload(test::context());
-  FrameRequest request;
-  request.wantAssignment = true;
-  Checked c;
-  c.result = technique.render(frame, request);
-  ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
-  c.error = compareToReference(c.result.image, ref, kFp32RelativeTolerance * ref.peak);
-  c.missed = countMissedContributions(*c.result.assignment, f.encoded, f.intrinsics, f.lights, 0);
-  return c;
 }
 
 struct Case {

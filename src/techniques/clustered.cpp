@@ -197,7 +197,6 @@ class ClusteredTechnique : public Technique {
                            cl::NDRange(group), nullptr, timer_.next("cluster_bounds"));
 
     // 2. Binning: count, scan, fill.
-    const size_t binGroup = 64;
     binLights_.setArg(0, frame.lightPositionRange);
     binLights_.setArg(1, frame.lightCount());
     binLights_.setArg(2, camera);
@@ -209,24 +208,8 @@ class ClusteredTechnique : public Technique {
     binLights_.setArg(9, clusterCursor_);
     binLights_.setArg(10, clusterLights_);
     binLights_.setArg(11, cl_uint(capacity_));
-    if (frame.lightCount() > 0) {
-      binLights_.setArg(6, 0);
-      q.enqueueNDRangeKernel(binLights_, cl::NullRange,
-                             cl::NDRange(size_t(frame.lightCount()) * binGroup),
-                             cl::NDRange(binGroup), nullptr, timer_.next("bin_count"));
-    }
-    scan_.setArg(0, clusterCount_);
-    scan_.setArg(1, int(clusters));
-    scan_.setArg(2, clusterOffset_);
-    scan_.setArg(3, total_);
-    q.enqueueNDRangeKernel(scan_, cl::NullRange, cl::NDRange(256), cl::NDRange(256), nullptr,
-                           timer_.next("scan"));
-    if (frame.lightCount() > 0) {
-      binLights_.setArg(6, 1);
-      q.enqueueNDRangeKernel(binLights_, cl::NullRange,
-                             cl::NDRange(size_t(frame.lightCount()) * binGroup),
-                             cl::NDRange(binGroup), nullptr, timer_.next("bin_fill"));
-    }
+    enqueueBinning(q, binLights_, 6, frame.lightCount(), scan_, clusterCount_, int(clusters),
+                   clusterOffset_, total_, timer_);
 
     // 3. Shading: one work-item per pixel.
     cl_uint arg = 0;

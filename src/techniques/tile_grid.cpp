@@ -68,6 +68,26 @@ WorkCounters tileWorkCounters(const TileGrid& grid, const std::vector<uint32_t>&
   return c;
 }
 
+void enqueueBinning(cl::CommandQueue& queue, cl::Kernel& bin, cl_uint fillArg, int lightCount,
+                    cl::Kernel& scan, const cl::Buffer& counts, int bins,
+                    const cl::Buffer& offsets, const cl::Buffer& total, FrameTimer& timer) {
+  const size_t group = 64;  // work-items sharing one light's bins
+  auto binPass = [&](int fill, const char* name) {
+    if (lightCount == 0) return;  // OpenCL refuses an empty NDRange
+    bin.setArg(fillArg, fill);
+    queue.enqueueNDRangeKernel(bin, cl::NullRange, cl::NDRange(size_t(lightCount) * group),
+                               cl::NDRange(group), nullptr, timer.next(name));
+  };
+  binPass(0, "bin_count");
+  scan.setArg(0, counts);
+  scan.setArg(1, bins);
+  scan.setArg(2, offsets);
+  scan.setArg(3, total);
+  queue.enqueueNDRangeKernel(scan, cl::NullRange, cl::NDRange(256), cl::NDRange(256), nullptr,
+                             timer.next("scan"));
+  binPass(1, "bin_fill");
+}
+
 size_t tileListBound(const TileGrid& grid, const DeviceFrame& frame) {
   const CameraIntrinsics& cam = frame.camera;
   size_t bound = 0;

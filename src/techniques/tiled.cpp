@@ -102,7 +102,6 @@ class TiledTechnique : public Technique {
                            cl::NDRange(group), nullptr, timer_.next("depth_bounds"));
 
     // 2. Binning: count, scan, fill.
-    const size_t binGroup = 64;
     binLights_.setArg(0, frame.lightPositionRange);
     binLights_.setArg(1, frame.lightCount());
     binLights_.setArg(2, camera);
@@ -113,24 +112,8 @@ class TiledTechnique : public Technique {
     binLights_.setArg(8, tileCursor_);
     binLights_.setArg(9, tileLights_);
     binLights_.setArg(10, cl_uint(capacity_));
-    if (frame.lightCount() > 0) {
-      binLights_.setArg(5, 0);
-      q.enqueueNDRangeKernel(binLights_, cl::NullRange,
-                             cl::NDRange(size_t(frame.lightCount()) * binGroup),
-                             cl::NDRange(binGroup), nullptr, timer_.next("bin_count"));
-    }
-    scan_.setArg(0, tileCount_);
-    scan_.setArg(1, int(tiles));
-    scan_.setArg(2, tileOffset_);
-    scan_.setArg(3, total_);
-    q.enqueueNDRangeKernel(scan_, cl::NullRange, cl::NDRange(256), cl::NDRange(256), nullptr,
-                           timer_.next("scan"));
-    if (frame.lightCount() > 0) {
-      binLights_.setArg(5, 1);
-      q.enqueueNDRangeKernel(binLights_, cl::NullRange,
-                             cl::NDRange(size_t(frame.lightCount()) * binGroup),
-                             cl::NDRange(binGroup), nullptr, timer_.next("bin_fill"));
-    }
+    enqueueBinning(q, binLights_, 5, frame.lightCount(), scan_, tileCount_, int(tiles), tileOffset_,
+                   total_, timer_);
 
     // 3. Shading: one work-item per pixel.
     cl_uint arg = 0;
