@@ -53,30 +53,20 @@ class ClusteredTechnique : public Technique {
 
   FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
-    if (config_.presizeLists) {
+    if (config_.presizeLists)
       // Every light in every slice of its tile rectangle bounds the entries; capped, since many
-      // slices make the bound loose (the grow-and-rerun below covers a capped bound).
-      size_t bound = std::min(tileListBound(grid_, frame) * size_t(config_.clusterSlices),
-                              size_t(16) << 20);
-      if (bound > capacity_) {
-        capacity_ = bound;
-        clusterLights_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE, capacity_ * sizeof(uint32_t));
-      }
-    }
+      // slices make the bound loose (runUntilListFits covers a capped bound).
+      reserveList(cl_, clusterLights_, capacity_,
+                  std::min(tileListBound(grid_, frame) * size_t(config_.clusterSlices),
+                           size_t(16) << 20));
     FrameResult result;
-    uint32_t total = 0;
-    // A list that outgrows its buffer is never truncated: grow to fit and run the frame again
-    // (the count pass already knows the exact total, so one re-run always suffices).
-    for (;;) {
-      timer_.clear();
-      enqueueFrame(frame);
-      cl_.queue().enqueueReadBuffer(total_, CL_TRUE, 0, sizeof(uint32_t), &total);
-      if (total <= capacity_) break;
-      capacity_ = size_t(total) + total / 4;
-      clusterLights_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE, capacity_ * sizeof(uint32_t));
-      result.counters.notes.push_back("cluster light list grown to " + std::to_string(capacity_) +
-                                      " entries; frame re-run");
-    }
+    uint32_t total = runUntilListFits(
+        cl_, clusterLights_, capacity_, total_,
+        [&] {
+          timer_.clear();
+          enqueueFrame(frame);
+        },
+        "cluster", result.counters.notes);
     cl_.queue().finish();
     result.kernels = timer_.kernels();
     result.totalMs = timer_.totalMs();
@@ -160,8 +150,7 @@ class ClusteredTechnique : public Technique {
     pixelSlice_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_ushort));
     total_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(uint32_t));
     // Most clusters hold no geometry, so size the first list by tiles, not clusters; it grows.
-    capacity_ = std::max<size_t>(capacity_, size_t(grid_.count()) * 8);
-    clusterLights_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, capacity_ * sizeof(uint32_t));
+    reserveList(cl_, clusterLights_, capacity_, size_t(grid_.count()) * 8);
     image_ = cl::Buffer(ctx, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
   }
 

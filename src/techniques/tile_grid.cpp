@@ -88,6 +88,28 @@ void enqueueBinning(cl::CommandQueue& queue, cl::Kernel& bin, cl_uint fillArg, i
   binPass(1, "bin_fill");
 }
 
+void reserveList(ClContext& cl, cl::Buffer& list, size_t& capacity, size_t entries) {
+  if (entries <= capacity && list()) return;
+  capacity = std::max(entries, capacity);
+  list = cl::Buffer(cl.context(), CL_MEM_READ_WRITE, std::max<size_t>(capacity, 1) * sizeof(uint32_t));
+}
+
+uint32_t runUntilListFits(ClContext& cl, cl::Buffer& list, size_t& capacity,
+                          const cl::Buffer& total, const std::function<void()>& enqueueFrame,
+                          const std::string& listName, std::vector<std::string>& notes) {
+  for (;;) {
+    enqueueFrame();
+    uint32_t entries = 0;
+    cl.queue().enqueueReadBuffer(total, CL_TRUE, 0, sizeof(uint32_t), &entries);
+    if (entries <= capacity) return entries;
+    // The count pass knew the exact total, so one re-run suffices; a quarter extra spares the
+    // next frames another.
+    reserveList(cl, list, capacity, size_t(entries) + entries / 4);
+    notes.push_back(listName + " light list grown to " + std::to_string(capacity) +
+                    " entries; frame re-run");
+  }
+}
+
 size_t tileListBound(const TileGrid& grid, const DeviceFrame& frame) {
   const CameraIntrinsics& cam = frame.camera;
   size_t bound = 0;

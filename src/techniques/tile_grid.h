@@ -1,6 +1,7 @@
 #pragma once
 // Host-side helpers shared by the tile-based techniques: the screen grid, the per-frame timing of
 // profiled commands, and the work counters / light assignment derived from per-tile lists.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,18 @@ WorkCounters tileWorkCounters(const TileGrid& grid, const std::vector<uint32_t>&
 void enqueueBinning(cl::CommandQueue& queue, cl::Kernel& bin, cl_uint fillArg, int lightCount,
                     cl::Kernel& scan, const cl::Buffer& counts, int bins,
                     const cl::Buffer& offsets, const cl::Buffer& total, FrameTimer& timer);
+
+// The light index list buffer of a binned technique, `capacity` entries: grows `list` to at least
+// `entries` (contents are not kept: the list is rebuilt every frame).
+void reserveList(ClContext& cl, cl::Buffer& list, size_t& capacity, size_t entries);
+
+// Runs `enqueueFrame` (which clears the timer and enqueues the whole frame, its scan writing the
+// list's total entries to `total`) until the list fits its buffer: a list is never truncated; when
+// the frame needed more entries, the list grows and the frame runs again, and `notes` says so.
+// Returns the total.
+uint32_t runUntilListFits(ClContext& cl, cl::Buffer& list, size_t& capacity,
+                          const cl::Buffer& total, const std::function<void()>& enqueueFrame,
+                          const std::string& listName, std::vector<std::string>& notes);
 
 // Upper bound of a frame's tile light list entries: the tiles of every light's screen rectangle
 // (culling.h in float on the host), before any depth-range test. Sizing the list buffer with it

@@ -26,24 +26,15 @@ class TiledTechnique : public Technique {
 
   FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
-    size_t bound = config_.presizeLists ? tileListBound(grid_, frame) : 0;
-    if (bound > capacity_) {
-      capacity_ = bound;
-      tileLights_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE, capacity_ * sizeof(uint32_t));
-    }
+    if (config_.presizeLists) reserveList(cl_, tileLights_, capacity_, tileListBound(grid_, frame));
     FrameResult result;
-    uint32_t total = 0;
-    // A list that outgrows its buffer is never truncated: grow to fit and run the frame again.
-    for (;;) {
-      timer_.clear();
-      enqueueFrame(frame);
-      cl_.queue().enqueueReadBuffer(total_, CL_TRUE, 0, sizeof(uint32_t), &total);
-      if (total <= capacity_) break;
-      capacity_ = size_t(total) + total / 4;
-      tileLights_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE, capacity_ * sizeof(uint32_t));
-      result.counters.notes.push_back("tile light list grown to " + std::to_string(capacity_) +
-                                      " entries; frame re-run");
-    }
+    uint32_t total = runUntilListFits(
+        cl_, tileLights_, capacity_, total_,
+        [&] {
+          timer_.clear();
+          enqueueFrame(frame);
+        },
+        "tile", result.counters.notes);
     cl_.queue().finish();
     result.kernels = timer_.kernels();
     result.totalMs = timer_.totalMs();
@@ -78,8 +69,7 @@ class TiledTechnique : public Technique {
     tileOffset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(uint32_t));
     tileCursor_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(uint32_t));
     total_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(uint32_t));
-    capacity_ = std::max<size_t>(capacity_, tiles * 8);
-    tileLights_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, capacity_ * sizeof(uint32_t));
+    reserveList(cl_, tileLights_, capacity_, tiles * 8);
     image_ = cl::Buffer(ctx, CL_MEM_WRITE_ONLY,
                         size_t(frame.width()) * frame.height() * sizeof(cl_float4));
   }
