@@ -4,19 +4,46 @@
 #include <cmath>
 #include <memory>
 
+#include <iostream>
+
+#ifndef TILESHADE_NO_OIIO
 #include <OpenImageIO/imageio.h>
+#endif
 
 #include "util/error.h"
 
 namespace ts {
 namespace {
 
+#ifndef TILESHADE_NO_OIIO
 void write(const std::string& path, const OIIO::ImageSpec& spec, const void* data) {
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw Error("cannot write " + path + ": " + OIIO::geterror());
   if (!out->open(path, spec) || !out->write_image(spec.format, data) || !out->close())
     throw Error("cannot write " + path + ": " + out->geterror());
 }
+#else
+// A measurement build (TILESHADE_WITH_OIIO=OFF) says once that it writes no images.
+struct ImageSpec {
+  ImageSpec(int, int, int, int) {}
+};
+constexpr int kFloat = 0, kUint8 = 0;
+void write(const std::string& path, const ImageSpec&, const void*) {
+  static bool said = false;
+  if (!said)
+    std::cerr << "tileshade: warning: built without OpenImageIO; not writing " << path
+              << " (nor any other image)\n";
+  said = true;
+}
+#endif
+
+#ifndef TILESHADE_NO_OIIO
+OIIO::ImageSpec PngSpec(int width, int height) {
+  return OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8);
+}
+#else
+ImageSpec PngSpec(int width, int height) { return ImageSpec(width, height, 3, kUint8); }
+#endif
 
 uint8_t srgb8(float linear) {
   float v = std::clamp(linear, 0.0f, 1.0f);
@@ -28,9 +55,13 @@ uint8_t srgb8(float linear) {
 
 void writeExr(const std::string& path, int width, int height,
               const std::vector<std::string>& channels, const std::vector<float>& data) {
+#ifndef TILESHADE_NO_OIIO
   OIIO::ImageSpec spec(width, height, int(channels.size()), OIIO::TypeDesc::FLOAT);
   spec.channelnames = channels;
   spec.alpha_channel = -1;
+#else
+  ImageSpec spec(width, height, int(channels.size()), kFloat);
+#endif
   write(path, spec, data.data());
 }
 
@@ -48,7 +79,7 @@ void writePngToneMapped(const std::string& path, int width, int height,
   rgb.reserve(image.size() * 3);
   for (const auto& p : image)
     for (int c = 0; c < 3; ++c) rgb.push_back(srgb8(1.0f - std::exp(-exposure * p[c])));
-  write(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), rgb.data());
+  write(path, PngSpec(width, height), rgb.data());
 }
 
 void writeHeatMapPng(const std::string& path, int width, int height, const std::vector<float>& v,
@@ -63,7 +94,7 @@ void writeHeatMapPng(const std::string& path, int width, int height, const std::
           b = std::clamp(3.0f * t - 2.0f, 0.0f, 1.0f);
     rgb.insert(rgb.end(), {uint8_t(r * 255), uint8_t(g * 255), uint8_t(b * 255)});
   }
-  write(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), rgb.data());
+  write(path, PngSpec(width, height), rgb.data());
 }
 
 }  // namespace ts

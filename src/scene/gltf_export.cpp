@@ -4,8 +4,10 @@
 #include <cctype>
 #include <cstring>
 
+#ifndef TILESHADE_NO_OIIO
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#endif
 #include <glm/gtc/quaternion.hpp>
 #include <tiny_gltf.h>
 
@@ -87,6 +89,9 @@ std::vector<unsigned char> encodePng(const Texture& t) {
       pixels[4 * i + size_t(c)] = (unsigned char)(gltf::linearToSrgb(v[c]) * 255.0f + 0.5f);
     pixels[4 * i + 3] = (unsigned char)(std::clamp(v.w, 0.0f, 1.0f) * 255.0f + 0.5f);
   }
+#ifdef TILESHADE_NO_OIIO
+  throw Error("cannot encode a texture as PNG: built without OpenImageIO");
+#else
   std::vector<unsigned char> png;
   OIIO::Filesystem::IOVecOutput out(png);
   auto writer = OIIO::ImageOutput::create("png", &out);
@@ -96,6 +101,7 @@ std::vector<unsigned char> encodePng(const Texture& t) {
     throw Error("cannot encode a texture as PNG: " +
                 (writer ? writer->geterror() : OIIO::geterror()));
   return png;
+#endif
 }
 
 }  // namespace

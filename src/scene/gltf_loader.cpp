@@ -11,8 +11,10 @@
 #include <sstream>
 #include <thread>
 
+#ifndef TILESHADE_NO_OIIO
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#endif
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -263,6 +265,10 @@ DecodedImage decodeImage(const tinygltf::Image& image, int index) {
     result.ok = true;
     return result;
   }
+#ifdef TILESHADE_NO_OIIO
+  result.why = oneLine(err.empty() ? std::string("built without OpenImageIO") : err);
+  return result;
+#else
   // Then OpenImageIO from memory (whatever formats it was built with).
   std::string ext = image.mimeType == "image/jpeg" ? "jpg" : "png";
   if (auto dot = image.uri.rfind('.'); !image.uri.empty() && dot != std::string::npos)
@@ -286,6 +292,7 @@ DecodedImage decodeImage(const tinygltf::Image& image, int index) {
        [&](size_t p, int c) { return double(all[p * nc + size_t(c)]); }, false);
   result.ok = true;
   return result;
+#endif
 }
 
 // ---- the loader ------------------------------------------------------------------------------
