@@ -28,14 +28,9 @@ using test::renderAndCheck;
 using test::renderOnly;
 
 Technique& deferred(GBufferFormat format, bool stencil) {
-  static std::map<std::pair<int, bool>, std::unique_ptr<Technique>> cache;
-  auto& t = cache[{int(format), stencil}];
-  if (!t) {
-    TechniqueConfig config;
-    config.format = format;
-    t = createTechnique(stencil ? "deferred-stencil" : "deferred", test::context(), config);
-  }
-  return *t;
+  TechniqueConfig config;
+  config.format = format;
+  return test::cachedTechnique(stencil ? "deferred-stencil" : "deferred", config);
 }
 
 ReferenceImage reference(const PreparedFrame& f) {

@@ -27,15 +27,10 @@ using test::renderAndCheck;
 using test::renderOnly;
 
 Technique& tiledTechnique(GBufferFormat format, int tile) {
-  static std::map<std::pair<int, int>, std::unique_ptr<Technique>> cache;
-  auto& t = cache[{int(format), tile}];
-  if (!t) {
-    TechniqueConfig config;
-    config.format = format;
-    config.tileWidth = config.tileHeight = tile;
-    t = createTechnique("tiled", test::context(), config);
-  }
-  return *t;
+  TechniqueConfig config;
+  config.format = format;
+  config.tileWidth = config.tileHeight = tile;
+  return test::cachedTechnique("tiled", config);
 }
 
 struct Case {
@@ -80,36 +75,18 @@ INSTANTIATE_TEST_SUITE_P(
 // Random cameras inside the scene (looking anywhere, lights behind and around the camera, near
 // plane through light volumes): the tile lists must hold every contributing light.
 TEST(TiledCulling, ConservativeOnRandomCameras) {
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  for (const auto& [name, lights] : {std::pair{"street", "many"}, std::pair{"atrium", "mixed"}}) {
-    Scene scene = builtinScene(name, lights);
-    Bounds b = scene.bounds();
-    for (int i = 0; i < 4; ++i) {
-      glm::vec3 eye = b.min + glm::vec3(u(rng), 0.05f + 0.4f * u(rng), u(rng)) * b.extent();
-      glm::vec3 dir(u(rng) - 0.5f, 0.3f * (u(rng) - 0.5f), u(rng) - 0.5f);
-      scene.cameraPath = {Camera::lookAt(eye, eye + dir, {0, 1, 0}, 1.0f + u(rng), 0.1f, 500.0f)};
-      PreparedFrame f = prepareFrame(scene, 0, 160, 96, GBufferFormat::FP32);
-      Checked c = renderAndCheck(f, tiledTechnique(GBufferFormat::FP32, 16));
-      EXPECT_EQ(c.missed, 0u) << name << " camera " << i;
-      EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << name << " camera " << i;
-    }
+  for (const auto& [label, f] : test::randomCameraFrames(11)) {
+    Checked c = renderAndCheck(f, tiledTechnique(GBufferFormat::FP32, 16));
+    EXPECT_EQ(c.missed, 0u) << label;
+    EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << label;
   }
 }
 
 // Far more list entries than the initial buffer holds: the list grows and the frame re-runs,
 // nothing is dropped, and the run says so.
 TEST(TiledCulling, OverflowingListGrowsInsteadOfDropping) {
-  Scene scene = makeBuiltinScene("atrium", "big", 1);
-  SceneOptions o;
-  Bounds b = scene.bounds();
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  scene.lights.clear();
-  for (int i = 0; i < 300; ++i)  // 300 huge lights: every tile lists all of them
-    scene.lights.push_back({b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
-                            glm::vec3(0.05f), 1000.0f});
-  PreparedFrame f = prepareFrame(scene, 0, 96, 64, GBufferFormat::FP32);
+  // 300 huge lights: every tile lists all of them.
+  PreparedFrame f = test::hugeLightsFrame(300);
   TechniqueConfig config;
   config.tileWidth = config.tileHeight = 8;
   config.presizeLists = false;  // start from the small default buffer so it has to grow

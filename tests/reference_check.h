@@ -3,7 +3,10 @@
 // reference: the error, the missed light contributions (culling conservativeness), the
 // reference's ideal count. Shared by the technique test suites.
 #include <map>
+#include <memory>
+#include <random>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -61,6 +64,59 @@ inline Checked renderAndCheck(const PreparedFrame& f, Technique& technique,
 inline Checked renderAndCheck(const PreparedFrame& f, Technique& technique) {
   return renderAndCheck(f, technique,
                         shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0));
+}
+
+// A technique built once per process for each distinct configuration: kernel builds are the slow
+// part of these tests.
+inline Technique& cachedTechnique(const std::string& name, const TechniqueConfig& config) {
+  static std::map<std::string, std::unique_ptr<Technique>> cache;
+  std::string key = name + "|" + config.kernelOptions() + "|" + std::to_string(config.tileWidth) +
+                    "x" + std::to_string(config.tileHeight) + "|" +
+                    std::to_string(config.clusterSlices) + "|" +
+                    std::to_string(config.localListCapacity) + "|" +
+                    std::to_string(config.presizeLists);
+  auto& t = cache[key];
+  if (!t) t = createTechnique(name, context(), config);
+  return *t;
+}
+
+// The atrium at 96x64 lit by `count` huge lights (range 1000, scattered through its bounds):
+// every tile and cluster with geometry lists all of them, which overflows any default list.
+inline PreparedFrame hugeLightsFrame(int count = 300) {
+  Scene scene = makeBuiltinScene("atrium", "big", 1);
+  Bounds b = scene.bounds();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  scene.lights.clear();
+  for (int i = 0; i < count; ++i)
+    scene.lights.push_back({b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
+                            glm::vec3(0.05f), 1000.0f});
+  return prepareFrame(scene, 0, 96, 64, GBufferFormat::FP32);
+}
+
+// Frames (160x96, fp32) from `cameras` random cameras inside street/many and then atrium/mixed:
+// looking anywhere, with lights behind and around the camera and the near plane through light
+// volumes -- the hard cases for conservative culling.
+struct LabelledFrame {
+  std::string label;  // "street camera 2"
+  PreparedFrame frame;
+};
+inline std::vector<LabelledFrame> randomCameraFrames(uint32_t seed, int cameras = 4) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<LabelledFrame> frames;
+  for (const auto& [name, lights] : {std::pair{"street", "many"}, std::pair{"atrium", "mixed"}}) {
+    Scene scene = builtinScene(name, lights);
+    Bounds b = scene.bounds();
+    for (int i = 0; i < cameras; ++i) {
+      glm::vec3 eye = b.min + glm::vec3(u(rng), 0.05f + 0.4f * u(rng), u(rng)) * b.extent();
+      glm::vec3 dir(u(rng) - 0.5f, 0.3f * (u(rng) - 0.5f), u(rng) - 0.5f);
+      scene.cameraPath = {Camera::lookAt(eye, eye + dir, {0, 1, 0}, 1.0f + u(rng), 0.1f, 500.0f)};
+      frames.push_back({std::string(name) + " camera " + std::to_string(i),
+                        prepareFrame(scene, 0, 160, 96, GBufferFormat::FP32)});
+    }
+  }
+  return frames;
 }
 
 }  // namespace ts::test

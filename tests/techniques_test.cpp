@@ -146,15 +146,8 @@ TEST(TiledSingle, SameTileSetsAsMultiKernelTiled) {
 
 // A tile accepting far more lights than the local list holds is shaded in chunks: nothing dropped.
 TEST(TiledSingle, ListsLongerThanLocalMemoryAreShadedInChunks) {
-  Scene scene = makeBuiltinScene("atrium", "big", 1);
-  Bounds b = scene.bounds();
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  scene.lights.clear();
-  for (int i = 0; i < 300; ++i)  // 300 huge lights: every tile lists all of them
-    scene.lights.push_back({b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
-                            glm::vec3(0.05f), 1000.0f});
-  PreparedFrame f = prepareFrame(scene, 0, 96, 64, GBufferFormat::FP32);
+  // 300 huge lights: every tile lists all of them.
+  PreparedFrame f = test::hugeLightsFrame(300);
   TechniqueConfig config;
   config.tileWidth = config.tileHeight = 8;  // 64 work-items
   config.localListCapacity = 64;             // so 300 lights take 5 chunks
