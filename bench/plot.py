@@ -227,7 +227,7 @@ def varying(summaries, dims, exclude):
 
 
 PANEL_DEFAULTS = {"culling": "rect", "math": "precise", "slices": "16", "seed": "1",
-                  "device": "default"}
+                  "device": "default", "lanes": "auto"}
 
 
 def panel_title(values):
@@ -372,7 +372,7 @@ PSNR_GOAL = 50.0     # dB, the "good enough" line of the report
 ERROR_FLOOR = 1e-9   # errors of exactly 0 are drawn here (a log axis has no 0)
 # Sweep dimensions that are accuracy/speed knobs of one rendering; every other dimension (scene,
 # lights, resolution, device, ...) defines the scene and device a Pareto front is drawn for.
-KNOBS = ["technique", "tile", "slices", "culling", "gbuffer", "math", "light_threshold"]
+KNOBS = ["technique", "tile", "slices", "culling", "gbuffer", "math", "light_threshold", "lanes"]
 
 
 def error_of(s, prefix):

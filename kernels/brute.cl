@@ -1,7 +1,7 @@
 /*
  * Brute force, the naive baseline; host side in src/techniques/brute.cpp. Every pixel evaluates
  * every light; the range cut inside the shading function (kernels/shading.h) is the only culling.
- * Build-time constants: TS_MODEL, the G-buffer layout (gbuffer.h).
+ * Build-time constants: TS_MODEL, TS_LANES (kernels/lanes.h), the G-buffer layout (gbuffer.h).
  */
 #include "gbuffer.h"
 
@@ -9,6 +9,8 @@
 #define TS_MODEL TS_MODEL_WINDOWED
 #endif
 
+#if TS_LANES == 1
+/* One work-item per pixel. */
 __kernel void shade_brute(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
                           __global const float4 *light_pos_range,
                           __global const float4 *light_color, int light_count,
@@ -25,3 +27,35 @@ __kernel void shade_brute(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
   }
   image[y * width + x] = (float4)(sum, 0.0f);
 }
+#else
+#include "lanes.h"
+/* In lanes (kernels/lanes.h), as shade_tiled with every light listed. A light out of range of
+ * all TS_LANES pixels costs only the range test, as it does per pixel. */
+__kernel void shade_brute(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
+                          __global const float4 *light_pos_range,
+                          __global const float4 *light_color, int light_count,
+                          __global float4 *image, __local float *soa) {
+  int x = get_global_id(0), y = get_global_id(1);
+  int width = (int)camera.z, height = (int)camera.w;
+  int group_size = (int)(get_local_size(0) * get_local_size(1));
+  int lid = (int)(get_local_id(1) * get_local_size(0) + get_local_id(0));
+  int slots = ts_lane_slots(group_size);
+  int inside = x < width && y < height;
+  ts_surface s;
+  int lit = inside && ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s);
+  ts_lanes_put_group(soa, lid, group_size, lit ? &s : 0);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid < slots / TS_LANES) {
+    ts_lane_surface lanes = ts_lanes_get(soa, slots, lid * TS_LANES);
+    ts_lane_rgb sum = {(TS_LANE)0, (TS_LANE)0, (TS_LANE)0};
+    for (int light = 0; light < light_count; ++light)
+      ts_lanes_add_light(&sum, &lanes, light_pos_range[light], light_color[light], TS_MODEL);
+    ts_lanes_put_sum(soa, slots, lid * TS_LANES, &sum);
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (!inside) return;
+  float3 sum = lit ? ts_lanes_sum(soa, slots, lid) + ts_surface_base(s.ke, s.kd, ambient.xyz)
+                   : (float3)(0.0f);
+  image[y * width + x] = (float4)(sum, 0.0f);
+}
+#endif

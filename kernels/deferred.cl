@@ -12,7 +12,7 @@
  *
  * Build-time constants: TS_STENCIL (the stencil optimisation: a pixel reads its depth first and
  * the rest of the G-buffer only when its position lies inside the light sphere), TS_MODEL (shading
- * model), the G-buffer layout (gbuffer.h).
+ * model), TS_LANES (kernels/lanes.h), the G-buffer layout (gbuffer.h).
  */
 #include "gbuffer.h"
 
@@ -36,6 +36,26 @@ __kernel void deferred_base(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
 
 /* ---- 2. one light ------------------------------------------------------------------------- */
 
+/* Without TS_STENCIL every pixel of the rectangle is in. With it, the stencil test's effect:
+ * depth alone decides whether the pixel's surface lies inside the light volume. d2 < r*r is the
+ * shading function's own range cut, evaluated on the same reconstructed position, so no pixel it
+ * would light is skipped. (The physical model has no range cut; like the rectangles and every
+ * technique's culling, this bounds it by the range.) */
+static inline int in_light_volume(int x, int y, float4 camera, __global const float *gb_depth,
+                                  float4 pr) {
+#ifdef TS_STENCIL
+  int width = (int)camera.z;
+  float depth = ts_load_depth(x, y, width, gb_depth);
+  if (depth <= 0.0f) return 0;
+  float3 P = ts_view_position(x, y, depth, camera.x, camera.y, width, (int)camera.w);
+  float3 v = pr.xyz - P;
+  return dot(v, v) < pr.w * pr.w;
+#else
+  return 1;
+#endif
+}
+
+#if TS_LANES == 1
 /* rect = (x0, y0, x1, y1), x1/y1 exclusive; the NDRange is the rectangle rounded up to whole
  * work-groups, so work-items past its edge return. */
 __kernel void deferred_light(float4 camera, TS_GBUFFER_PARAMS,
@@ -44,22 +64,38 @@ __kernel void deferred_light(float4 camera, TS_GBUFFER_PARAMS,
                              __global float4 *accum) {
   int x = rect.x + (int)get_global_id(0), y = rect.y + (int)get_global_id(1);
   if (x >= rect.z || y >= rect.w) return;
-  int width = (int)camera.z;
   float4 pr = light_pos_range[light];
-#ifdef TS_STENCIL
-  /* The stencil test's effect: depth alone decides whether the pixel's surface lies inside the
-   * light volume. d2 < r*r is the shading function's own range cut, evaluated on the same
-   * reconstructed position, so no pixel it would light is skipped. (The physical model has no
-   * range cut; like the rectangles and every technique's culling, this bounds it by the range.) */
-  float depth = ts_load_depth(x, y, width, gb_depth);
-  if (depth <= 0.0f) return;
-  float3 P = ts_view_position(x, y, depth, camera.x, camera.y, width, (int)camera.w);
-  float3 v = pr.xyz - P;
-  if (!(dot(v, v) < pr.w * pr.w)) return;
-#endif
+  if (!in_light_volume(x, y, camera, gb_depth, pr)) return;
   ts_surface s;
   if (!ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)) return;
-  int i = y * width + x;
   float3 c = ts_shade_light(&s, pr, light_color[light], TS_MODEL);
-  accum[i] += (float4)(c, 0.0f);
+  accum[y * (int)camera.z + x] += (float4)(c, 0.0f);
 }
+#else
+#include "lanes.h"
+/* In lanes (kernels/lanes.h): the pixels decode one per work-item, then one work-item per
+ * TS_LANES pixels shades the light for all of them. `soa`: local memory from the host. */
+__kernel void deferred_light(float4 camera, TS_GBUFFER_PARAMS,
+                             __global const float4 *light_pos_range,
+                             __global const float4 *light_color, int light, int4 rect,
+                             __global float4 *accum, __local float *soa) {
+  int x = rect.x + (int)get_global_id(0), y = rect.y + (int)get_global_id(1);
+  int group_size = (int)(get_local_size(0) * get_local_size(1));
+  int lid = (int)(get_local_id(1) * get_local_size(0) + get_local_id(0));
+  int slots = ts_lane_slots(group_size);
+  float4 pr = light_pos_range[light];
+  ts_surface s;
+  int lit = x < rect.z && y < rect.w && in_light_volume(x, y, camera, gb_depth, pr) &&
+            ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s);
+  ts_lanes_put_group(soa, lid, group_size, lit ? &s : 0);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid < slots / TS_LANES) {
+    ts_lane_surface lanes = ts_lanes_get(soa, slots, lid * TS_LANES);
+    ts_lane_rgb sum = {(TS_LANE)0, (TS_LANE)0, (TS_LANE)0};
+    ts_lanes_add_light(&sum, &lanes, pr, light_color[light], TS_MODEL);
+    ts_lanes_put_sum(soa, slots, lid * TS_LANES, &sum);
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lit) accum[y * (int)camera.z + x] += (float4)(ts_lanes_sum(soa, slots, lid), 0.0f);
+}
+#endif

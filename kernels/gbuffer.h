@@ -20,6 +20,20 @@
 #define TS_REAL float
 #define TS_REAL3 float3
 #define TS_MAKE3(x, y, z) ((float3)((x), (y), (z)))
+/* TS_LANES > 1 (build option, CPU devices): the light term works on vectors of TS_LANES pixels
+ * (kernels/shading.h, kernels/lanes.h). */
+#ifndef TS_LANES
+#define TS_LANES 1
+#endif
+#if TS_LANES > 1
+#define TS_LANE_VECTOR(n) float##n
+#define TS_LANE_TYPE(n) TS_LANE_VECTOR(n)
+#define TS_LANE TS_LANE_TYPE(TS_LANES)
+#define TS_ANY(c) any(c)
+#else
+#define TS_LANE float
+#define TS_ANY(c) (c)
+#endif
 #ifdef TS_NATIVE_MATH
 /* Shading arithmetic knob: the native_ functions (implementation-defined accuracy) inside the
  * shading function only; culling below keeps the precise ones so it stays conservative. */
@@ -31,8 +45,8 @@
  * evaluation. exp2(s*log2(x)) is exact at x = 0 (log2 0 = -inf) and its relative error,
  * ~(0.7*|s*log2 x| * 3.5 + 3) ulp, stays below 4e-6 wherever x^s >= 2^-24 — the same order as
  * pow's own 16-ulp allowance (docs/accuracy.md). */
-static inline float ts_pow_unit(float x, float s) {
-  return s == 0.0f ? 1.0f : exp2(s * log2(x));
+static inline TS_LANE ts_pow_unit(TS_LANE x, TS_LANE s) {
+  return s == (TS_LANE)0 ? (TS_LANE)1 : exp2(s * log2(x));
 }
 #define TS_POW ts_pow_unit
 #endif
@@ -139,10 +153,12 @@ static inline int ts_load_surface(int x, int y, float4 camera, TS_GBUFFER_PARAMS
   return 1;
 }
 
+#if TS_LANES == 1
 /* Lights: view-space position + range in one float4, colour (intensity included) in another. */
 static inline float3 ts_shade_light(const ts_surface *s, float4 pos_range, float4 color, int model) {
   return ts_point_light(s->P, s->N, s->V, s->kd, s->ks, s->shininess, pos_range.xyz, color.xyz,
                         pos_range.w, model);
 }
+#endif
 
 #endif

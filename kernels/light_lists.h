@@ -33,6 +33,7 @@ static inline void ts_bin_light(uint light, int bin, int fill, __global uint *bi
   }
 }
 
+#if TS_LANES == 1
 /* The summed contributions of the `n` lights listed from `begin` at surface s. A list that
  * overflowed the buffer is read only as far as it was written (that frame is re-run). */
 static inline float3 ts_shade_bin(const ts_surface *s, uint begin, uint n, uint capacity,
@@ -47,5 +48,6 @@ static inline float3 ts_shade_bin(const ts_surface *s, uint begin, uint n, uint 
   }
   return sum;
 }
+#endif
 
 #endif

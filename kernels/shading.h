@@ -60,39 +60,82 @@ static inline TS_REAL3 ts_view_position(int x, int y, TS_REAL depth, TS_REAL tan
   return TS_MAKE3(ndc_x * tan_x * depth, ndc_y * tan_y * depth, -depth);
 }
 
-/* Contribution of one point light at Lp (colour C, range r) to the surface point P with unit normal
- * N, unit view vector V = normalize(-P), diffuse kd, specular ks and shininess s. */
-static inline TS_REAL3 ts_point_light(TS_REAL3 P, TS_REAL3 N, TS_REAL3 V, TS_REAL3 kd, TS_REAL3 ks,
-                                      TS_REAL s, TS_REAL3 Lp, TS_REAL3 C, TS_REAL r, int model) {
-  TS_REAL3 zero = TS_MAKE3((TS_REAL)0, (TS_REAL)0, (TS_REAL)0);
-  TS_REAL3 v = Lp - P;
-  TS_REAL d2 = dot(v, v);
-  TS_REAL window = (TS_REAL)1;
+/* ---- Lanes ------------------------------------------------------------------------------
+ * The light term below is written once for a "lane" type TS_LANE: by default the scalar TS_REAL
+ * (one pixel: float in kernels, double in the reference), or an OpenCL vector of TS_LANES floats
+ * that shades that many pixels against the same light at once (kernels/lanes.h; CPU devices,
+ * where a compiler does not vectorise a per-pixel light loop by itself). The code therefore
+ * branches only on "any lane": TS_ANY is the condition itself for a scalar and any() for a vector,
+ * and per-lane choices are TS_SELECT (OpenCL's ?: works per component on vectors). For a scalar
+ * the early exits are ordinary branches, as before: no cost for the GPU or the reference. */
+#ifndef TS_LANE
+#define TS_LANE TS_REAL
+#define TS_ANY(c) (c)
+#endif
+#define TS_SELECT(c, a, b) ((c) ? (a) : (b))
+
+/* The surface terms the light weights need, one TS_LANE per component. */
+typedef struct {
+  TS_LANE px, py, pz; /* view-space position P */
+  TS_LANE nx, ny, nz; /* unit normal N */
+  TS_LANE vx, vy, vz; /* unit view vector V = normalize(-P) */
+  TS_LANE shininess;
+} ts_shading_point;
+
+/* The two weights of one point light at (lx, ly, lz) with range r on surface point p: returns the
+ * diffuse weight falloff*ndl and stores the specular weight falloff*spec, so the contribution is
+ * C*diffuse*kd + C*specular*ks. Lanes outside the range, or with the light exactly on the point
+ * (no direction: it lights nothing, instead of NaN), get 0 for both. */
+static inline TS_LANE ts_light_weights(const ts_shading_point *p, TS_LANE lx, TS_LANE ly,
+                                       TS_LANE lz, TS_LANE r, int model, TS_LANE *specular) {
+  const TS_LANE zero = (TS_LANE)0, one = (TS_LANE)1;
+  TS_LANE vx = lx - p->px, vy = ly - p->py, vz = lz - p->pz;
+  TS_LANE d2 = vx * vx + vy * vy + vz * vz;
+  TS_LANE window = one;
   if (model == TS_MODEL_WINDOWED) {
-    TS_REAL r2 = r * r;
-    if (d2 >= r2) return zero;
-    TS_REAL q = d2 / r2; /* (d/r)^2, so (d/r)^4 = q*q without a sqrt */
-    TS_REAL w = clamp((TS_REAL)1 - q * q, (TS_REAL)0, (TS_REAL)1);
-    window = w * w;
+    TS_LANE r2 = r * r;
+    if (!TS_ANY(d2 < r2)) { /* the common exit: no lane in range */
+      *specular = zero;
+      return zero;
+    }
+    TS_LANE q = d2 / r2; /* (d/r)^2, so (d/r)^4 = q*q without a sqrt */
+    TS_LANE w = clamp(one - q * q, zero, one);
+    window = TS_SELECT(d2 < r2, w * w, zero);
   }
-  /* A light exactly on the point has no direction: it lights nothing (instead of NaN). */
-  if (d2 <= (TS_REAL)0) return zero;
-  TS_REAL d = TS_SQRT(d2);
-  TS_REAL3 l = v / d;
-  TS_REAL dmin = (TS_REAL)TS_DMIN;
-  TS_REAL falloff = window / max(d2, dmin * dmin);
-  TS_REAL ndl = max(dot(N, l), (TS_REAL)0);
-  TS_REAL spec = (TS_REAL)0;
-  if (ndl > (TS_REAL)0) {
-    TS_REAL3 hv = l + V;
-    TS_REAL hlen2 = dot(hv, hv);
-    if (hlen2 > (TS_REAL)0) {
-      TS_REAL ndh = max(dot(N, hv / TS_SQRT(hlen2)), (TS_REAL)0);
-      spec = TS_POW(ndh, s);
+  *specular = zero;
+  if (!TS_ANY(d2 > zero)) return zero;
+  TS_LANE d = TS_SQRT(d2);
+  TS_LANE ux = vx / d, uy = vy / d, uz = vz / d; /* l = v/d */
+  TS_LANE dmin = (TS_LANE)TS_DMIN;
+  TS_LANE falloff = window / max(d2, dmin * dmin);
+  /* A lane with d2 = 0 has l = NaN (OpenCL leaves max(NaN, 0) undefined): ndl > 0 is false for
+   * it and the last line returns 0 for it. */
+  TS_LANE ndl = max(p->nx * ux + p->ny * uy + p->nz * uz, zero);
+  if (TS_ANY(ndl > zero)) {
+    TS_LANE hx = ux + p->vx, hy = uy + p->vy, hz = uz + p->vz; /* h = l + V, normalised below */
+    TS_LANE hlen2 = hx * hx + hy * hy + hz * hz;
+    if (TS_ANY(hlen2 > zero)) {
+      TS_LANE hlen = TS_SQRT(hlen2);
+      TS_LANE ndh = max((p->nx * hx + p->ny * hy + p->nz * hz) / hlen, zero);
+      TS_LANE spec = TS_POW(ndh, p->shininess);
+      *specular = TS_SELECT(ndl > zero && hlen2 > zero, falloff * spec, zero);
     }
   }
-  return C * (falloff * ndl) * kd + C * (falloff * spec) * ks;
+  return TS_SELECT(d2 > zero, falloff * ndl, zero);
 }
+
+#if !defined(TS_LANES) || TS_LANES == 1
+/* Contribution of one point light at Lp (colour C, range r) to the surface point P with unit normal
+ * N, unit view vector V = normalize(-P), diffuse kd, specular ks and shininess s: the vector form
+ * of ts_light_weights that every per-pixel kernel and the reference call. */
+static inline TS_REAL3 ts_point_light(TS_REAL3 P, TS_REAL3 N, TS_REAL3 V, TS_REAL3 kd, TS_REAL3 ks,
+                                      TS_REAL s, TS_REAL3 Lp, TS_REAL3 C, TS_REAL r, int model) {
+  ts_shading_point p = {P.x, P.y, P.z, N.x, N.y, N.z, V.x, V.y, V.z, s};
+  TS_REAL specular;
+  TS_REAL diffuse = ts_light_weights(&p, Lp.x, Lp.y, Lp.z, r, model, &specular);
+  return C * diffuse * kd + C * specular * ks;
+}
+#endif
 
 /* The light-independent part of a pixel: emission plus the global ambient term a*kd. */
 static inline TS_REAL3 ts_surface_base(TS_REAL3 ke, TS_REAL3 kd, TS_REAL3 ambient) {

@@ -11,7 +11,7 @@
  * list (the frame's light buffers).
  *
  * Build-time constants: TILE_W, TILE_H (pixels), TS_MODEL (shading model), TS_CULL (per-tile test,
- * culling.h), the G-buffer layout (gbuffer.h).
+ * culling.h), TS_LANES (shading in lanes on CPU devices, lanes.h), the G-buffer layout (gbuffer.h).
  */
 #include "gbuffer.h"
 
@@ -94,6 +94,8 @@ __kernel void bin_lights(__global const float4 *light_pos_range, int light_count
 
 /* ---- 3. shading --------------------------------------------------------------------------- */
 
+#if TS_LANES == 1
+/* One work-item per pixel. */
 __kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
                           __global const float4 *light_pos_range,
                           __global const float4 *light_color, __global const uint *tile_count,
@@ -116,3 +118,43 @@ __kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
   }
   image[y * width + x] = (float4)(sum, 0.0f);
 }
+#else
+#include "lanes.h"
+/* In lanes (kernels/lanes.h): every work-item decodes its pixel, then one work-item per TS_LANES
+ * pixels runs the tile's list for all of them. `soa`: TS_LANE_PLANES * ts_lane_slots(group size)
+ * floats of local memory, from the host. */
+__kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
+                          __global const float4 *light_pos_range,
+                          __global const float4 *light_color, __global const uint *tile_count,
+                          __global const uint *tile_offset, __global const uint *tile_lights,
+                          uint capacity, __global float4 *image, __local float *soa) {
+  int x = get_global_id(0), y = get_global_id(1);
+  int width = (int)camera.z, height = (int)camera.w;
+  int group_size = (int)(get_local_size(0) * get_local_size(1));
+  int lid = (int)(get_local_id(1) * get_local_size(0) + get_local_id(0));
+  int slots = ts_lane_slots(group_size);
+  int inside = x < width && y < height;
+  ts_surface s;
+  int lit = inside && ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s);
+  ts_lanes_put_group(soa, lid, group_size, lit ? &s : 0);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid < slots / TS_LANES) {
+    int tile = (int)(get_group_id(1) * get_local_size(1) / TILE_H) * ((width + TILE_W - 1) / TILE_W) +
+               (int)(get_group_id(0) * get_local_size(0) / TILE_W);
+    uint begin = tile_offset[tile];
+    uint n = begin >= capacity ? 0u : min(tile_count[tile], capacity - begin);
+    ts_lane_surface lanes = ts_lanes_get(soa, slots, lid * TS_LANES);
+    ts_lane_rgb sum = {(TS_LANE)0, (TS_LANE)0, (TS_LANE)0};
+    for (uint k = 0; k < n; ++k) {
+      uint light = tile_lights[begin + k];
+      ts_lanes_add_light(&sum, &lanes, light_pos_range[light], light_color[light], TS_MODEL);
+    }
+    ts_lanes_put_sum(soa, slots, lid * TS_LANES, &sum);
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (!inside) return;
+  float3 sum = lit ? ts_lanes_sum(soa, slots, lid) + ts_surface_base(s.ke, s.kd, ambient.xyz)
+                   : (float3)(0.0f);
+  image[y * width + x] = (float4)(sum, 0.0f);
+}
+#endif

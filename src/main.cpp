@@ -74,6 +74,10 @@ int main(int argc, char** argv) {
                         "shading arithmetic: precise, fast (-cl-fast-relaxed-math), native "
                         "(native_ functions)")
       ->capture_default_str();
+  renderCmd->add_option("--lanes", render.lanes,
+                        "pixels shaded together per light: auto (16 on CPU devices, 1 on GPUs), "
+                        "1 (one work-item per pixel), 2, 4, 8, 16 (vectors; tiled and brute)")
+      ->capture_default_str();
   renderCmd->add_option("--seed", render.seed, "seed of the built-in scenes")->capture_default_str();
   renderCmd->add_option("--technique", render.techniques,
                         "technique(s): " + joined(ts::techniqueNames()) + ", or all")

@@ -74,7 +74,7 @@ inline Technique& cachedTechnique(const std::string& name, const TechniqueConfig
                     "x" + std::to_string(config.tileHeight) + "|" +
                     std::to_string(config.clusterSlices) + "|" +
                     std::to_string(config.localListCapacity) + "|" +
-                    std::to_string(config.presizeLists);
+                    std::to_string(config.presizeLists) + "|" + std::to_string(config.lanes);
   auto& t = cache[key];
   if (!t) t = createTechnique(name, context(), config);
   return *t;

@@ -32,6 +32,7 @@ struct BenchConfig {
   std::string culling = "rect";
   std::string math = "precise";
   int clusterSlices = 16;
+  int lanes = 0;                    // TechniqueConfig::lanes; 0 = auto
 
   TechniqueConfig techniqueConfig() const;
   SceneOptions sceneOptions() const;

@@ -122,7 +122,7 @@ const char* const kErrorFields[] = {"max_abs", "rmse", "psnr_db", "max_rel_peak"
 // bench.csv columns after the dimensions.
 const std::vector<std::string>& rowColumns() {
   static const std::vector<std::string> cols = {
-      "device_name", "frame", "lights", "geometry_pixels", "total_ms", "kernels", "wall_ms",
+      "device_name", "lanes_used", "frame", "lights", "geometry_pixels", "total_ms", "kernels", "wall_ms",
       "upload_ms", "compile_ms", "raster_ms", "warmup", "repeat", "lighting_computations",
       "evaluations", "gbuffer_bytes_read", "list_min", "list_mean", "list_max", "min_bytes",
       "min_flops", "flops_basis", "bandwidth_gbs", "peak_gflops", "limit_ms", "limit_pct",
@@ -143,6 +143,7 @@ std::vector<std::string> csvFieldsOf(const json& row) {
   if (row.contains("notes"))
     for (const auto& n : row["notes"]) notes += (notes.empty() ? "" : " | ") + n.get<std::string>();
   f.push_back(str(row, "device_name"));
+  f.push_back(intText(row, "lanes_used"));
   f.push_back(intText(row, "frame"));
   f.push_back(intText(row, "lights"));
   f.push_back(intText(row, "geometry_pixels"));
@@ -204,6 +205,7 @@ json rowFromCsv(const std::map<std::string, std::string>& r) {
               {"config_id", get("config_id")},
               {"config", config},
               {"device_name", get("device_name")},
+              {"lanes_used", integer("lanes_used")},
               {"frame", std::stoi(get("frame"))},
               {"lights", integer("lights")},
               {"geometry_pixels", integer("geometry_pixels")},
@@ -325,7 +327,7 @@ std::vector<std::string> summaryCsvColumns() {
   std::vector<std::string> c = {"config_id"};
   for (const auto& d : benchDimensions()) c.push_back(d.name);
   for (const char* k :
-       {"device_name", "frames", "total_ms_median", "total_ms_min", "total_ms_max", "total_ms_mean",
+       {"device_name", "lanes_used", "frames", "total_ms_median", "total_ms_min", "total_ms_max", "total_ms_mean",
         "wall_ms_median", "wall_ms_min", "wall_ms_max", "upload_ms_median", "compile_ms",
         "raster_ms_median", "kernels_median", "lighting_computations_median", "evaluations_median",
         "limit_ms_median", "limit_pct_median", "flops_basis", "error_frames", "err_max_abs_max",
@@ -392,6 +394,7 @@ json summarizeRows(const json& rows) {
               {"config", first.at("config")},
               {"technique", str(first, "technique")},
               {"device_name", str(first, "device_name")},
+              {"lanes_used", first.value("lanes_used", json())},
               {"frames", frames.size()},
               {"frame_list", frameList},
               {"compile_ms", summarize(compile).max},
@@ -745,6 +748,7 @@ BenchRunResult runBench(const BenchOptions& o) {
           row["config_id"] = e->config.id();
           row["config"] = configJson(e->config);
           row["device_name"] = e->deviceName;
+          row["lanes_used"] = e->technique->lanes();
           row["frame"] = f;
           row["lights"] = prepared.lights.size();
           row["geometry_pixels"] = geometry;
@@ -800,7 +804,7 @@ BenchRunResult runBench(const BenchOptions& o) {
       const json err = sm.contains("error") ? sm["error"] : json::object();
       auto e = [&](const char* k) { return err.empty() ? std::string() : numberText(num(err, k)); };
       for (const auto& v :
-           {str(sm, "device_name"), intText(sm, "frames"), med("total_ms"),
+           {str(sm, "device_name"), intText(sm, "lanes_used"), intText(sm, "frames"), med("total_ms"),
             numberText(num(sm.at("total_ms"), "min")), numberText(num(sm.at("total_ms"), "max")),
             numberText(num(sm.at("total_ms"), "mean")), med("wall_ms"),
             numberText(num(sm.at("wall_ms"), "min")), numberText(num(sm.at("wall_ms"), "max")),

@@ -109,6 +109,7 @@ void runRender(const RenderOptions& o) {
   config.clusterSlices = o.clusterSlices;
   config.culling = parseCulling(o.culling);
   config.math = o.math;
+  config.lanes = parseLanes(o.lanes);
   config.kernelOptions();  // rejects a bad --math before any work
 
   std::error_code ec;
@@ -140,7 +141,8 @@ void runRender(const RenderOptions& o) {
 
   nlohmann::json results = nlohmann::json::array();
   std::ostringstream table;
-  table << std::left << std::setw(18) << "technique" << std::right << std::setw(10) << "total ms"
+  table << std::left << std::setw(18) << "technique" << std::right << std::setw(6) << "lanes"
+        << std::setw(10) << "total ms"
         << std::setw(16) << "lighting comp." << std::setw(15) << "evaluations" << std::setw(13)
         << "max err/peak" << std::setw(8) << "missed" << std::setw(12) << "G-buf MB"
         << "  per-kernel ms\n";
@@ -168,13 +170,14 @@ void runRender(const RenderOptions& o) {
                                           prepared.lights, config.shadingModel);
     }
     results.push_back(techniqueJson(name, r, error, missed));
+    results.back()["lanes"] = technique->lanes();
     if (errorPhysical) results.back()["error_vs_physical"] = errorJson(*errorPhysical);
 
     std::ostringstream err;
     if (error) err << std::scientific << std::setprecision(2) << error->maxRelPeak;
     else err << "-";
-    table << std::left << std::setw(18) << name << std::right << std::fixed << std::setprecision(3)
-          << std::setw(10) << r.totalMs << std::setw(16) << r.counters.lightingComputations
+    table << std::left << std::setw(18) << name << std::right << std::setw(6) << technique->lanes()
+          << std::fixed << std::setprecision(3) << std::setw(10) << r.totalMs << std::setw(16) << r.counters.lightingComputations
           << std::setw(15) << r.counters.evaluations << std::setw(13) << err.str() << std::setw(8)
           << (missed ? std::to_string(*missed) : std::string("-")) << std::setw(12)
           << std::setprecision(1) << double(r.counters.gbufferBytesRead) / 1e6 << "  "
@@ -201,6 +204,7 @@ void runRender(const RenderOptions& o) {
       {"tile", {o.tileWidth, o.tileHeight}},
       {"culling", o.culling},
       {"math", o.math},
+      {"lanes_requested", o.lanes},
       {"light_threshold", o.lightThreshold},
       {"raster_ms", prepared.rasterMs},
       {"compile_ms", cl.compileMs()},

@@ -19,6 +19,7 @@ struct RenderOptions {
   int clusterSlices = 16;
   std::string culling = "rect";        // per-tile test: rect, frustum, aabb
   std::string math = "precise";        // shading arithmetic: precise, fast, native
+  std::string lanes = "auto";          // pixels per vector in the light loop (TechniqueConfig)
   GBufferFormat format = GBufferFormat::FP32;
   int width = 1280, height = 720;
   int frame = 0;

@@ -10,12 +10,13 @@ namespace {
 
 class BruteTechnique : public Technique {
  public:
-  BruteTechnique(ClContext& cl, const TechniqueConfig& config) : cl_(cl) {
-    program_ = cl.build("brute.cl", config.kernelOptions());
+  BruteTechnique(ClContext& cl, const TechniqueConfig& config) : cl_(cl), lanes_(config.lanes) {
+    program_ = cl.build("brute.cl", config.kernelOptions() + config.lanesOption());
     kernel_ = cl::Kernel(program_, "shade_brute");
   }
 
   std::string name() const override { return "brute"; }
+  int lanes() const override { return lanes_; }
 
   FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
     size_t pixels = size_t(frame.width()) * frame.height();
@@ -33,6 +34,7 @@ class BruteTechnique : public Technique {
     kernel_.setArg(arg++, frame.lightColor);
     kernel_.setArg(arg++, frame.lightCount());
     kernel_.setArg(arg++, image_);
+    if (lanes_ > 1) kernel_.setArg(arg++, laneLocalMemory(lanes_, 16 * 16));
     cl_.queue().enqueueNDRangeKernel(
         kernel_, cl::NullRange, cl::NDRange(roundUp(frame.width(), 16), roundUp(frame.height(), 16)),
         cl::NDRange(16, 16), nullptr, timer_.next("shade"));
@@ -58,6 +60,7 @@ class BruteTechnique : public Technique {
 
  private:
   ClContext& cl_;
+  int lanes_;
   cl::Program program_;
   cl::Kernel kernel_;
   cl::Buffer image_;

@@ -89,13 +89,15 @@ WorkCounters deferredCounters(const DeviceFrame& frame, const std::vector<glm::i
 class DeferredTechnique : public Technique {
  public:
   DeferredTechnique(ClContext& cl, const TechniqueConfig& config, bool stencil)
-      : cl_(cl), stencil_(stencil) {
-    program_ = cl.build("deferred.cl", config.kernelOptions() + (stencil ? " -DTS_STENCIL" : ""));
+      : cl_(cl), stencil_(stencil), lanes_(config.lanes) {
+    program_ = cl.build("deferred.cl", config.kernelOptions() + config.lanesOption() +
+                                           (stencil ? " -DTS_STENCIL" : ""));
     base_ = cl::Kernel(program_, "deferred_base");
     light_ = cl::Kernel(program_, "deferred_light");
   }
 
   std::string name() const override { return stencil_ ? "deferred-stencil" : "deferred"; }
+  int lanes() const override { return lanes_; }
 
   FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
     size_t pixels = size_t(frame.width()) * frame.height();
@@ -146,6 +148,7 @@ class DeferredTechnique : public Technique {
     light_.setArg(6, frame.lightPositionRange);
     light_.setArg(7, frame.lightColor);
     light_.setArg(10, accum_);
+    if (lanes_ > 1) light_.setArg(11, laneLocalMemory(lanes_, kGroup * kGroup));
     for (size_t i = 0; i < rects.size(); ++i) {
       const glm::ivec4& r = rects[i];
       if (isEmpty(r)) continue;
@@ -159,6 +162,7 @@ class DeferredTechnique : public Technique {
 
   ClContext& cl_;
   bool stencil_;
+  int lanes_;
   cl::Program program_;
   cl::Kernel base_, light_;
   cl::Buffer accum_;

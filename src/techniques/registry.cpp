@@ -46,9 +46,17 @@ const TechniqueInfo& findTechnique(const std::string& name) {
   throw Error("unknown technique '" + name + "' (known: " + known.str() + ", all)");
 }
 
+int resolveLanes(int lanes, const ClContext& cl) {
+  if (lanes == 0) return cl.isGpu() ? 1 : 16;
+  if (lanes == 1 || lanes == 2 || lanes == 4 || lanes == 8 || lanes == 16) return lanes;
+  throw Error("lanes must be auto (0), 1, 2, 4, 8 or 16, not " + std::to_string(lanes));
+}
+
 std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& cl,
                                            const TechniqueConfig& config) {
-  return findTechnique(name).create(cl, config);
+  TechniqueConfig resolved = config;
+  resolved.lanes = resolveLanes(config.lanes, cl);
+  return findTechnique(name).create(cl, resolved);
 }
 
 namespace {
@@ -60,6 +68,15 @@ int parseCulling(const std::string& name) {
     if (name == kCullingNames[i]) return i;
   throw Error("unknown culling test '" + name + "' (known: rect, frustum, aabb)");
 }
+
+int parseLanes(const std::string& text) {
+  if (text == "auto") return 0;
+  for (int n : {1, 2, 4, 8, 16})
+    if (text == std::to_string(n)) return n;
+  throw Error("lanes must be auto, 1, 2, 4, 8 or 16, not '" + text + "'");
+}
+
+std::string lanesName(int lanes) { return lanes == 0 ? "auto" : std::to_string(lanes); }
 
 std::string cullingName(int culling) {
   return culling >= 0 && culling < 3 ? kCullingNames[culling] : "?";
@@ -76,6 +93,10 @@ std::string TechniqueConfig::kernelOptions() const {
     throw Error("unknown shading arithmetic '" + math + "' (known: precise, fast, native)");
   if (!buildOptions.empty()) o << " " << buildOptions;
   return o.str();
+}
+
+std::string TechniqueConfig::lanesOption() const {
+  return lanes > 1 ? " -DTS_LANES=" + std::to_string(lanes) : "";
 }
 
 }  // namespace ts

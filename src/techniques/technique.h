@@ -33,6 +33,13 @@ struct TechniqueConfig {
   std::string math = "precise";  // shading arithmetic: precise, fast (-cl-fast-relaxed-math),
                                  // native (native_ sqrt/powr/divide)
   std::string buildOptions;  // extra OpenCL build options (e.g. -cl-fast-relaxed-math)
+  // Pixels shaded together against each light (kernels/lanes.h): 0 = auto (16 on CPU devices, 1 on
+  // GPUs; createTechnique resolves it), 1 = one work-item per pixel, 2/4/8/16 = lanes. Techniques
+  // without a lanes path (tiled-single, clustered, deferred, deferred-stencil) run 1.
+  int lanes = 0;
+
+  // " -DTS_LANES=N" for a technique with a lanes path when lanes > 1, else "".
+  std::string lanesOption() const;
 
   // Build options every technique passes to ClContext::build (G-buffer layout, model, extras).
   std::string kernelOptions() const;
@@ -81,6 +88,8 @@ class Technique {
   virtual ~Technique() = default;
   virtual std::string name() const = 0;
   virtual FrameResult render(DeviceFrame& frame, const FrameRequest& request) = 0;
+  // Pixels its shading kernel evaluates together per light (TechniqueConfig::lanes as it ran).
+  virtual int lanes() const { return 1; }
 };
 
 struct TechniqueInfo {
@@ -94,10 +103,15 @@ std::vector<std::string> techniqueNames();
 // Culling test names <-> TechniqueConfig::culling ("rect", "frustum", "aabb"); throws ts::Error.
 int parseCulling(const std::string& name);
 std::string cullingName(int culling);
+// "auto" -> 0, or the number of lanes (1, 2, 4, 8, 16); throws ts::Error otherwise.
+int parseLanes(const std::string& text);
+// "auto" for 0, else the number.
+std::string lanesName(int lanes);
 
 // Both throw ts::Error naming the known techniques when `name` is not one of them.
 const TechniqueInfo& findTechnique(const std::string& name);
-// Throws ts::Error naming the known techniques when `name` is not one of them.
+// Throws ts::Error naming the known techniques when `name` is not one of them, or for a bad
+// lanes value. Resolves lanes = 0 (auto) for the device before the technique sees the config.
 std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& cl,
                                            const TechniqueConfig& config);
 

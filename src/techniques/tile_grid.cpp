@@ -148,6 +148,12 @@ size_t groupEdgeFor(int tile) {
   return 1;
 }
 
+cl::LocalSpaceArg laneLocalMemory(int lanes, size_t groupSize) {
+  const size_t kLanePlanes = 16;  // TS_LANE_PLANES
+  size_t slots = roundUp(groupSize, size_t(std::max(lanes, 1)));
+  return cl::Local(kLanePlanes * slots * sizeof(float));
+}
+
 size_t pow2AtLeast(size_t n, size_t cap) {
   size_t p = 1;
   while (p < n && p < cap) p <<= 1;

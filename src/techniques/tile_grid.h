@@ -77,6 +77,10 @@ std::vector<glm::vec4> readImage(ClContext& cl, const cl::Buffer& image, const D
 // tile edge that is at most 16, so a work-group never straddles two tiles (24 -> 12, 48 -> 16).
 size_t groupEdgeFor(int tile);
 
+// The local buffer of a kernel shading in lanes (kernels/lanes.h): TS_LANE_PLANES (16) floats per
+// pixel slot, the work-group's items rounded up to whole vectors of `lanes`.
+cl::LocalSpaceArg laneLocalMemory(int lanes, size_t groupSize);
+
 // Smallest power of two >= n, capped at `cap`.
 size_t pow2AtLeast(size_t n, size_t cap);
 

@@ -14,7 +14,7 @@ class TiledTechnique : public Technique {
     if (config.tileWidth < 1 || config.tileHeight < 1)
       throw Error("tile size must be positive");
     std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
-                          " -DTILE_H=" + std::to_string(config.tileHeight);
+                          " -DTILE_H=" + std::to_string(config.tileHeight) + config.lanesOption();
     program_ = cl.build("tiled.cl", options);
     depthBounds_ = cl::Kernel(program_, "tile_depth_bounds");
     binLights_ = cl::Kernel(program_, "bin_lights");
@@ -23,6 +23,7 @@ class TiledTechnique : public Technique {
   }
 
   std::string name() const override { return "tiled"; }
+  int lanes() const override { return config_.lanes; }
 
   FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
@@ -122,6 +123,7 @@ class TiledTechnique : public Technique {
     shade_.setArg(arg++, image_);
     // Work-groups inside one tile: shade_tiled takes the tile from the group id.
     size_t lx = groupEdgeFor(grid_.tileW), ly = groupEdgeFor(grid_.tileH);
+    if (config_.lanes > 1) shade_.setArg(arg++, laneLocalMemory(config_.lanes, lx * ly));
     q.enqueueNDRangeKernel(shade_, cl::NullRange,
                            cl::NDRange(roundUp(frame.width(), lx), roundUp(frame.height(), ly)),
                            cl::NDRange(lx, ly), nullptr, timer_.next("shade"));
