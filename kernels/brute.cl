@@ -37,24 +37,21 @@ __kernel void shade_brute(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
                           __global float4 *image, __local float *soa) {
   int x = get_global_id(0), y = get_global_id(1);
   int width = (int)camera.z, height = (int)camera.w;
-  int group_size = (int)(get_local_size(0) * get_local_size(1));
-  int lid = (int)(get_local_id(1) * get_local_size(0) + get_local_id(0));
-  int slots = ts_lane_slots(group_size);
   int inside = x < width && y < height;
   ts_surface s;
-  int lit = inside && ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s);
-  ts_lanes_put_group(soa, lid, group_size, lit ? &s : 0);
+  int lit = ts_lanes_store_pixel(soa, x, y, inside, camera, TS_GBUFFER_ARGS, &s);
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (lid < slots / TS_LANES) {
-    ts_lane_surface lanes = ts_lanes_get(soa, slots, lid * TS_LANES);
+  int first = ts_lanes_first_slot();
+  if (first >= 0) {
+    ts_lane_surface lanes = ts_lanes_get(soa, first);
     ts_lane_rgb sum = {(TS_LANE)0, (TS_LANE)0, (TS_LANE)0};
     for (int light = 0; light < light_count; ++light)
       ts_lanes_add_light(&sum, &lanes, light_pos_range[light], light_color[light], TS_MODEL);
-    ts_lanes_put_sum(soa, slots, lid * TS_LANES, &sum);
+    ts_lanes_put_sum(soa, first, &sum);
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (!inside) return;
-  float3 sum = lit ? ts_lanes_sum(soa, slots, lid) + ts_surface_base(s.ke, s.kd, ambient.xyz)
+  float3 sum = lit ? ts_lanes_pixel_sum(soa) + ts_surface_base(s.ke, s.kd, ambient.xyz)
                    : (float3)(0.0f);
   image[y * width + x] = (float4)(sum, 0.0f);
 }

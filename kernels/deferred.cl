@@ -80,22 +80,19 @@ __kernel void deferred_light(float4 camera, TS_GBUFFER_PARAMS,
                              __global const float4 *light_color, int light, int4 rect,
                              __global float4 *accum, __local float *soa) {
   int x = rect.x + (int)get_global_id(0), y = rect.y + (int)get_global_id(1);
-  int group_size = (int)(get_local_size(0) * get_local_size(1));
-  int lid = (int)(get_local_id(1) * get_local_size(0) + get_local_id(0));
-  int slots = ts_lane_slots(group_size);
   float4 pr = light_pos_range[light];
+  int wanted = x < rect.z && y < rect.w && in_light_volume(x, y, camera, gb_depth, pr);
   ts_surface s;
-  int lit = x < rect.z && y < rect.w && in_light_volume(x, y, camera, gb_depth, pr) &&
-            ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s);
-  ts_lanes_put_group(soa, lid, group_size, lit ? &s : 0);
+  int lit = ts_lanes_store_pixel(soa, x, y, wanted, camera, TS_GBUFFER_ARGS, &s);
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (lid < slots / TS_LANES) {
-    ts_lane_surface lanes = ts_lanes_get(soa, slots, lid * TS_LANES);
+  int first = ts_lanes_first_slot();
+  if (first >= 0) {
+    ts_lane_surface lanes = ts_lanes_get(soa, first);
     ts_lane_rgb sum = {(TS_LANE)0, (TS_LANE)0, (TS_LANE)0};
     ts_lanes_add_light(&sum, &lanes, pr, light_color[light], TS_MODEL);
-    ts_lanes_put_sum(soa, slots, lid * TS_LANES, &sum);
+    ts_lanes_put_sum(soa, first, &sum);
   }
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (lit) accum[y * (int)camera.z + x] += (float4)(ts_lanes_sum(soa, slots, lid), 0.0f);
+  if (lit) accum[y * (int)camera.z + x] += (float4)(ts_lanes_pixel_sum(soa), 0.0f);
 }
 #endif

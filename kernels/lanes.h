@@ -28,9 +28,14 @@
 #define TS_LANE_VSTORE_(n) vstore##n
 #define TS_LANE_VSTORE(n) TS_LANE_VSTORE_(n)
 
-/* Pixel slots of a work-group of `group_size` items: whole vectors. */
-static inline int ts_lane_slots(int group_size) {
+/* Pixel slots of the work-group: its items rounded up to whole vectors. */
+static inline int ts_lane_slots(void) {
+  int group_size = (int)(get_local_size(0) * get_local_size(1));
   return (group_size + TS_LANES - 1) / TS_LANES * TS_LANES;
+}
+
+static inline int ts_lane_item(void) {
+  return (int)(get_local_id(1) * get_local_size(0) + get_local_id(0));
 }
 
 /* The shading terms of TS_LANES pixels. */
@@ -45,7 +50,8 @@ typedef struct {
 
 /* Stores slot i: the surface s, or (s null) an unlit slot — far away with black materials, so
  * every light is out of its range and its sum stays 0. */
-static inline void ts_lanes_put(__local float *soa, int slots, int i, const ts_surface *s) {
+static inline void ts_lanes_put(__local float *soa, int i, const ts_surface *s) {
+  int slots = ts_lane_slots();
   float v[TS_LANE_PLANES];
   if (s) {
     v[0] = s->P.x, v[1] = s->P.y, v[2] = s->P.z;
@@ -62,17 +68,28 @@ static inline void ts_lanes_put(__local float *soa, int slots, int i, const ts_s
   for (int f = 0; f < TS_LANE_PLANES; ++f) soa[f * slots + i] = v[f];
 }
 
-/* Work-item `lid` of a group of `group_size` stores its pixel's slot (s null: unlit) and the
- * padding slots past the group; a barrier must follow before ts_lanes_get. */
-static inline void ts_lanes_put_group(__local float *soa, int lid, int group_size,
-                                      const ts_surface *s) {
-  int slots = ts_lane_slots(group_size);
-  ts_lanes_put(soa, slots, lid, s);
-  for (int i = group_size + lid; i < slots; i += group_size) ts_lanes_put(soa, slots, i, 0);
+/* Step 1, every work-item: decodes pixel (x, y) into *s when `wanted` (and not background),
+ * stores its slot (unlit otherwise) and the padding slots past the group; returns whether the
+ * pixel is lit. A barrier must follow. */
+static inline int ts_lanes_store_pixel(__local float *soa, int x, int y, int wanted,
+                                       float4 camera, TS_GBUFFER_PARAMS, ts_surface *s) {
+  int group_size = (int)(get_local_size(0) * get_local_size(1)), item = ts_lane_item();
+  int lit = wanted && ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, s);
+  ts_lanes_put(soa, item, lit ? s : 0);
+  for (int i = group_size + item; i < ts_lane_slots(); i += group_size) ts_lanes_put(soa, i, 0);
+  return lit;
+}
+
+/* Step 2 is run by the work-items this returns a first slot for (one per TS_LANES slots); the
+ * others get -1 and wait at the next barrier. */
+static inline int ts_lanes_first_slot(void) {
+  int item = ts_lane_item();
+  return item < ts_lane_slots() / TS_LANES ? item * TS_LANES : -1;
 }
 
 /* Loads the TS_LANES slots from `first`. */
-static inline ts_lane_surface ts_lanes_get(__local const float *soa, int slots, int first) {
+static inline ts_lane_surface ts_lanes_get(__local const float *soa, int first) {
+  int slots = ts_lane_slots();
   TS_LANE v[TS_LANE_PLANES];
   for (int f = 0; f < TS_LANE_PLANES; ++f) v[f] = TS_LANE_VLOAD(TS_LANES)(0, soa + f * slots + first);
   ts_lane_surface s;
@@ -98,15 +115,17 @@ static inline void ts_lanes_add_light(ts_lane_rgb *sum, const ts_lane_surface *s
 }
 
 /* Stores the sums of the TS_LANES slots from `first` into planes 0..2 (over their positions,
- * which are no longer needed). */
-static inline void ts_lanes_put_sum(__local float *soa, int slots, int first, const ts_lane_rgb *sum) {
+ * which are no longer needed). A barrier must follow. */
+static inline void ts_lanes_put_sum(__local float *soa, int first, const ts_lane_rgb *sum) {
+  int slots = ts_lane_slots();
   TS_LANE_VSTORE(TS_LANES)(sum->r, 0, soa + first);
   TS_LANE_VSTORE(TS_LANES)(sum->g, 0, soa + slots + first);
   TS_LANE_VSTORE(TS_LANES)(sum->b, 0, soa + 2 * slots + first);
 }
 
-/* The sum of slot i, after ts_lanes_put_sum and a barrier. */
-static inline float3 ts_lanes_sum(__local const float *soa, int slots, int i) {
+/* Step 3, every work-item: the summed contributions of its pixel. */
+static inline float3 ts_lanes_pixel_sum(__local const float *soa) {
+  int slots = ts_lane_slots(), i = ts_lane_item();
   return (float3)(soa[i], soa[slots + i], soa[2 * slots + i]);
 }
 

@@ -33,15 +33,20 @@ static inline void ts_bin_light(uint light, int bin, int fill, __global uint *bi
   }
 }
 
+/* How many of a bin's `n` entries from `begin` were written: a list that overflowed the buffer
+ * is read only as far as it was written (that frame is re-run). */
+static inline uint ts_bin_written(uint begin, uint n, uint capacity) {
+  return begin >= capacity ? 0u : min(n, capacity - begin);
+}
+
 #if TS_LANES == 1
-/* The summed contributions of the `n` lights listed from `begin` at surface s. A list that
- * overflowed the buffer is read only as far as it was written (that frame is re-run). */
+/* The summed contributions of the `n` lights listed from `begin` at surface s. */
 static inline float3 ts_shade_bin(const ts_surface *s, uint begin, uint n, uint capacity,
                                   __global const uint *bin_lights,
                                   __global const float4 *light_pos_range,
                                   __global const float4 *light_color) {
   float3 sum = (float3)(0.0f);
-  n = begin >= capacity ? 0u : min(n, capacity - begin);
+  n = ts_bin_written(begin, n, capacity);
   for (uint k = 0; k < n; ++k) {
     uint light = bin_lights[begin + k];
     sum += ts_shade_light(s, light_pos_range[light], light_color[light], TS_MODEL);

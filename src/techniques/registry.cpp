@@ -1,4 +1,8 @@
 // The one list of techniques. Adding a technique = its own .cpp/.cl pair plus one line here.
+// The last field, where present, is the lanes "auto" picks on CPU devices: 16 where shading in
+// lanes measured faster on PoCL (tiled 6.4x, brute 4.6x; bench/RESULTS.md); deferred has a lanes
+// path but measured 7-26% slower with it (its time is per-light launches and G-buffer re-reads),
+// so it stays at 1.
 #include <sstream>
 
 #include "techniques/technique.h"
@@ -10,7 +14,7 @@ namespace ts {
 const std::vector<TechniqueInfo>& techniqueRegistry() {
   static const std::vector<TechniqueInfo> registry = {
       {"tiled", "multi-kernel tiled deferred: depth min/max, light binning, per-pixel shading",
-       makeTiledTechnique},
+       makeTiledTechnique, 16},
       {"tiled-single",
        "single-kernel tiled deferred: one work-group per tile reduces depth, tests every light "
        "and shades in local memory",
@@ -27,7 +31,7 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
        "read the full G-buffer and shade",
        [](ClContext& cl, const TechniqueConfig& c) { return makeDeferredTechnique(cl, c, true); }},
       {"brute", "every light for every pixel, range test only: the naive baseline",
-       makeBruteTechnique},
+       makeBruteTechnique, 16},
   };
   return registry;
 }
@@ -46,17 +50,13 @@ const TechniqueInfo& findTechnique(const std::string& name) {
   throw Error("unknown technique '" + name + "' (known: " + known.str() + ", all)");
 }
 
-int resolveLanes(int lanes, const ClContext& cl) {
-  if (lanes == 0) return cl.isGpu() ? 1 : 16;
-  if (lanes == 1 || lanes == 2 || lanes == 4 || lanes == 8 || lanes == 16) return lanes;
-  throw Error("lanes must be auto (0), 1, 2, 4, 8 or 16, not " + std::to_string(lanes));
-}
-
 std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& cl,
                                            const TechniqueConfig& config) {
+  const TechniqueInfo& info = findTechnique(name);
   TechniqueConfig resolved = config;
-  resolved.lanes = resolveLanes(config.lanes, cl);
-  return findTechnique(name).create(cl, resolved);
+  if (config.lanes == 0) resolved.lanes = cl.isGpu() ? 1 : info.autoLanesOnCpu;
+  else parseLanes(std::to_string(config.lanes));  // throws for a width without a kernel
+  return info.create(cl, resolved);
 }
 
 namespace {

@@ -33,9 +33,9 @@ struct TechniqueConfig {
   std::string math = "precise";  // shading arithmetic: precise, fast (-cl-fast-relaxed-math),
                                  // native (native_ sqrt/powr/divide)
   std::string buildOptions;  // extra OpenCL build options (e.g. -cl-fast-relaxed-math)
-  // Pixels shaded together against each light (kernels/lanes.h): 0 = auto (16 on CPU devices, 1 on
-  // GPUs; createTechnique resolves it), 1 = one work-item per pixel, 2/4/8/16 = lanes. Techniques
-  // without a lanes path (tiled-single, clustered, deferred, deferred-stencil) run 1.
+  // Pixels shaded together against each light (kernels/lanes.h): 0 = auto (createTechnique resolves
+  // it: on CPU devices 16 for tiled and brute, 1 for the rest; 1 on GPUs), 1 = one work-item per
+  // pixel, 2/4/8/16 = lanes. tiled-single and clustered have no lanes path and always run 1.
   int lanes = 0;
 
   // " -DTS_LANES=N" for a technique with a lanes path when lanes > 1, else "".
@@ -96,6 +96,9 @@ struct TechniqueInfo {
   std::string name;
   std::string description;
   std::function<std::unique_ptr<Technique>(ClContext&, const TechniqueConfig&)> create;
+  // Lanes for TechniqueConfig::lanes = 0 (auto) on a CPU device: the measured faster choice
+  // (bench/RESULTS.md); GPUs always get 1.
+  int autoLanesOnCpu = 1;
 };
 
 const std::vector<TechniqueInfo>& techniqueRegistry();
