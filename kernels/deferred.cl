@@ -87,10 +87,10 @@ __kernel void deferred_light(float4 camera, TS_GBUFFER_PARAMS,
   barrier(CLK_LOCAL_MEM_FENCE);
   int first = ts_lanes_first_slot();
   if (first >= 0) {
-    ts_lane_surface lanes = ts_lanes_get(soa, first);
+    ts_lane_surface lanes = ts_lanes_get(soa, ts_lane_slots(), first);
     ts_lane_rgb sum = {(TS_LANE)0, (TS_LANE)0, (TS_LANE)0};
     ts_lanes_add_light(&sum, &lanes, pr, light_color[light], TS_MODEL);
-    ts_lanes_put_sum(soa, first, &sum);
+    ts_lanes_put_rgb(soa, ts_lane_slots(), 0, first, &sum);
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (lit) accum[y * (int)camera.z + x] += (float4)(ts_lanes_pixel_sum(soa), 0.0f);

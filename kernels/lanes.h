@@ -48,10 +48,9 @@ typedef struct {
   TS_LANE r, g, b;
 } ts_lane_rgb;
 
-/* Stores slot i: the surface s, or (s null) an unlit slot — far away with black materials, so
- * every light is out of its range and its sum stays 0. */
-static inline void ts_lanes_put(__local float *soa, int i, const ts_surface *s) {
-  int slots = ts_lane_slots();
+/* Stores slot i of `slots`: the surface s, or (s null) an unlit slot — far away with black
+ * materials, so every light is out of its range and its sum stays 0. */
+static inline void ts_lanes_put(__local float *soa, int slots, int i, const ts_surface *s) {
   float v[TS_LANE_PLANES];
   if (s) {
     v[0] = s->P.x, v[1] = s->P.y, v[2] = s->P.z;
@@ -74,9 +73,10 @@ static inline void ts_lanes_put(__local float *soa, int i, const ts_surface *s) 
 static inline int ts_lanes_store_pixel(__local float *soa, int x, int y, int wanted,
                                        float4 camera, TS_GBUFFER_PARAMS, ts_surface *s) {
   int group_size = (int)(get_local_size(0) * get_local_size(1)), item = ts_lane_item();
+  int slots = ts_lane_slots();
   int lit = wanted && ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, s);
-  ts_lanes_put(soa, item, lit ? s : 0);
-  for (int i = group_size + item; i < ts_lane_slots(); i += group_size) ts_lanes_put(soa, i, 0);
+  ts_lanes_put(soa, slots, item, lit ? s : 0);
+  for (int i = group_size + item; i < slots; i += group_size) ts_lanes_put(soa, slots, i, 0);
   return lit;
 }
 
@@ -87,9 +87,8 @@ static inline int ts_lanes_first_slot(void) {
   return item < ts_lane_slots() / TS_LANES ? item * TS_LANES : -1;
 }
 
-/* Loads the TS_LANES slots from `first`. */
-static inline ts_lane_surface ts_lanes_get(__local const float *soa, int first) {
-  int slots = ts_lane_slots();
+/* Loads the TS_LANES slots from `first` (of `slots`). */
+static inline ts_lane_surface ts_lanes_get(__local const float *soa, int slots, int first) {
   TS_LANE v[TS_LANE_PLANES];
   for (int f = 0; f < TS_LANE_PLANES; ++f) v[f] = TS_LANE_VLOAD(TS_LANES)(0, soa + f * slots + first);
   ts_lane_surface s;
@@ -114,16 +113,25 @@ static inline void ts_lanes_add_light(ts_lane_rgb *sum, const ts_lane_surface *s
   sum->b += color.z * diffuse * s->kdb + color.z * specular * s->ksb;
 }
 
-/* Stores the sums of the TS_LANES slots from `first` into planes 0..2 (over their positions,
- * which are no longer needed). A barrier must follow. */
-static inline void ts_lanes_put_sum(__local float *soa, int first, const ts_lane_rgb *sum) {
-  int slots = ts_lane_slots();
-  TS_LANE_VSTORE(TS_LANES)(sum->r, 0, soa + first);
-  TS_LANE_VSTORE(TS_LANES)(sum->g, 0, soa + slots + first);
-  TS_LANE_VSTORE(TS_LANES)(sum->b, 0, soa + 2 * slots + first);
+/* Stores (loads) the r, g, b sums of the TS_LANES slots from `first` in planes `plane` to
+ * plane + 2. The one-pass kernels store them over planes 0..2 (the positions, no longer needed);
+ * a barrier must follow before other work-items read them. */
+static inline void ts_lanes_put_rgb(__local float *soa, int slots, int plane, int first,
+                                    const ts_lane_rgb *sum) {
+  TS_LANE_VSTORE(TS_LANES)(sum->r, 0, soa + plane * slots + first);
+  TS_LANE_VSTORE(TS_LANES)(sum->g, 0, soa + (plane + 1) * slots + first);
+  TS_LANE_VSTORE(TS_LANES)(sum->b, 0, soa + (plane + 2) * slots + first);
+}
+static inline ts_lane_rgb ts_lanes_get_rgb(__local const float *soa, int slots, int plane,
+                                           int first) {
+  ts_lane_rgb sum;
+  sum.r = TS_LANE_VLOAD(TS_LANES)(0, soa + plane * slots + first);
+  sum.g = TS_LANE_VLOAD(TS_LANES)(0, soa + (plane + 1) * slots + first);
+  sum.b = TS_LANE_VLOAD(TS_LANES)(0, soa + (plane + 2) * slots + first);
+  return sum;
 }
 
-/* Step 3, every work-item: the summed contributions of its pixel. */
+/* Step 3, every work-item: the summed contributions of its pixel (planes 0..2). */
 static inline float3 ts_lanes_pixel_sum(__local const float *soa) {
   int slots = ts_lane_slots(), i = ts_lane_item();
   return (float3)(soa[i], soa[slots + i], soa[2 * slots + i]);

@@ -147,13 +147,13 @@ __kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
   barrier(CLK_LOCAL_MEM_FENCE);
   int first = ts_lanes_first_slot();
   if (n > 0 && first >= 0) {
-    ts_lane_surface lanes = ts_lanes_get(soa, first);
+    ts_lane_surface lanes = ts_lanes_get(soa, ts_lane_slots(), first);
     ts_lane_rgb sum = {(TS_LANE)0, (TS_LANE)0, (TS_LANE)0};
     for (uint k = 0; k < n; ++k) {
       uint light = tile_lights[begin + k];
       ts_lanes_add_light(&sum, &lanes, light_pos_range[light], light_color[light], TS_MODEL);
     }
-    ts_lanes_put_sum(soa, first, &sum);
+    ts_lanes_put_rgb(soa, ts_lane_slots(), 0, first, &sum);
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (!inside) return;

@@ -13,8 +13,13 @@
  * the next batch of tests could overflow the list, the list is shaded into private accumulators
  * and emptied. No light is ever dropped.
  *
+ * With TS_LANES > 1 (CPU devices, kernels/lanes.h) a tile that lists lights is decoded once into
+ * local memory before its first chunk is shaded, and each chunk is shaded TS_LANES pixels at a
+ * time.
+ *
  * Build-time constants: TILE_W, TILE_H (pixels), GROUP_W, GROUP_H (work-group shape, at most the
- * tile), LIST_CAPACITY (>= GROUP_W*GROUP_H), TS_MODEL, TS_CULL, the G-buffer layout (gbuffer.h).
+ * tile), LIST_CAPACITY (>= GROUP_W*GROUP_H), TS_MODEL, TS_CULL, TS_LANES, the G-buffer layout
+ * (gbuffer.h).
  */
 #include "gbuffer.h"
 
@@ -51,6 +56,7 @@ static int owned_pixel(int k, int tx, int ty, int width, int height, int *x, int
   return px < TILE_W && py < TILE_H && *x < width && *y < height;
 }
 
+#if TS_LANES == 1
 /* Adds the listed lights' contributions to this work-item's pixels. The last call (`image` not
  * null) also adds the light-independent base and writes the pixels, so the common single-chunk
  * tile decodes each pixel's G-buffer once. */
@@ -73,6 +79,89 @@ static void shade_list(__local const uint *list, uint n, int tx, int ty, float4 
     if (image) image[y * width + x] = (float4)(sum[k] + ts_surface_base(s.ke, s.kd, ambient.xyz), 0.0f);
   }
 }
+#else
+#include "lanes.h"
+/* In lanes, `soa` holds TILE_PLANES planes of TILE_SLOTS floats: the shading terms of every pixel
+ * of the tile (lanes.h), then its running r, g, b sums, which start at the pixel's base. */
+#define TILE_SLOTS ((TILE_W * TILE_H + TS_LANES - 1) / TS_LANES * TS_LANES)
+#define SUM_PLANE TS_LANE_PLANES
+#define TILE_PLANES (TS_LANE_PLANES + 3)
+
+/* The tile-local slot (row-major) of the k-th pixel this work-item owns; -1 off the tile. */
+static int owned_slot(int k) {
+  const int cols = (TILE_W + GROUP_W - 1) / GROUP_W;
+  int px = get_local_id(0) + (k % cols) * GROUP_W, py = get_local_id(1) + (k / cols) * GROUP_H;
+  return px < TILE_W && py < TILE_H ? py * TILE_W + px : -1;
+}
+
+/* Decodes this work-item's pixels into their slots (unlit off screen and for background) and
+ * its share of the padding slots. A barrier must follow. */
+static void lanes_store_tile(__local float *soa, int tx, int ty, float4 camera, float4 ambient,
+                             TS_GBUFFER_PARAMS) {
+  int width = (int)camera.z, height = (int)camera.w;
+  int lid = get_local_id(1) * GROUP_W + get_local_id(0);
+  for (int k = 0; k < PIXELS_PER_ITEM; ++k) {
+    int slot = owned_slot(k), x, y;
+    if (slot < 0) continue;
+    ts_surface s;
+    int lit = owned_pixel(k, tx, ty, width, height, &x, &y) &&
+              ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s);
+    ts_lanes_put(soa, TILE_SLOTS, slot, lit ? &s : 0);
+    float3 base = lit ? ts_surface_base(s.ke, s.kd, ambient.xyz) : (float3)(0.0f);
+    soa[SUM_PLANE * TILE_SLOTS + slot] = base.x;
+    soa[(SUM_PLANE + 1) * TILE_SLOTS + slot] = base.y;
+    soa[(SUM_PLANE + 2) * TILE_SLOTS + slot] = base.z;
+  }
+  for (int i = TILE_W * TILE_H + lid; i < TILE_SLOTS; i += GROUP_SIZE) {
+    ts_lanes_put(soa, TILE_SLOTS, i, 0);
+    for (int c = 0; c < 3; ++c) soa[(SUM_PLANE + c) * TILE_SLOTS + i] = 0.0f;
+  }
+}
+
+/* Adds the listed lights to the sums of every slot of the tile, TS_LANES slots per step. */
+static void lanes_shade_list(__local const uint *list, uint n, __local float *soa,
+                             __global const float4 *light_pos_range,
+                             __global const float4 *light_color) {
+  int lid = get_local_id(1) * GROUP_W + get_local_id(0);
+  if (n == 0) return;
+  for (int first = lid * TS_LANES; first < TILE_SLOTS; first += GROUP_SIZE * TS_LANES) {
+    ts_lane_surface lanes = ts_lanes_get(soa, TILE_SLOTS, first);
+    ts_lane_rgb sum = ts_lanes_get_rgb(soa, TILE_SLOTS, SUM_PLANE, first);
+    for (uint i = 0; i < n; ++i) {
+      uint light = list[i];
+      ts_lanes_add_light(&sum, &lanes, light_pos_range[light], light_color[light], TS_MODEL);
+    }
+    ts_lanes_put_rgb(soa, TILE_SLOTS, SUM_PLANE, first, &sum);
+  }
+}
+
+/* Writes this work-item's on-screen pixels of a tile that lists no light: the base alone. */
+static void write_base_tile(int tx, int ty, float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
+                            __global float4 *image) {
+  int width = (int)camera.z, height = (int)camera.w;
+  for (int k = 0; k < PIXELS_PER_ITEM; ++k) {
+    int x, y;
+    ts_surface s;
+    if (!owned_pixel(k, tx, ty, width, height, &x, &y)) continue;
+    image[y * width + x] = ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)
+                               ? (float4)(ts_surface_base(s.ke, s.kd, ambient.xyz), 0.0f)
+                               : (float4)(0.0f);
+  }
+}
+
+/* Writes this work-item's on-screen pixels from their sums. */
+static void lanes_write_tile(__local const float *soa, int tx, int ty, float4 camera,
+                             __global float4 *image) {
+  int width = (int)camera.z, height = (int)camera.w;
+  for (int k = 0; k < PIXELS_PER_ITEM; ++k) {
+    int x, y, slot = owned_slot(k);
+    if (!owned_pixel(k, tx, ty, width, height, &x, &y)) continue;
+    image[y * width + x] = (float4)(soa[SUM_PLANE * TILE_SLOTS + slot],
+                                    soa[(SUM_PLANE + 1) * TILE_SLOTS + slot],
+                                    soa[(SUM_PLANE + 2) * TILE_SLOTS + slot], 0.0f);
+  }
+}
+#endif
 
 /* tile_count[tile] receives the number of lights the tile accepted. When record_stride > 0 the
  * accepted light indices are also written to tile_lights[tile * record_stride + ...] (for tests and
@@ -83,7 +172,11 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
     float4 camera, float4 ambient, float znear, TS_GBUFFER_PARAMS,
     __global const float4 *light_pos_range, __global const float4 *light_color, int light_count,
     __global uint *tile_count, __global uint *tile_lights, uint record_stride,
-    __global float4 *image, __local uint *list) {
+    __global float4 *image, __local uint *list
+#if TS_LANES > 1
+    , __local float *soa
+#endif
+    ) {
   __local float lmin[GROUP_SIZE];
   __local float lmax[GROUP_SIZE];
   __local uint list_len;
@@ -121,8 +214,13 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
 
   /* 2 + 3. Test the lights a batch of GROUP_SIZE at a time; shade and empty the list whenever the
    * next batch might not fit. */
+#if TS_LANES == 1
   float3 sum[PIXELS_PER_ITEM];
   for (int k = 0; k < PIXELS_PER_ITEM; ++k) sum[k] = (float3)(0.0f);
+#endif
+  /* In lanes the tile is decoded into local memory when its first chunk is shaded: a tile that
+   * lists no light (most of them, with small lights) never pays for the trip. The conditions
+   * around the barriers below are the same for the whole work-group. */
   uint accepted = 0; /* lights shaded so far (flushed chunks) */
   int any_geometry = zr.x <= zr.y;
   for (int base = 0; any_geometry && base < light_count; base += GROUP_SIZE) {
@@ -131,8 +229,16 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
     uint n = list_len;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (n + GROUP_SIZE > LIST_CAPACITY) {
+#if TS_LANES == 1
       shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, light_pos_range, light_color,
                  sum, 0);
+#else
+      if (accepted == 0) {
+        lanes_store_tile(soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS);
+        barrier(CLK_LOCAL_MEM_FENCE);
+      }
+      lanes_shade_list(list, n, soa, light_pos_range, light_color);
+#endif
       if (record_stride > 0)
         for (uint i = lid; i < n; i += GROUP_SIZE)
           tile_lights[(size_t)tile * record_stride + accepted + i] = list[i];
@@ -146,8 +252,22 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   uint n = list_len;
+#if TS_LANES == 1
   shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, light_pos_range, light_color, sum,
              image);
+#else
+  if (accepted + n == 0) {
+    write_base_tile(tx, ty, camera, ambient, TS_GBUFFER_ARGS, image);
+  } else {
+    if (accepted == 0) {
+      lanes_store_tile(soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS);
+      barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    lanes_shade_list(list, n, soa, light_pos_range, light_color);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    lanes_write_tile(soa, tx, ty, camera, image);
+  }
+#endif
   if (record_stride > 0)
     for (uint i = lid; i < n; i += GROUP_SIZE)
       tile_lights[(size_t)tile * record_stride + accepted + i] = list[i];

@@ -1,8 +1,8 @@
 // The one list of techniques. Adding a technique = its own .cpp/.cl pair plus one line here.
 // The last field, where present, is the lanes "auto" picks on CPU devices: 16 where shading in
-// lanes measured faster on PoCL (tiled 6.4x, brute 4.6x; bench/RESULTS.md); deferred has a lanes
-// path but measured 7-26% slower with it (its time is per-light launches and G-buffer re-reads),
-// so it stays at 1.
+// lanes measured faster on PoCL with many lights (tiled 6.4x, tiled-single 4-5x, brute 4.6x;
+// bench/RESULTS.md); deferred has a lanes path but measured 7-26% slower with it (its time is
+// per-light launches and G-buffer re-reads), so it stays at 1.
 #include <sstream>
 
 #include "techniques/technique.h"
@@ -18,7 +18,7 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
       {"tiled-single",
        "single-kernel tiled deferred: one work-group per tile reduces depth, tests every light "
        "and shades in local memory",
-       makeTiledSingleTechnique},
+       makeTiledSingleTechnique, 16},
       {"clustered",
        "clustered deferred: tiles x exponential depth slices, lights binned per non-empty cluster",
        makeClusteredTechnique},
