@@ -12,8 +12,9 @@
  * reach no lane of a vector are skipped early.
  *
  * Layout of the local buffer: TS_LANE_PLANES planes of `slots` floats (slots = the work-group
- * size rounded up to whole vectors); plane f of pixel slot i is at soa[f * slots + i]. Slots
- * without a lit pixel (background, off screen, padding) hold a surface that no light reaches.
+ * size rounded up to whole vectors; tiled_single.cl uses its tile's pixels and 3 more planes);
+ * plane f of pixel slot i is at soa[f * slots + i]. Slots without a lit pixel (background, off
+ * screen, padding) hold a surface that no light reaches.
  *
  * The includer includes gbuffer.h first (with TS_LANES > 1).
  */

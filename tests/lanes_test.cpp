@@ -128,6 +128,14 @@ TEST(Lanes, AutoPicksTheFasterWidthPerTechniqueAndDevice) {
     bool lanes = name == "tiled" || name == "tiled-single" || name == "brute";
     EXPECT_EQ(t->lanes(), !gpu && lanes ? 16 : 1) << name;
   }
+  // tiled-single keeps its whole tile in local memory in lanes (19 floats per pixel); a tile that
+  // does not fit runs one pixel per work-item and says so.
+  TechniqueConfig huge;
+  huge.tileWidth = huge.tileHeight = 128;
+  huge.lanes = 16;
+  size_t localBytes = test::context().device().getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+  EXPECT_EQ(createTechnique("tiled-single", test::context(), huge)->lanes(),
+            19u * 128 * 128 * 4 > localBytes ? 1 : 16);
   EXPECT_EQ(parseLanes("auto"), 0);
   EXPECT_EQ(parseLanes("8"), 8);
   EXPECT_THROW(parseLanes("3"), Error);

@@ -1,7 +1,7 @@
 // The one list of techniques. Adding a technique = its own .cpp/.cl pair plus one line here.
 // The last field, where present, is the lanes "auto" picks on CPU devices: 16 where shading in
-// lanes measured faster on PoCL with many lights (tiled 6.4x, tiled-single 4-5x, brute 4.6x;
-// bench/RESULTS.md); deferred has a lanes path but measured 7-26% slower with it (its time is
+// lanes measured faster on PoCL with many lights (tiled 6.6x, tiled-single 3.5x, brute 4.8x;
+// bench/RESULTS.md); deferred has a lanes path but measured 3-21% slower with it (its time is
 // per-light launches and G-buffer re-reads), so it stays at 1.
 #include <sstream>
 
