@@ -135,6 +135,20 @@ static void lanes_shade_list(__local const uint *list, uint n, __local float *so
   }
 }
 
+/* Adds one chunk of the list to the tile's sums. The first chunk (`first_chunk`, the same for the
+ * whole work-group) decodes the tile into local memory first, so a tile that lists no light never
+ * pays for that trip. */
+static void lanes_shade_chunk(__local const uint *list, uint n, int first_chunk,
+                              __local float *soa, int tx, int ty, float4 camera, float4 ambient,
+                              TS_GBUFFER_PARAMS, __global const float4 *light_pos_range,
+                              __global const float4 *light_color) {
+  if (first_chunk) {
+    lanes_store_tile(soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS);
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  lanes_shade_list(list, n, soa, light_pos_range, light_color);
+}
+
 /* Writes this work-item's on-screen pixels of a tile that lists no light: the base alone. */
 static void write_base_tile(int tx, int ty, float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
                             __global float4 *image) {
@@ -162,6 +176,16 @@ static void lanes_write_tile(__local const float *soa, int tx, int ty, float4 ca
   }
 }
 #endif
+
+/* With record_stride > 0, copies a chunk of n listed lights to the tile's record after the
+ * `accepted` lights of the chunks before it. */
+static void record_chunk(__local const uint *list, uint n, uint accepted, int tile,
+                         uint record_stride, __global uint *tile_lights) {
+  if (record_stride == 0) return;
+  int lid = get_local_id(1) * GROUP_W + get_local_id(0);
+  for (uint i = lid; i < n; i += GROUP_SIZE)
+    tile_lights[(size_t)tile * record_stride + accepted + i] = list[i];
+}
 
 /* tile_count[tile] receives the number of lights the tile accepted. When record_stride > 0 the
  * accepted light indices are also written to tile_lights[tile * record_stride + ...] (for tests and
@@ -218,9 +242,7 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   float3 sum[PIXELS_PER_ITEM];
   for (int k = 0; k < PIXELS_PER_ITEM; ++k) sum[k] = (float3)(0.0f);
 #endif
-  /* In lanes the tile is decoded into local memory when its first chunk is shaded: a tile that
-   * lists no light (most of them, with small lights) never pays for the trip. The conditions
-   * around the barriers below are the same for the whole work-group. */
+  /* The conditions around the barriers below are the same for the whole work-group. */
   uint accepted = 0; /* lights shaded so far (flushed chunks) */
   int any_geometry = zr.x <= zr.y;
   for (int base = 0; any_geometry && base < light_count; base += GROUP_SIZE) {
@@ -233,15 +255,10 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
       shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, light_pos_range, light_color,
                  sum, 0);
 #else
-      if (accepted == 0) {
-        lanes_store_tile(soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS);
-        barrier(CLK_LOCAL_MEM_FENCE);
-      }
-      lanes_shade_list(list, n, soa, light_pos_range, light_color);
+      lanes_shade_chunk(list, n, accepted == 0, soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS,
+                        light_pos_range, light_color);
 #endif
-      if (record_stride > 0)
-        for (uint i = lid; i < n; i += GROUP_SIZE)
-          tile_lights[(size_t)tile * record_stride + accepted + i] = list[i];
+      record_chunk(list, n, accepted, tile, record_stride, tile_lights);
       accepted += n;
       if (lid == 0) list_len = 0;
       barrier(CLK_LOCAL_MEM_FENCE);
@@ -259,17 +276,12 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   if (accepted + n == 0) {
     write_base_tile(tx, ty, camera, ambient, TS_GBUFFER_ARGS, image);
   } else {
-    if (accepted == 0) {
-      lanes_store_tile(soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS);
-      barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    lanes_shade_list(list, n, soa, light_pos_range, light_color);
+    lanes_shade_chunk(list, n, accepted == 0, soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS,
+                      light_pos_range, light_color);
     barrier(CLK_LOCAL_MEM_FENCE);
     lanes_write_tile(soa, tx, ty, camera, image);
   }
 #endif
-  if (record_stride > 0)
-    for (uint i = lid; i < n; i += GROUP_SIZE)
-      tile_lights[(size_t)tile * record_stride + accepted + i] = list[i];
+  record_chunk(list, n, accepted, tile, record_stride, tile_lights);
   if (lid == 0) tile_count[tile] = accepted + n;
 }

@@ -50,12 +50,27 @@ const TechniqueInfo& findTechnique(const std::string& name) {
   throw Error("unknown technique '" + name + "' (known: " + known.str() + ", all)");
 }
 
+namespace {
+// The widths kernels/lanes.h is built for (TS_LANES; floatN exists for these N).
+const int kLaneWidths[] = {1, 2, 4, 8, 16};
+
+bool isLaneWidth(int n) {
+  for (int w : kLaneWidths)
+    if (n == w) return true;
+  return false;
+}
+
+Error badLanes(const std::string& text) {
+  return Error("lanes must be auto, 1, 2, 4, 8 or 16, not '" + text + "'");
+}
+}  // namespace
+
 std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& cl,
                                            const TechniqueConfig& config) {
   const TechniqueInfo& info = findTechnique(name);
   TechniqueConfig resolved = config;
   if (config.lanes == 0) resolved.lanes = cl.isGpu() ? 1 : info.autoLanesOnCpu;
-  else parseLanes(std::to_string(config.lanes));  // throws for a width without a kernel
+  else if (!isLaneWidth(config.lanes)) throw badLanes(std::to_string(config.lanes));
   return info.create(cl, resolved);
 }
 
@@ -71,9 +86,9 @@ int parseCulling(const std::string& name) {
 
 int parseLanes(const std::string& text) {
   if (text == "auto") return 0;
-  for (int n : {1, 2, 4, 8, 16})
+  for (int n : kLaneWidths)
     if (text == std::to_string(n)) return n;
-  throw Error("lanes must be auto, 1, 2, 4, 8 or 16, not '" + text + "'");
+  throw badLanes(text);
 }
 
 std::string lanesName(int lanes) { return lanes == 0 ? "auto" : std::to_string(lanes); }

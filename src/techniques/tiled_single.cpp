@@ -20,13 +20,11 @@ class TiledSingleTechnique : public Technique {
     capacity_ = std::max(config.localListCapacity, groupW_ * groupH_);
     // In lanes the whole tile's shading terms and sums live in local memory; a tile too large for
     // the device's local memory is shaded one pixel per work-item (lanes() then says 1).
-    lanes_ = config.lanes;
-    if (lanes_ > 1 && laneTileBytes() + size_t(capacity_) * 4 + size_t(groupW_) * groupH_ * 8 + 64 >
-                          cl.device().getInfo<CL_DEVICE_LOCAL_MEM_SIZE>())
-      lanes_ = 1;
-    TechniqueConfig built = config;
-    built.lanes = lanes_;
-    std::string options = config.kernelOptions() + built.lanesOption() +
+    if (config_.lanes > 1 &&
+        laneTileBytes() + size_t(capacity_) * 4 + size_t(groupW_) * groupH_ * 8 + 64 >
+            cl.device().getInfo<CL_DEVICE_LOCAL_MEM_SIZE>())
+      config_.lanes = 1;
+    std::string options = config_.kernelOptions() + config_.lanesOption() +
                           " -DTILE_W=" + std::to_string(config.tileWidth) +
                           " -DTILE_H=" + std::to_string(config.tileHeight) +
                           " -DGROUP_W=" + std::to_string(groupW_) +
@@ -37,7 +35,7 @@ class TiledSingleTechnique : public Technique {
   }
 
   std::string name() const override { return "tiled-single"; }
-  int lanes() const override { return lanes_; }
+  int lanes() const override { return config_.lanes; }
 
   FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame, request.wantAssignment);
@@ -60,7 +58,7 @@ class TiledSingleTechnique : public Technique {
     kernel_.setArg(arg++, stride);
     kernel_.setArg(arg++, image_);
     kernel_.setArg(arg++, cl::Local(size_t(capacity_) * sizeof(cl_uint)));
-    if (lanes_ > 1) kernel_.setArg(arg++, cl::Local(laneTileBytes()));
+    if (config_.lanes > 1) kernel_.setArg(arg++, cl::Local(laneTileBytes()));
     q.enqueueNDRangeKernel(kernel_, cl::NullRange,
                            cl::NDRange(size_t(grid_.tilesX) * groupW_, size_t(grid_.tilesY) * groupH_),
                            cl::NDRange(groupW_, groupH_), nullptr, timer_.next("tile_shade"));
@@ -91,7 +89,7 @@ class TiledSingleTechnique : public Technique {
   // the tile's pixels rounded up to whole vectors (kernels/tiled_single.cl).
   size_t laneTileBytes() const {
     size_t pixels = size_t(config_.tileWidth) * config_.tileHeight;
-    return (16 + 3) * roundUp(pixels, size_t(std::max(lanes_, 1))) * sizeof(float);
+    return (16 + 3) * roundUp(pixels, size_t(std::max(config_.lanes, 1))) * sizeof(float);
   }
 
   void allocate(const DeviceFrame& frame, bool record) {
@@ -113,7 +111,7 @@ class TiledSingleTechnique : public Technique {
 
   ClContext& cl_;
   TechniqueConfig config_;
-  int groupW_ = 16, groupH_ = 16, capacity_ = 256, lanes_ = 1;
+  int groupW_ = 16, groupH_ = 16, capacity_ = 256;
   cl::Program program_;
   cl::Kernel kernel_;
   TileGrid grid_;
