@@ -134,7 +134,9 @@ TEST(GltfLoad, NodeHierarchyLightsAndCamera) {
   ASSERT_EQ(s.materials.size(), 1u);  // the grey default
 
   // Point lights: colour x intensity; range from the file or from the 5/256 threshold.
-  ASSERT_EQ(s.lights.size(), 2u);
+  ASSERT_EQ(s.lights.size(), 3u);
+  EXPECT_EQ(s.lights[0].type, ts::LightType::Point);
+  EXPECT_EQ(s.lights[1].type, ts::LightType::Point);
   expectVec(s.lights[0].position, {1, 4, 3});
   expectVec(s.lights[0].color, {4, 2, 1});
   EXPECT_FLOAT_EQ(s.lights[0].range, 5.0f);
@@ -142,9 +144,13 @@ TEST(GltfLoad, NodeHierarchyLightsAndCamera) {
   expectVec(s.lights[1].color, glm::vec3(1.953125f));
   EXPECT_NEAR(s.lights[1].range, 10.0f, 1e-4f);  // sqrt(1.953125 / (5/256))
 
-  // The spot light is skipped with one warning line, not an error.
-  EXPECT_TRUE(contains(err, "1 spot")) << err;
-  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  // The spot light: its cone angles, colour x intensity, range from the threshold; no warning.
+  EXPECT_EQ(s.lights[2].type, ts::LightType::Spot);
+  EXPECT_FLOAT_EQ(s.lights[2].innerConeAngle, 0.1f);
+  EXPECT_FLOAT_EQ(s.lights[2].outerConeAngle, 0.5f);
+  expectVec(s.lights[2].color, glm::vec3(3.0f));
+  EXPECT_NEAR(glm::length(s.lights[2].direction), 1.0f, 1e-6f);
+  EXPECT_TRUE(err.empty()) << err;
 
   // Frame 0 is the file's camera; then an orbit of >= 120 frames.
   ASSERT_GE(s.cameraPath.size(), 121u);
@@ -482,13 +488,21 @@ TEST(GltfReal, DungeonTexturesLightsAndWarnings) {
   int textured = 0;
   for (const auto& m : s.materials) textured += m.diffuseTexture >= 0;
   EXPECT_EQ(textured, 10);
-  // One point light instanced on two nodes; the directional light (two nodes) is skipped.
-  ASSERT_EQ(s.lights.size(), 2u);
+  // One point light instanced on two nodes, one directional light instanced on two nodes.
+  ASSERT_EQ(s.lights.size(), 4u);
+  int points = 0, directionals = 0;
   for (const auto& l : s.lights) {
+    if (l.type == ts::LightType::Directional) {
+      ++directionals;
+      EXPECT_NEAR(glm::length(l.direction), 1.0f, 1e-5f);
+      continue;
+    }
+    ++points;
     EXPECT_FLOAT_EQ(l.range, 4.0f);
     expectVec(l.color, {20.0f, 20.0f, 20.0f * 0.029356954619288445f}, 1e-4f);
   }
-  EXPECT_TRUE(contains(err, "2 directional")) << err;
+  EXPECT_EQ(points, 2);
+  EXPECT_EQ(directionals, 2);
   EXPECT_TRUE(contains(err, "1 skin")) << err;
   EXPECT_TRUE(contains(err, "1 animation")) << err;
 }

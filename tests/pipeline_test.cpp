@@ -153,7 +153,7 @@ TEST(GBufferDecode, KernelMatchesHostDecoder) {
 }
 
 // Third-party glTF content: loads, rasterizes, shades within tolerance of the reference.
-void checkRealScene(const std::string& path, const std::vector<PointLight>& extraLights) {
+void checkRealScene(const std::string& path, const std::vector<Light>& extraLights) {
   Scene scene = loadGltf(path);
   ASSERT_GT(scene.triangleCount(), 1000u);
   for (const auto& l : extraLights) scene.lights.push_back(l);
@@ -167,15 +167,16 @@ void checkRealScene(const std::string& path, const std::vector<PointLight>& extr
 }
 
 // Lights scattered through a scene's bounds, sized to it (Sponza and the engine have none).
-std::vector<PointLight> scatteredLights(const Scene& scene, int n) {
+std::vector<Light> scatteredLights(const Scene& scene, int n) {
   Bounds b = scene.bounds();
   float size = glm::length(b.extent());
   std::mt19937 rng(2);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::vector<PointLight> lights;
+  std::vector<Light> lights;
   for (int i = 0; i < n; ++i)
-    lights.push_back({b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
-                      glm::vec3(u(rng), u(rng), u(rng)) * size * size * 0.01f, 0.25f * size});
+    lights.push_back(Light::point(b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
+                                  glm::vec3(u(rng), u(rng), u(rng)) * size * size * 0.01f,
+                                  0.25f * size));
   return lights;
 }
 

@@ -89,8 +89,8 @@ inline PreparedFrame hugeLightsFrame(int count = 300) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   scene.lights.clear();
   for (int i = 0; i < count; ++i)
-    scene.lights.push_back({b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
-                            glm::vec3(0.05f), 1000.0f});
+    scene.lights.push_back(Light::point(b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
+                                        glm::vec3(0.05f), 1000.0f));
   return prepareFrame(scene, 0, 96, 64, GBufferFormat::FP32);
 }
 

@@ -520,7 +520,7 @@ BenchRunResult runBench(const BenchOptions& o) {
   std::map<std::string, Scene> scenes;
   // Per scene: its lights with the scene's own ranges (before --light-threshold), for the error
   // reference that every configuration of the scene is measured against.
-  std::map<std::string, std::vector<PointLight>> ownRangeLights;
+  std::map<std::string, std::vector<Light>> ownRangeLights;
   size_t pendingTotal = 0;
   for (auto& e : entries) {
     std::string key = sceneKey(e.config);

@@ -29,13 +29,18 @@ struct CameraIntrinsics {
   glm::mat4 projection() const;
 };
 
+// The material planes hold the terms of the shading model the frame is rasterized for:
+//   model       diffuse                      specular
+//   BlinnPhong  kd rgb, w unused (1)         ks rgb, shininess s in w
+//   MetallicR.  base colour rgb, metallic w  roughness in x (y, z, w unused: 0)
 struct GBuffer {
   int width = 0;
   int height = 0;
+  ShadingModel model = ShadingModel::BlinnPhong;
   std::vector<float> depth;         // linear view depth (-z_view); 0 = background
   std::vector<glm::vec4> normal;    // view-space unit normal, w = 0
-  std::vector<glm::vec4> diffuse;   // kd rgb, a unused (1)
-  std::vector<glm::vec4> specular;  // ks rgb, shininess in w
+  std::vector<glm::vec4> diffuse;   // see above
+  std::vector<glm::vec4> specular;  // see above
   std::vector<glm::vec4> emissive;  // ke rgb, a unused (0)
   // Instrumentation, filled only when RasterOptions asks for it (empty otherwise):
   std::vector<int32_t> triangleId;      // visible triangle (index into Scene), -1 = background
@@ -48,6 +53,7 @@ struct GBuffer {
 };
 
 struct RasterOptions {
+  ShadingModel model = ShadingModel::BlinnPhong;  // whose material terms the planes hold
   int threads = 0;              // 0 = all hardware threads (at most 256); same output for any
                                 // count
   bool triangleIds = false;     // fill GBuffer::triangleId

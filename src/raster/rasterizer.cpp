@@ -231,6 +231,7 @@ class Rasterizer {
 
     GBuffer g;
     g.resize(frame_.width, frame_.height);
+    g.model = options_.model;
     if (options_.triangleIds) g.triangleId.assign(g.pixelCount(), -1);
     if (options_.fragmentCounts) g.fragmentCount.assign(g.pixelCount(), 0u);
     int tiles = frame_.tilesX * frame_.tilesY;
@@ -265,9 +266,11 @@ class Rasterizer {
         throw Error("scene '" + s.name + "': material index " + std::to_string(m) +
                     " out of range (" + std::to_string(s.materials.size()) + " materials)");
     for (const Material& m : s.materials)
-      if (m.diffuseTexture >= int(s.textures.size()))
-        throw Error("scene '" + s.name + "': material '" + m.name + "' uses texture " +
-                    std::to_string(m.diffuseTexture) + " of " + std::to_string(s.textures.size()));
+      for (int t : {m.diffuseTexture, m.baseColorTexture, m.metallicRoughnessTexture,
+                    m.emissiveTexture})
+        if (t >= int(s.textures.size()))
+          throw Error("scene '" + s.name + "': material '" + m.name + "' uses texture " +
+                      std::to_string(t) + " of " + std::to_string(s.textures.size()));
   }
 
   void transformVertices() {
@@ -597,20 +600,28 @@ class Rasterizer {
         }
         if (m.doubleSided && t.backFacing) n = -n;
 
-        glm::vec3 kd = m.diffuse;
-        if (m.diffuseTexture >= 0) {
+        // Textures are sampled at the pixel's interpolated UV (one set per vertex).
+        auto sample = [&](int texture) {
+          if (texture < 0) return glm::vec4(1.0f);
           const Vertex &v0 = scene_.vertices[i0], &v1 = scene_.vertices[i1],
                        &v2 = scene_.vertices[i2];
           glm::dvec2 uv = B[0] * glm::dvec2(v0.uv) + B[1] * glm::dvec2(v1.uv) +
                           B[2] * glm::dvec2(v2.uv);
-          kd *= glm::vec3(scene_.textures[size_t(m.diffuseTexture)].sample(glm::vec2(uv)));
-        }
+          return scene_.textures[size_t(texture)].sample(glm::vec2(uv));
+        };
 
         g.depth[gi] = float(1.0 / sc.invDepth[p]);
         g.normal[gi] = glm::vec4(glm::vec3(n), 0.0f);
-        g.diffuse[gi] = glm::vec4(kd, 1.0f);
-        g.specular[gi] = glm::vec4(m.specular, m.shininess);
-        g.emissive[gi] = glm::vec4(m.emissive, 0.0f);
+        if (options_.model == ShadingModel::MetallicRoughness) {
+          glm::vec4 mr = sample(m.metallicRoughnessTexture);  // glTF: G roughness, B metallic
+          g.diffuse[gi] = glm::vec4(m.baseColor * glm::vec3(sample(m.baseColorTexture)),
+                                    m.metallic * mr.z);
+          g.specular[gi] = glm::vec4(m.roughness * mr.y, 0.0f, 0.0f, 0.0f);
+        } else {
+          g.diffuse[gi] = glm::vec4(m.diffuse * glm::vec3(sample(m.diffuseTexture)), 1.0f);
+          g.specular[gi] = glm::vec4(m.specular, m.shininess);
+        }
+        g.emissive[gi] = glm::vec4(m.emissive * glm::vec3(sample(m.emissiveTexture)), 0.0f);
         if (!g.triangleId.empty()) g.triangleId[gi] = int32_t(tri);
       }
   }

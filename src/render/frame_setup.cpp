@@ -8,6 +8,12 @@ namespace ts {
 
 PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
                            GBufferFormat format) {
+  return prepareFrame(scene, frame, width, height, format,
+                      analyzeScene(scene, ShadingModel::BlinnPhong));
+}
+
+PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
+                           GBufferFormat format, const SceneFeatures& features) {
   if (width < 1 || height < 1)
     throw Error("resolution must be at least 1x1, got " + std::to_string(width) + "x" +
                 std::to_string(height));
@@ -16,7 +22,10 @@ PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
   f.camera = scene.camera(frame);
   f.intrinsics = CameraIntrinsics::from(f.camera, width, height);
   auto t0 = std::chrono::steady_clock::now();
-  f.gbuffer = rasterize(scene, f.camera, width, height);
+  f.features = features;
+  RasterOptions raster;
+  raster.model = features.model;
+  f.gbuffer = rasterize(scene, f.camera, width, height, raster);
   f.rasterMs =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   f.encoded = encode(f.gbuffer, format);

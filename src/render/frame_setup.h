@@ -4,6 +4,7 @@
 #include "raster/gbuffer.h"
 #include "raster/gbuffer_layout.h"
 #include "scene/scene.h"
+#include "scene/scene_features.h"
 #include "techniques/device_frame.h"
 
 namespace ts {
@@ -16,6 +17,7 @@ struct PreparedFrame {
   EncodedGBuffer encoded;   // what the kernels read
   ViewLights lights;        // view space
   glm::vec3 ambient{0.0f};
+  SceneFeatures features;   // what the G-buffer and the kernels model
   double rasterMs = 0.0;
 
   DeviceFrame upload(ClContext& cl) const {
@@ -23,6 +25,10 @@ struct PreparedFrame {
   }
 };
 
+// Rasterizes for `features.model` (the material terms the G-buffer planes hold).
+PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
+                           GBufferFormat format, const SceneFeatures& features);
+// The same with the scene's own features (analyzeScene) for Blinn-Phong shading.
 PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
                            GBufferFormat format);
 

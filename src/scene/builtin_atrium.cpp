@@ -104,13 +104,13 @@ void arcade(MeshBuilder& mb, const Materials& M, float zc, float yBase, float pe
   mb.box({-kHalfX, ys + ro, zc - hz}, {kHalfX, bandTop, zc + hz}, M.stone);
 }
 
-std::vector<PointLight> makeLights(const std::string& set, uint32_t seed, int count) {
+std::vector<Light> makeLights(const std::string& set, uint32_t seed, int count) {
   SceneRandom rnd(seed * 747796405u + 2891336453u);
-  std::vector<PointLight> lights;
+  std::vector<Light> lights;
   lights.reserve(size_t(count));
   for (int k = 0; k < count; ++k) {
     bool big = set == "big" || (set == "mixed" && k % kMixedBigEvery == 0);
-    PointLight l;
+    Light l;
     if (big) {
       // Anywhere in the courtyard or over the aisles, 1.5..10 m up.
       l.position = {rnd.uniform(-13.0f, 13.0f), rnd.uniform(1.5f, 10.0f), rnd.uniform(-9.0f, 9.0f)};

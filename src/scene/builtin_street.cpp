@@ -216,18 +216,18 @@ Layout makeLayout(SceneRandom& rnd) {
   return L;
 }
 
-std::vector<PointLight> manyLights(const Layout& L, uint32_t seed, int count) {
+std::vector<Light> manyLights(const Layout& L, uint32_t seed, int count) {
   // Light k lies on path k % 11, at the (k / 11)-th of that path's evenly spaced slots, with a
   // random sideways offset (±3) and height (1..6) and a random saturated colour.
   SceneRandom rnd(seed * 747796405u + 2891336453u);
-  std::vector<PointLight> lights;
+  std::vector<Light> lights;
   lights.reserve(size_t(count));
   for (int k = 0; k < count; ++k) {
     int path = k % kRobots, slot = k / kRobots;
     int onPath = count / kRobots + (path < count % kRobots ? 1 : 0);
     float t = (float(slot) + 0.5f) / float(onPath);
     float z = kPathZ0 + (kPathZ1 - kPathZ0) * t;
-    PointLight l;
+    Light l;
     float offset = rnd.uniform(-3.0f, 3.0f);
     l.position = {L.paths[path].x(z) + offset, rnd.uniform(1.0f, 6.0f), z};
     l.color = kManyIntensity * hueColor(rnd.uniform(), rnd.uniform(0.3f, 0.9f));
@@ -237,16 +237,16 @@ std::vector<PointLight> manyLights(const Layout& L, uint32_t seed, int count) {
   return lights;
 }
 
-std::vector<PointLight> fewLights(const Layout& L, uint32_t seed, int count) {
+std::vector<Light> fewLights(const Layout& L, uint32_t seed, int count) {
   // Light k hangs above robot k % 11, 2.5 above its head (2 more per extra round), slightly to one
   // side; warm-to-cool whites.
   SceneRandom rnd(seed * 747796405u + 1013904223u);
-  std::vector<PointLight> lights;
+  std::vector<Light> lights;
   lights.reserve(size_t(count));
   for (int k = 0; k < count; ++k) {
     const Robot& r = L.robots[k % kRobots];
     float a = rnd.uniform(0.0f, 2.0f * kPi);
-    PointLight l;
+    Light l;
     l.position = r.position + glm::vec3(1.2f * std::cos(a),
                                          r.height + 2.5f + 2.0f * float(k / kRobots),
                                          1.2f * std::sin(a));

@@ -9,6 +9,8 @@
 #include <OpenImageIO/imageio.h>
 #endif
 #include <glm/gtc/quaternion.hpp>
+#define GLM_ENABLE_EXPERIMENTAL
+#include <glm/gtx/quaternion.hpp>
 #include <tiny_gltf.h>
 
 #include "scene/gltf_mapping.h"
@@ -86,7 +88,8 @@ std::vector<unsigned char> encodePng(const Texture& t) {
   for (size_t i = 0; i < t.texels.size(); ++i) {
     const glm::vec4& v = t.texels[i];
     for (int c = 0; c < 3; ++c)
-      pixels[4 * i + size_t(c)] = (unsigned char)(gltf::linearToSrgb(v[c]) * 255.0f + 0.5f);
+      pixels[4 * i + size_t(c)] = (unsigned char)(
+          (t.srgb ? gltf::linearToSrgb(v[c]) : std::clamp(v[c], 0.0f, 1.0f)) * 255.0f + 0.5f);
     pixels[4 * i + 3] = (unsigned char)(std::clamp(v.w, 0.0f, 1.0f) * 255.0f + 0.5f);
   }
 #ifdef TILESHADE_NO_OIIO
@@ -132,18 +135,36 @@ void exportGltf(const Scene& scene, const std::string& path) {
     m.textures.push_back(tex);
   }
 
-  // Materials: base colour = diffuse (metallic 0), KHR_materials_specular colour = ks, roughness
-  // from shininess (inverse of the loader's mapping), emissive (> 1 through emissive_strength).
+  // Materials in the model they were written for. Metallic-roughness: its own factors and
+  // textures. Blinn-Phong: base colour = kd (metallic 0), KHR_materials_specular colour = ks,
+  // roughness from shininess (inverse of the loader's mapping). Emissive > 1 through
+  // KHR_materials_emissive_strength.
+  bool specularExtension = false;
+  auto textureIndex = [&](int t) { return t >= 0 && size_t(t) < scene.textures.size() ? t : -1; };
   for (const Material& mat : scene.materials) {
     tinygltf::Material g;
     g.name = mat.name;
-    g.pbrMetallicRoughness.baseColorFactor = {mat.diffuse.x, mat.diffuse.y, mat.diffuse.z, 1.0};
-    g.pbrMetallicRoughness.metallicFactor = 0.0;
-    g.pbrMetallicRoughness.roughnessFactor = gltf::roughnessFromShininess(mat.shininess);
-    if (mat.diffuseTexture >= 0 && size_t(mat.diffuseTexture) < scene.textures.size())
-      g.pbrMetallicRoughness.baseColorTexture.index = mat.diffuseTexture;
-    g.extensions["KHR_materials_specular"] = tinygltf::Value(tinygltf::Value::Object{
-        {"specularFactor", number(1.0)}, {"specularColorFactor", array(mat.specular)}});
+    auto& pbr = g.pbrMetallicRoughness;
+    if (mat.model == ShadingModel::MetallicRoughness) {
+      pbr.baseColorFactor = {mat.baseColor.x, mat.baseColor.y, mat.baseColor.z, 1.0};
+      pbr.metallicFactor = mat.metallic;
+      pbr.roughnessFactor = mat.roughness;
+      pbr.baseColorTexture.index = textureIndex(mat.baseColorTexture);
+      pbr.metallicRoughnessTexture.index = textureIndex(mat.metallicRoughnessTexture);
+    } else {
+      pbr.baseColorFactor = {mat.diffuse.x, mat.diffuse.y, mat.diffuse.z, 1.0};
+      pbr.metallicFactor = 0.0;
+      pbr.roughnessFactor = roughnessFromShininess(mat.shininess);
+      pbr.baseColorTexture.index = textureIndex(mat.diffuseTexture);
+      g.extensions["KHR_materials_specular"] = tinygltf::Value(tinygltf::Value::Object{
+          {"specularFactor", number(1.0)}, {"specularColorFactor", array(mat.specular)}});
+      specularExtension = true;
+      // So that loading it back shades it with the model it was written for.
+      g.extras = tinygltf::Value(tinygltf::Value::Object{
+          {"tileshade", tinygltf::Value(tinygltf::Value::Object{
+                            {"shading_model", tinygltf::Value(toString(mat.model))}})}});
+    }
+    g.emissiveTexture.index = textureIndex(mat.emissiveTexture);
     float peak = std::max({mat.emissive.x, mat.emissive.y, mat.emissive.z});
     if (peak > 1.0f) {
       g.emissiveFactor = {mat.emissive.x / peak, mat.emissive.y / peak, mat.emissive.z / peak};
@@ -237,21 +258,30 @@ void exportGltf(const Scene& scene, const std::string& path) {
     gscene.nodes.push_back(int(m.nodes.size() - 1));
   }
 
-  // Lights: KHR_lights_punctual point lights, colour normalised to a peak of 1 with the peak as
-  // intensity, each on its own node.
+  // Lights: KHR_lights_punctual, colour normalised to a peak of 1 with the peak as intensity,
+  // each on its own node: translated to the position (point, spot), rotated so that its -Z is
+  // the light's direction (spot, directional).
   for (size_t i = 0; i < scene.lights.size(); ++i) {
-    const PointLight& l = scene.lights[i];
+    const Light& l = scene.lights[i];
     float peak = std::max({l.color.x, l.color.y, l.color.z});
     tinygltf::Light light;
-    light.type = "point";
+    light.type = toString(l.type);
     light.intensity = peak > 0.0f ? peak : 0.0f;
     glm::vec3 color = peak > 0.0f ? l.color / peak : glm::vec3(1.0f);
     light.color = {color.x, color.y, color.z};
-    light.range = l.range;
+    if (l.hasRange()) light.range = l.range;
+    if (l.type == LightType::Spot) {
+      light.spot.innerConeAngle = l.innerConeAngle;
+      light.spot.outerConeAngle = l.outerConeAngle;
+    }
     m.lights.push_back(light);
     tinygltf::Node node;
     node.name = "light" + std::to_string(i);
-    node.translation = {l.position.x, l.position.y, l.position.z};
+    if (l.hasRange()) node.translation = {l.position.x, l.position.y, l.position.z};
+    if (l.type != LightType::Point) {
+      glm::quat q = glm::rotation(glm::vec3(0.0f, 0.0f, -1.0f), glm::normalize(l.direction));
+      node.rotation = {q.x, q.y, q.z, q.w};
+    }
     node.extensions["KHR_lights_punctual"] =
         tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(int(i))}});
     m.nodes.push_back(node);
@@ -260,7 +290,7 @@ void exportGltf(const Scene& scene, const std::string& path) {
 
   m.scenes.push_back(gscene);
   m.defaultScene = 0;
-  if (!m.materials.empty()) m.extensionsUsed.push_back("KHR_materials_specular");
+  if (specularExtension) m.extensionsUsed.push_back("KHR_materials_specular");
   if (emissiveStrength) m.extensionsUsed.push_back("KHR_materials_emissive_strength");
   if (!m.lights.empty()) m.extensionsUsed.push_back("KHR_lights_punctual");
   if (m.buffers[0].data.empty()) m.buffers.clear();

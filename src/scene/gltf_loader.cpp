@@ -216,9 +216,11 @@ struct DecodedImage {
   std::string why;
 };
 
-// Encoded PNG/JPEG/... bytes -> linear RGBA texels (colour channels sRGB-decoded, alpha linear).
-DecodedImage decodeImage(const tinygltf::Image& image, int index) {
+// Encoded PNG/JPEG/... bytes -> linear RGBA texels: colour channels sRGB-decoded when `srgb` (base
+// colour and emissive textures), taken as they are otherwise (metallic-roughness); alpha linear.
+DecodedImage decodeImage(const tinygltf::Image& image, int index, bool srgb) {
   DecodedImage result;
+  result.texture.srgb = srgb;
   if (image.image.empty()) {
     result.why = "not found";
     return result;
@@ -236,6 +238,7 @@ DecodedImage decodeImage(const tinygltf::Image& image, int index) {
     out.texels.resize(size_t(w) * size_t(h));
     for (size_t p = 0; p < out.texels.size(); ++p) {
       auto colour = [&](int c) {
+        if (!srgb) return eightBit ? float(get(p, c)) / 255.0f : float(get(p, c));
         return eightBit ? lut[size_t(get(p, c))] : gltf::srgbToLinear(float(get(p, c)));
       };
       auto alpha = [&](int c) { return eightBit ? float(get(p, c)) / 255.0f : float(get(p, c)); };
@@ -308,8 +311,9 @@ class GltfLoader {
   void visit(int node, const glm::mat4& parent, int depth);
   void addPrimitive(const tinygltf::Primitive& p, const glm::mat4& world, const std::string& what);
   uint32_t material(int gltfMaterial);
-  int texture(int gltfTexture);
-  void decodeBaseColourImages();
+  int texture(int gltfTexture, bool srgb, int texCoord, const std::string& what);
+  void decodeImages();
+  void addLight(const tinygltf::Light& light, const glm::mat4& world, const std::string& what);
   void buildCameraPath();
 
   const tinygltf::Model& m_;
@@ -317,11 +321,14 @@ class GltfLoader {
   Reader read_;
   Scene scene_;
   std::map<int, uint32_t> materials_;  // glTF material (-1 = none) -> scene material
-  std::map<int, int> images_;          // glTF image -> scene texture (-1 = failed)
-  std::map<int, DecodedImage> decoded_;  // decoded up front, in parallel
+  // (glTF image, sRGB) -> scene texture (-1 = failed): an image is decoded once per colour space
+  std::map<std::pair<int, bool>, int> images_;
+  std::map<std::pair<int, bool>, DecodedImage> decoded_;  // decoded up front, in parallel
+  int otherTexCoords_ = 0;  // textures on another UV set than the base colour's
+  int uvSet_ = 0;           // the base colour's UV set of the material being read
   std::vector<std::string> textureFailures_;
   int skippedPrimitives_ = 0;
-  int directional_ = 0, spot_ = 0, otherLights_ = 0, orthographic_ = 0, extraCameras_ = 0;
+  int otherLights_ = 0, orthographic_ = 0, extraCameras_ = 0;
   bool haveCamera_ = false;
   Camera camera_;
   std::set<int> visiting_;
@@ -331,33 +338,56 @@ uint32_t GltfLoader::material(int index) {
   auto it = materials_.find(index);
   if (it != materials_.end()) return it->second;
   Material out;
+  out.model = ShadingModel::MetallicRoughness;
+  glm::vec3 dielectricF0(0.04f);
   if (index < 0 || size_t(index) >= m_.materials.size()) {
-    // No material: a neutral grey (glTF's default, metallic = 1, would be black in Blinn-Phong).
+    // No material: a neutral grey dielectric (glTF's default, a white rough metal, would be black
+    // in Blinn-Phong).
     out.name = "default";
+    out.baseColor = glm::vec3(0.8f);
+    out.metallic = 0.0f;
+    out.roughness = roughnessFromShininess(32.0f);
   } else {
     const auto& mat = m_.materials[size_t(index)];
     const auto& pbr = mat.pbrMetallicRoughness;
+    std::string what = "material '" + mat.name + "'";
     out.name = mat.name;
-    glm::vec3 base(1.0f);
+    out.baseColor = glm::vec3(1.0f);
     if (pbr.baseColorFactor.size() >= 3)
-      base = {float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
-              float(pbr.baseColorFactor[2])};
-    float metallic = std::clamp(float(pbr.metallicFactor), 0.0f, 1.0f);
-    float roughness = std::clamp(float(pbr.roughnessFactor), 0.0f, 1.0f);
-    glm::vec3 dielectric(0.04f);
+      out.baseColor = {float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
+                       float(pbr.baseColorFactor[2])};
+    out.metallic = std::clamp(float(pbr.metallicFactor), 0.0f, 1.0f);
+    out.roughness = std::clamp(float(pbr.roughnessFactor), 0.0f, 1.0f);
     if (const auto* spec = extension(mat.extensions, "KHR_materials_specular"))
-      dielectric = vec3(spec, "specularColorFactor", glm::vec3(1.0f)) *
-                   float(number(spec, "specularFactor", 1.0));
-    out.diffuse = base * (1.0f - metallic);
-    out.specular = glm::mix(dielectric, base, metallic);
-    out.shininess = gltf::shininessFromRoughness(roughness);
+      dielectricF0 = vec3(spec, "specularColorFactor", glm::vec3(1.0f)) *
+                     float(number(spec, "specularFactor", 1.0));
     if (mat.emissiveFactor.size() >= 3)
       out.emissive = {float(mat.emissiveFactor[0]), float(mat.emissiveFactor[1]),
                       float(mat.emissiveFactor[2])};
     out.emissive *= float(number(extension(mat.extensions, "KHR_materials_emissive_strength"),
                                  "emissiveStrength", 1.0));
     out.doubleSided = mat.doubleSided;
-    if (pbr.baseColorTexture.index >= 0) out.diffuseTexture = texture(pbr.baseColorTexture.index);
+    uvSet_ = std::max(pbr.baseColorTexture.texCoord, 0);  // the UV set addPrimitive keeps
+    if (pbr.baseColorTexture.index >= 0)
+      out.baseColorTexture = texture(pbr.baseColorTexture.index, true, uvSet_, what);
+    if (pbr.metallicRoughnessTexture.index >= 0)
+      out.metallicRoughnessTexture = texture(pbr.metallicRoughnessTexture.index, false,
+                                             pbr.metallicRoughnessTexture.texCoord, what);
+    if (mat.emissiveTexture.index >= 0)
+      out.emissiveTexture =
+          texture(mat.emissiveTexture.index, true, mat.emissiveTexture.texCoord, what);
+  }
+  fillBlinnPhongTerms(out, dielectricF0);
+  // tileshade's exporter marks materials written for Blinn-Phong (their Blinn-Phong terms come
+  // back exactly through the mapping above).
+  if (index >= 0 && size_t(index) < m_.materials.size()) {
+    const auto& extras = m_.materials[size_t(index)].extras;
+    if (extras.IsObject() && extras.Has("tileshade")) {
+      const auto& ts = extras.Get("tileshade");
+      if (ts.IsObject() && ts.Has("shading_model") && ts.Get("shading_model").IsString() &&
+          ts.Get("shading_model").Get<std::string>() == "blinn-phong")
+        out.model = ShadingModel::BlinnPhong;
+    }
   }
   scene_.materials.push_back(out);
   uint32_t id = uint32_t(scene_.materials.size() - 1);
@@ -365,9 +395,13 @@ uint32_t GltfLoader::material(int index) {
   return id;
 }
 
-int GltfLoader::texture(int index) {
-  if (size_t(index) >= m_.textures.size()) {
-    textureFailures_.push_back("texture " + std::to_string(index) + " does not exist");
+// The scene texture of glTF texture `index` decoded in the given colour space (-1 when it cannot
+// be: the factor alone is used, and load() warns once for all of them). Only the base colour's
+// UV set is kept per vertex; a texture on another set is sampled with it (counted, warned once).
+int GltfLoader::texture(int index, bool srgb, int texCoord, const std::string& what) {
+  if (std::max(texCoord, 0) != uvSet_) ++otherTexCoords_;
+  if (index < 0 || size_t(index) >= m_.textures.size()) {
+    textureFailures_.push_back(what + ": texture " + std::to_string(index) + " does not exist");
     return -1;
   }
   int source = m_.textures[size_t(index)].source;
@@ -376,11 +410,12 @@ int GltfLoader::texture(int index) {
                                " has no PNG/JPEG source (KTX2/WebP are not supported)");
     return -1;
   }
-  auto it = images_.find(source);
+  auto key = std::make_pair(source, srgb);
+  auto it = images_.find(key);
   if (it != images_.end()) return it->second;
   const auto& image = m_.images[size_t(source)];
-  auto d = decoded_.find(source);
-  DecodedImage one = d == decoded_.end() ? decodeImage(image, source) : std::move(d->second);
+  auto d = decoded_.find(key);
+  DecodedImage one = d == decoded_.end() ? decodeImage(image, source, srgb) : std::move(d->second);
   int result = -1;
   if (one.ok) {
     scene_.textures.push_back(std::move(one.texture));
@@ -390,27 +425,33 @@ int GltfLoader::texture(int index) {
                                                       : "image " + std::to_string(source);
     textureFailures_.push_back(name + " (" + one.why + ")");
   }
-  images_[source] = result;
+  images_[key] = result;
   return result;
 }
 
-// Decodes every image used as a base colour, on up to 4 threads (PNG decoding dominates the load
-// time of textured scenes).
-void GltfLoader::decodeBaseColourImages() {
-  std::vector<int> wanted;
-  for (const auto& mat : m_.materials) {
-    int t = mat.pbrMetallicRoughness.baseColorTexture.index;
-    if (t < 0 || size_t(t) >= m_.textures.size()) continue;
+// Decodes every image a material uses (base colour and emissive as sRGB, metallic-roughness as
+// linear data), on up to 4 threads (PNG decoding dominates the load time of textured scenes).
+void GltfLoader::decodeImages() {
+  std::vector<std::pair<int, bool>> wanted;
+  auto want = [&](int t, bool srgb) {
+    if (t < 0 || size_t(t) >= m_.textures.size()) return;
     int source = m_.textures[size_t(t)].source;
+    auto key = std::make_pair(source, srgb);
     if (source >= 0 && size_t(source) < m_.images.size() &&
-        std::find(wanted.begin(), wanted.end(), source) == wanted.end())
-      wanted.push_back(source);
+        std::find(wanted.begin(), wanted.end(), key) == wanted.end())
+      wanted.push_back(key);
+  };
+  for (const auto& mat : m_.materials) {
+    want(mat.pbrMetallicRoughness.baseColorTexture.index, true);
+    want(mat.pbrMetallicRoughness.metallicRoughnessTexture.index, false);
+    want(mat.emissiveTexture.index, true);
   }
   std::vector<DecodedImage> results(wanted.size());
   std::atomic<size_t> next{0};
   auto work = [&] {
     for (size_t i; (i = next++) < wanted.size();)
-      results[i] = decodeImage(m_.images[size_t(wanted[i])], wanted[i]);
+      results[i] = decodeImage(m_.images[size_t(wanted[i].first)], wanted[i].first,
+                               wanted[i].second);
   };
   size_t threads = std::min<size_t>({wanted.size(), 4, std::max(1u, std::thread::hardware_concurrency())});
   std::vector<std::thread> pool;
@@ -418,6 +459,44 @@ void GltfLoader::decodeBaseColourImages() {
   work();
   for (auto& t : pool) t.join();
   for (size_t i = 0; i < wanted.size(); ++i) decoded_[wanted[i]] = std::move(results[i]);
+}
+
+// One KHR_lights_punctual light at a node: point and spot lights at the node's origin, spot and
+// directional lights along the node's -Z. Colour = color x intensity (candela, lux: taken as is);
+// a point or spot light without a range (glTF: infinite) gets r = sqrt(max(C)/t) with the
+// attenuation threshold t = 5/256.
+void GltfLoader::addLight(const tinygltf::Light& light, const glm::mat4& world,
+                          const std::string& what) {
+  glm::vec3 color(1.0f);
+  if (light.color.size() >= 3)
+    color = {float(light.color[0]), float(light.color[1]), float(light.color[2])};
+  color *= float(light.intensity);
+  glm::vec3 position = glm::vec3(world * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+  glm::vec3 axis = glm::vec3(world * glm::vec4(0.0f, 0.0f, -1.0f, 0.0f));
+  float axisLength = glm::length(axis);
+  float range = light.range > 0.0 ? float(light.range) : rangeFromThreshold(color, gltf::kLightThreshold);
+  if (light.type == "point") {
+    scene_.lights.push_back(Light::point(position, color, range));
+    return;
+  }
+  if (light.type != "spot" && light.type != "directional") {
+    ++otherLights_;
+    return;
+  }
+  if (!(axisLength > 0.0f) || !std::isfinite(axisLength))
+    read_.fail(what + ": the " + light.type + " light's node transform has no direction");
+  glm::vec3 direction = axis / axisLength;
+  if (light.type == "directional") {
+    scene_.lights.push_back(Light::directional(direction, color));
+    return;
+  }
+  double inner = light.spot.innerConeAngle, outer = light.spot.outerConeAngle;
+  const double halfPi = 1.5707963267948966;
+  if (!(inner >= 0.0 && inner < outer && outer <= halfPi))
+    read_.fail(what + ": spot cone angles must satisfy 0 <= innerConeAngle < outerConeAngle <= "
+               "pi/2, got inner " + std::to_string(inner) + ", outer " + std::to_string(outer));
+  scene_.lights.push_back(
+      Light::spot(position, direction, color, range, float(inner), float(outer)));
 }
 
 void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::mat4& world,
@@ -538,24 +617,7 @@ void GltfLoader::visit(int index, const glm::mat4& parent, int depth) {
   if (const auto* ext = extension(node.extensions, "KHR_lights_punctual")) {
     int li = int(number(ext, "light", -1.0));
     if (li < 0 || size_t(li) >= m_.lights.size()) read_.fail(what + ": bad light index");
-    const auto& light = m_.lights[size_t(li)];
-    if (light.type == "point") {
-      glm::vec3 color(1.0f);
-      if (light.color.size() >= 3)
-        color = {float(light.color[0]), float(light.color[1]), float(light.color[2])};
-      PointLight l;
-      l.position = glm::vec3(world * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
-      l.color = color * float(light.intensity);
-      l.range = light.range > 0.0 ? float(light.range)
-                                  : rangeFromThreshold(l.color, gltf::kLightThreshold);
-      scene_.lights.push_back(l);
-    } else if (light.type == "directional") {
-      ++directional_;
-    } else if (light.type == "spot") {
-      ++spot_;
-    } else {
-      ++otherLights_;
-    }
+    addLight(m_.lights[size_t(li)], world, what);
   }
 
   if (node.camera >= 0) {
@@ -653,17 +715,18 @@ Scene GltfLoader::load() {
     for (size_t i = 0; i < m_.nodes.size(); ++i)
       if (!child[i]) roots.push_back(int(i));
   }
-  decodeBaseColourImages();
+  decodeImages();
   for (int r : roots) visit(r, glm::mat4(1.0f), 0);
 
   if (skippedPrimitives_ > 0)
     warn(path_, "skipped " + std::to_string(skippedPrimitives_) +
                     " primitive(s) that are not triangles (points/lines) or have no POSITION");
-  if (directional_ + spot_ + otherLights_ > 0)
-    warn(path_, "skipped " + std::to_string(directional_) + " directional, " +
-                    std::to_string(spot_) + " spot" +
-                    (otherLights_ ? " and " + std::to_string(otherLights_) + " unknown-type" : "") +
-                    " light(s): tileshade supports point lights only");
+  if (otherTexCoords_ > 0)
+    warn(path_, std::to_string(otherTexCoords_) + " texture(s) use another UV set than their "
+                "material's base colour texture; sampled with the base colour's set");
+  if (otherLights_ > 0)
+    warn(path_, "skipped " + std::to_string(otherLights_) +
+                    " light(s) of an unknown type (KHR_lights_punctual has point, spot, directional)");
   if (orthographic_ > 0)
     warn(path_, "ignored " + std::to_string(orthographic_) +
                     " orthographic camera(s): only perspective cameras are supported");
@@ -677,7 +740,7 @@ Scene GltfLoader::load() {
       list += (i ? ", " : "") + textureFailures_[i];
     if (textureFailures_.size() > 3) list += ", ...";
     warn(path_, std::to_string(textureFailures_.size()) +
-                    " base-colour texture(s) could not be decoded, using the colour factor: " + list);
+                    " texture(s) could not be decoded, using the factors alone: " + list);
   }
   buildCameraPath();
   return std::move(scene_);

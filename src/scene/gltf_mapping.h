@@ -1,26 +1,16 @@
 #pragma once
 // Internal to src/scene/: the glTF <-> tileshade mappings shared by the loader and the exporter
-// (documented in scenes/README.md).
+// (documented in scenes/README.md). The material terms of both shading models are mapped in
+// scene/material_mapping.h.
 #include <algorithm>
 #include <cmath>
+
+#include "scene/material_mapping.h"
 
 namespace ts::gltf {
 
 // Attenuation threshold for lights without a range (glTF: infinite): r = sqrt(peak / t).
 constexpr float kLightThreshold = 5.0f / 256.0f;
-
-// Blinn-Phong exponent from glTF roughness: alpha = roughness^2, s = 2/alpha^2 - 2, in [1, 2048].
-inline float shininessFromRoughness(float roughness) {
-  float alpha = std::max(roughness, 0.0f) * std::max(roughness, 0.0f);
-  if (alpha <= 0.0f) return 2048.0f;
-  return std::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 2048.0f);
-}
-
-// The inverse, used on export: roughness = sqrt(alpha), alpha = sqrt(2 / (s + 2)).
-inline float roughnessFromShininess(float shininess) {
-  float s = std::clamp(shininess, 0.0f, 2048.0f);
-  return std::sqrt(std::sqrt(2.0f / (s + 2.0f)));
-}
 
 // sRGB transfer function, 8-bit code or [0,1] value to linear, and back.
 inline float srgbToLinear(float c) {

@@ -14,8 +14,9 @@ float rangeFromThreshold(glm::vec3 color, float threshold) {
   return std::max(std::sqrt(std::max(peak, 0.0f) / threshold), float(TS_DMIN));
 }
 
-void applyThresholdRanges(std::vector<PointLight>& lights, float threshold) {
-  for (auto& l : lights) l.range = rangeFromThreshold(l.color, threshold);
+void applyThresholdRanges(std::vector<Light>& lights, float threshold) {
+  for (auto& l : lights)
+    if (l.hasRange()) l.range = rangeFromThreshold(l.color, threshold);
 }
 
 }  // namespace ts

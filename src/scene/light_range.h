@@ -11,7 +11,8 @@ namespace ts {
 // sqrt(max(C.r, C.g, C.b) / t), at least TS_DMIN (kernels/shading.h). t must be > 0.
 float rangeFromThreshold(glm::vec3 color, float threshold);
 
-// Replaces every light's range with rangeFromThreshold(color, threshold).
-void applyThresholdRanges(std::vector<PointLight>& lights, float threshold);
+// Replaces the range of every light that has one (point, spot) with
+// rangeFromThreshold(color, threshold).
+void applyThresholdRanges(std::vector<Light>& lights, float threshold);
 
 }  // namespace ts

@@ -24,6 +24,52 @@ glm::vec4 Texture::sample(glm::vec2 uv) const {
   return glm::mix(top, bottom, ty);
 }
 
+std::string toString(ShadingModel model) {
+  return model == ShadingModel::MetallicRoughness ? "metallic-roughness" : "blinn-phong";
+}
+
+ShadingModel parseShadingModel(const std::string& s) {
+  if (s == "blinn-phong") return ShadingModel::BlinnPhong;
+  if (s == "metallic-roughness") return ShadingModel::MetallicRoughness;
+  throw Error("unknown shading model '" + s + "' (known: blinn-phong, metallic-roughness)");
+}
+
+std::string toString(LightType type) {
+  switch (type) {
+    case LightType::Point: return "point";
+    case LightType::Spot: return "spot";
+    case LightType::Directional: return "directional";
+  }
+  return "?";
+}
+
+Light Light::point(glm::vec3 position, glm::vec3 color, float range) {
+  Light l;
+  l.position = position;
+  l.color = color;
+  l.range = range;
+  return l;
+}
+
+Light Light::spot(glm::vec3 position, glm::vec3 direction, glm::vec3 color, float range,
+                  float innerConeAngle, float outerConeAngle) {
+  Light l = point(position, color, range);
+  l.type = LightType::Spot;
+  l.direction = direction;
+  l.innerConeAngle = innerConeAngle;
+  l.outerConeAngle = outerConeAngle;
+  return l;
+}
+
+Light Light::directional(glm::vec3 direction, glm::vec3 color) {
+  Light l;
+  l.type = LightType::Directional;
+  l.direction = direction;
+  l.color = color;
+  l.range = 0.0f;
+  return l;
+}
+
 Camera Camera::lookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float yfov, float znear,
                       float zfar) {
   Camera c;

@@ -1,5 +1,5 @@
 #pragma once
-// The scene model every stage shares: world-space triangles with materials, point lights and a
+// The scene model every stage shares: world-space triangles with materials, lights and a
 // camera path. Loaders (glTF, built-in generators) produce it; the rasterizer consumes it.
 #include <cstdint>
 #include <string>
@@ -14,17 +14,38 @@ struct Texture {
   int width = 0;
   int height = 0;
   std::vector<glm::vec4> texels;  // row-major, row 0 = top (v = 0), linear RGBA
+  bool srgb = true;  // colour (base colour, emissive: sRGB-encoded in files) or data
+                     // (metallic-roughness: stored as is)
   glm::vec4 sample(glm::vec2 uv) const;
 };
 
-// The paper's material terms: Blinn-Phong diffuse/specular/shininess plus emission.
+// The two shading models a material can be written for (kernels/shading.h):
+//  BlinnPhong         the papers' model: Lambert diffuse kd + Blinn-Phong specular ks, shininess s
+//  MetallicRoughness  glTF's: base colour, metallic, roughness; Lambert + GGX/Smith/Schlick
+enum class ShadingModel { BlinnPhong = 0, MetallicRoughness = 1 };
+std::string toString(ShadingModel model);              // "blinn-phong" | "metallic-roughness"
+ShadingModel parseShadingModel(const std::string& s);  // throws ts::Error otherwise
+
+// A material carries the terms of both models, so a scene can be shaded with either: the model it
+// was authored in (`model`) holds the author's values, the other model's terms are filled in by
+// the documented mapping of src/scene/material_mapping.h (scenes/README.md).
 struct Material {
   std::string name;
-  glm::vec3 diffuse{0.8f};       // multiplied by diffuseTexture when present
+  ShadingModel model = ShadingModel::BlinnPhong;  // the model the author wrote it for
+  // Blinn-Phong
+  glm::vec3 diffuse{0.8f};       // kd, multiplied by diffuseTexture when present
   int diffuseTexture = -1;       // index into Scene::textures, -1 = none
-  glm::vec3 specular{0.04f};
-  float shininess = 32.0f;
-  glm::vec3 emissive{0.0f};
+  glm::vec3 specular{0.04f};     // ks
+  float shininess = 32.0f;       // s
+  // glTF metallic-roughness
+  glm::vec3 baseColor{0.8f};     // multiplied by baseColorTexture when present
+  int baseColorTexture = -1;
+  float metallic = 0.0f;         // multiplied by metallicRoughnessTexture's blue channel
+  float roughness = 0.5f;        // multiplied by metallicRoughnessTexture's green channel
+  int metallicRoughnessTexture = -1;
+  // Both
+  glm::vec3 emissive{0.0f};      // ke, multiplied by emissiveTexture when present
+  int emissiveTexture = -1;
   bool doubleSided = false;      // normals of back faces are flipped towards the viewer
 };
 
@@ -34,11 +55,29 @@ struct Vertex {
   glm::vec2 uv{0.0f};
 };
 
-// Point light with a finite range (glTF KHR_lights_punctual "point"); colour includes intensity.
-struct PointLight {
-  glm::vec3 position{0.0f};  // world space
+// glTF KHR_lights_punctual's three light types.
+enum class LightType { Point = 0, Spot = 1, Directional = 2 };
+std::string toString(LightType type);  // "point" | "spot" | "directional"
+
+// A light; colour includes intensity. Point and spot lights have a position and a finite range;
+// a spot light shines along `direction` within `outerConeAngle` of it, fading between the inner
+// and the outer cone (glTF's smooth angular falloff, docs/shading.md); a directional light (a sun)
+// lights every surface from `direction`'s opposite, with no position and no range.
+struct Light {
+  LightType type = LightType::Point;
+  glm::vec3 position{0.0f};            // world space (point, spot)
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world space, unit, where the light travels (spot,
+                                           // directional): a node's -Z in glTF
   glm::vec3 color{1.0f};
-  float range = 1.0f;
+  float range = 1.0f;                  // point, spot: > 0
+  float innerConeAngle = 0.0f;         // spot, radians: 0 <= inner < outer <= pi/2
+  float outerConeAngle = 0.7853981634f;  // spot, radians (glTF's default pi/4)
+
+  static Light point(glm::vec3 position, glm::vec3 color, float range);
+  static Light spot(glm::vec3 position, glm::vec3 direction, glm::vec3 color, float range,
+                    float innerConeAngle, float outerConeAngle);
+  static Light directional(glm::vec3 direction, glm::vec3 color);
+  bool hasRange() const { return type != LightType::Directional; }
 };
 
 // A pinhole camera. Aspect ratio comes from the image being rendered, not from the camera.
@@ -70,7 +109,7 @@ struct Scene {
   std::vector<uint32_t> triangleMaterial;  // one per triangle, index into materials
   std::vector<Material> materials;
   std::vector<Texture> textures;
-  std::vector<PointLight> lights;
+  std::vector<Light> lights;               // every type; see Light
   std::vector<Camera> cameraPath;          // frame k uses cameraPath[k % size]
   glm::vec3 ambient{0.02f};                // global ambient term a
 

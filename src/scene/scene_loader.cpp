@@ -6,6 +6,8 @@
 #include <cmath>
 
 #include "scene/builtin_scenes.h"
+#include "scene/material_mapping.h"
+#include "scene/mesh_builder.h"
 #include "util/error.h"
 
 namespace ts {
@@ -30,7 +32,73 @@ Scene makeBuiltin(const std::string& name, const std::string& lightSet, uint32_t
   throw Error("unknown built-in scene '" + name + "' (known: " + joined(builtinSceneNames()) + ")");
 }
 
+std::vector<std::string> splitVariants(const std::string& s) {
+  std::vector<std::string> out;
+  std::string item;
+  for (size_t i = 0; i <= s.size(); ++i) {
+    if (i == s.size() || s[i] == ',') {
+      while (!item.empty() && item.back() == ' ') item.pop_back();
+      size_t b = item.find_first_not_of(' ');
+      if (b != std::string::npos) out.push_back(item.substr(b));
+      item.clear();
+    } else {
+      item += s[i];
+    }
+  }
+  return out;
+}
+
+// Every second point light becomes a spot light at the same place, with the same colour and
+// range, pointing down within 30 degrees of the vertical, outer cone 25..50 degrees, inner cone
+// 60 % of it.
+void makeSpots(Scene& scene, uint32_t seed) {
+  SceneRandom rnd(seed * 2246822519u + 3266489917u);
+  constexpr float kDeg = 3.14159265358979f / 180.0f;
+  int k = 0;
+  for (Light& l : scene.lights) {
+    if (l.type != LightType::Point || k++ % 2 == 0) continue;
+    float tilt = rnd.uniform(0.0f, 30.0f) * kDeg, azimuth = rnd.uniform(0.0f, 360.0f) * kDeg;
+    glm::vec3 dir(std::sin(tilt) * std::cos(azimuth), -std::cos(tilt),
+                  std::sin(tilt) * std::sin(azimuth));
+    float outer = rnd.uniform(25.0f, 50.0f) * kDeg;
+    l = Light::spot(l.position, glm::normalize(dir), l.color, l.range, 0.6f * outer, outer);
+  }
+}
+
 }  // namespace
+
+std::vector<std::string> builtinVariants() {
+  return {"diffuse", "no-emission", "metallic-roughness", "spot", "sun"};
+}
+
+void applyVariants(Scene& scene, const std::string& variants, uint32_t seed) {
+  for (const std::string& v : splitVariants(variants)) {
+    if (v == "diffuse" || v == "no-emission") {
+      for (Material& m : scene.materials) {
+        m.emissive = glm::vec3(0.0f);
+        m.emissiveTexture = -1;
+        if (v == "diffuse") m.specular = glm::vec3(0.0f);
+      }
+    } else if (v == "metallic-roughness") {
+      for (Material& m : scene.materials) {
+        fillMetallicRoughnessTerms(m);
+        m.model = ShadingModel::MetallicRoughness;
+      }
+    } else if (v == "spot") {
+      makeSpots(scene, seed);
+    } else if (v == "sun") {
+      // Low in the sky, warm; about as bright as the brighter lit pixels of the built-ins.
+      scene.lights.push_back(Light::directional(glm::normalize(glm::vec3(0.45f, -0.6f, 0.35f)),
+                                                glm::vec3(0.32f, 0.29f, 0.24f)));
+    } else {
+      throw Error("unknown scene variant '" + v + "' (known: " + joined(builtinVariants()) + ")");
+    }
+  }
+  // Materials written for Blinn-Phong also carry metallic-roughness terms (and the other way
+  // round), so every scene can be shaded with either model.
+  for (Material& m : scene.materials)
+    if (m.model == ShadingModel::BlinnPhong) fillMetallicRoughnessTerms(m);
+}
 
 glm::vec3 hueColor(float hue, float saturation) {
   // Hue in [0,1) around the colour wheel; value 1; saturation 0 = white.
@@ -66,15 +134,18 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
   if (spec.compare(0, prefix.size(), prefix) == 0) {
     scene = makeBuiltin(spec.substr(prefix.size()), options.lightSet, options.seed,
                         options.lightCount);
+    applyVariants(scene, options.variant, options.seed);
   } else if (endsWith(spec, ".gltf") || endsWith(spec, ".glb")) {
     if (!options.lightSet.empty() && options.lightSet != "file")
       throw Error("light set '" + options.lightSet + "' does not apply to glTF scene " + spec +
-                  " (valid: file, its own KHR_lights_punctual point lights)");
+                  " (valid: file, its own KHR_lights_punctual lights)");
+    if (!options.variant.empty())
+      throw Error("scene variants apply to built-in scenes only, not to " + spec);
     scene = loadGltf(spec);
     if (options.lightCount >= 0) {
       if (size_t(options.lightCount) > scene.lights.size())
         throw Error("light count " + std::to_string(options.lightCount) + " is more than the " +
-                    std::to_string(scene.lights.size()) + " point light(s) in " + spec);
+                    std::to_string(scene.lights.size()) + " light(s) in " + spec);
       scene.lights.resize(size_t(options.lightCount));
     }
   } else {
@@ -82,7 +153,8 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
                 joined(builtinSceneNames()) + ") or a .gltf/.glb file");
   }
   if (options.lightRange > 0.0f)
-    for (auto& l : scene.lights) l.range = options.lightRange;
+    for (auto& l : scene.lights)
+      if (l.hasRange()) l.range = options.lightRange;
   return scene;
 }
 

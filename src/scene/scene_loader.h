@@ -12,7 +12,19 @@ struct SceneOptions {
   uint32_t seed = 1;     // built-in scenes are deterministic for a seed
   int lightCount = -1;   // -1 = the light set's own count; else exactly N lights
   float lightRange = 0.0f;  // > 0 overrides every light's range
+  // Built-in scenes only: a comma list of variants (applyVariants), "" = the scene as designed.
+  std::string variant;
 };
+
+// The built-in scenes' variants, for measuring what a scene's needs cost (scenes/README.md):
+//   diffuse             no specular and no emission in any material (Lambert only)
+//   no-emission         no emission
+//   metallic-roughness  materials written for glTF's model (from their Blinn-Phong terms)
+//   spot                every second light is a spot light pointing down
+//   sun                 one directional light (a sun) added
+std::vector<std::string> builtinVariants();
+// Applies a comma list of variants to a built-in scene; throws ts::Error for an unknown one.
+void applyVariants(Scene& scene, const std::string& variants, uint32_t seed);
 
 Scene loadScene(const std::string& spec, const SceneOptions& options);
 

@@ -1,15 +1,31 @@
 #include "techniques/device_frame.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace ts {
 
-ViewLights toViewSpace(const std::vector<PointLight>& lights, const glm::mat4& viewFromWorld) {
+ViewLights toViewSpace(const std::vector<Light>& lights, const glm::mat4& viewFromWorld) {
   ViewLights out;
-  out.positionRange.reserve(lights.size());
-  out.color.reserve(lights.size());
+  const glm::mat3 rotation(viewFromWorld);
   for (const auto& l : lights) {
+    glm::vec3 dir = l.type == LightType::Point ? glm::vec3(0.0f)
+                                                : glm::normalize(rotation * l.direction);
+    if (l.type == LightType::Directional) {
+      out.directionalDir.emplace_back(-dir, 0.0f);
+      out.directionalColor.emplace_back(l.color, 0.0f);
+      continue;
+    }
     glm::vec3 p = glm::vec3(viewFromWorld * glm::vec4(l.position, 1.0f));
     out.positionRange.emplace_back(p, l.range);
-    out.color.emplace_back(l.color, 0.0f);
+    if (l.type == LightType::Spot) {
+      float cosInner = std::cos(l.innerConeAngle), cosOuter = std::cos(l.outerConeAngle);
+      out.color.emplace_back(l.color, 1.0f / std::max(1e-3f, cosInner - cosOuter));
+      out.spot.emplace_back(dir, cosOuter);
+    } else {
+      out.color.emplace_back(l.color, 1.0f);
+      out.spot.emplace_back(glm::vec3(0.0f), -1.0f);
+    }
   }
   return out;
 }

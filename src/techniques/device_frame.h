@@ -10,16 +10,24 @@
 
 namespace ts {
 
-// Lights transformed to view space, in the kernels' layout.
+// Lights transformed to view space, in the kernels' layout (kernels/shading.h, "Lights").
+// Point and spot lights are the culled ones, indexed 0..size()-1; directional lights apply to
+// every pixel and are kept apart.
 struct ViewLights {
   std::vector<glm::vec4> positionRange;  // xyz view-space position, w = range
-  std::vector<glm::vec4> color;          // rgb (intensity included), w unused
+  std::vector<glm::vec4> color;          // rgb (intensity included), w = spot angle scale
+                                         // 1/max(1e-3, cos inner - cos outer) (point: 1)
+  std::vector<glm::vec4> spot;           // xyz unit spot axis (point: 0), w = cos of the outer
+                                         // cone angle (point: -1, "every direction")
+  std::vector<glm::vec4> directionalDir;    // xyz unit vector towards the light, w unused
+  std::vector<glm::vec4> directionalColor;  // rgb, w unused
   size_t size() const { return positionRange.size(); }
+  size_t directionalCount() const { return directionalDir.size(); }
 };
 
 inline cl_float4 toCl(glm::vec4 v) { return {{v.x, v.y, v.z, v.w}}; }
 
-ViewLights toViewSpace(const std::vector<PointLight>& lights, const glm::mat4& viewFromWorld);
+ViewLights toViewSpace(const std::vector<Light>& lights, const glm::mat4& viewFromWorld);
 
 struct DeviceFrame {
   const EncodedGBuffer* gbuffer = nullptr;  // host copy of what was uploaded
