@@ -17,14 +17,11 @@
  * Cluster c = tile * SLICES + slice (a tile's slices are adjacent). Clusters without geometry have
  * an empty depth range (min > max) and so get no lights.
  *
- * Build-time constants: TILE_W, TILE_H (pixels), SLICES, TS_MODEL (shading model), TS_CULL
- * (per-cluster test, culling.h), the G-buffer layout (gbuffer.h).
+ * Build-time constants: TILE_W, TILE_H (pixels), SLICES, TS_CULL (per-cluster test, culling.h),
+ * the scene's features and the G-buffer layout (gbuffer.h).
  */
 #include "gbuffer.h"
 
-#ifndef TS_MODEL
-#define TS_MODEL TS_MODEL_WINDOWED
-#endif
 #ifndef TS_CULL
 #define TS_CULL TS_CULL_RECT
 #endif
@@ -135,32 +132,29 @@ __kernel void cluster_depth_bounds(__global const float *gb_depth, int width, in
 /* ---- 2. light binning --------------------------------------------------------------------- */
 
 /* One work-group per light; its work-items share the clusters of the light's tile rectangle x
- * slice range. The slice range comes from the sphere's depth extent clipped to [zn, zf] (no
+ * slice range. The slice range comes from the light volume's depth extent clipped to [zn, zf] (no
  * geometry lies outside it), widened by one slice each way: a pixel's slice and the light's are
  * computed by the same function, but log is not guaranteed monotonic in the last ulp, and the
  * extra clusters cost one depth-range test each. The decisive test is the cluster's geometry
  * depth range, as in tiled.cl, then TS_CULL against the tile with the cluster's range.
  * fill == 0: count into cluster_count; fill == 1: append to the cluster lists (ts_bin_light). */
-__kernel void bin_clusters(__global const float4 *light_pos_range, int light_count,
-                           float4 camera, float znear, __global const uint *depth_range,
+__kernel void bin_clusters(__global const float4 *light_pos_range,
+                           __global const float4 *light_spot, int light_count, float4 camera,
+                           float znear, __global const uint *depth_range,
                            __global const float2 *cluster_depth, int fill,
                            __global uint *cluster_count, __global const uint *cluster_offset,
                            __global uint *cluster_cursor, __global uint *cluster_lights,
                            uint capacity) {
   int light = get_group_id(0);
   if (light >= light_count) return;
-  int width = (int)camera.z, height = (int)camera.w;
+  int width = (int)camera.z;
   int tiles_x = (width + TILE_W - 1) / TILE_W;
-  float4 pr = light_pos_range[light];
-  float3 c = pr.xyz;
-  float r = pr.w;
+  ts_light_volume v = ts_make_light_volume(light_pos_range[light], ts_light_spot(light_spot, light));
   float zn = as_float(depth_range[0]), zf = as_float(depth_range[1]);
-  float w = -c.z;
-  float zlo = fmax(w - r, zn), zhi = fmin(w + r, zf);
-  if (!(zlo <= zhi)) return; /* no geometry in the sphere's depth extent (or none at all) */
-  float4 b = ts_sphere_ndc_bounds(c, r, znear, camera.x, camera.y);
+  float zlo = fmax(-v.hi.z, zn), zhi = fmin(-v.lo.z, zf);
+  if (!(zlo <= zhi)) return; /* no geometry in the volume's depth extent (or none at all) */
   int x0, y0, x1, y1;
-  if (!ts_ndc_bounds_to_tiles(b, width, height, TILE_W, TILE_H, &x0, &y0, &x1, &y1)) return;
+  if (!ts_light_tile_rect(&v, camera, znear, &x0, &y0, &x1, &y1)) return;
   float scale = ts_slice_scale(zn, zf);
   int s0 = max(ts_depth_slice(zlo, zn, scale) - 1, 0);
   int s1 = min(ts_depth_slice(zhi, zn, scale) + 1, SLICES - 1);
@@ -171,7 +165,7 @@ __kernel void bin_clusters(__global const float4 *light_pos_range, int light_cou
     int t = i / depth_n, s = s0 + i % depth_n;
     int tx = x0 + t % rect_w, ty = y0 + t / rect_w;
     int cluster = (ty * tiles_x + tx) * SLICES + s;
-    if (ts_light_meets_bin(c, r, tx, ty, cluster_depth[cluster], camera))
+    if (ts_light_meets_bin(&v, tx, ty, cluster_depth[cluster], camera))
       ts_bin_light((uint)light, cluster, fill, cluster_count, cluster_offset, cluster_cursor,
                    cluster_lights, capacity);
   }
@@ -182,10 +176,8 @@ __kernel void bin_clusters(__global const float4 *light_pos_range, int light_cou
 
 /* ---- 3. shading --------------------------------------------------------------------------- */
 
-__kernel void shade_clustered(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
-                              __global const float4 *light_pos_range,
-                              __global const float4 *light_color,
-                              __global const ushort *pixel_slice,
+__kernel void shade_clustered(float4 camera, float4 ambient, TS_GBUFFER_PARAMS, TS_LIGHT_PARAMS,
+                              TS_DIRECTIONAL_PARAMS, __global const ushort *pixel_slice,
                               __global const uint *cluster_count,
                               __global const uint *cluster_offset,
                               __global const uint *cluster_lights, uint capacity,
@@ -195,12 +187,12 @@ __kernel void shade_clustered(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
   if (x >= width || y >= height) return;
   ts_surface s;
   float3 sum = (float3)(0.0f);
-  if (ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)) {
+  if (ts_load_surface(x, y, camera, ambient, TS_GBUFFER_ARGS, &s)) {
     int tile = (y / TILE_H) * ((width + TILE_W - 1) / TILE_W) + x / TILE_W;
     int cluster = tile * SLICES + pixel_slice[y * width + x];
     sum = ts_shade_bin(&s, cluster_offset[cluster], cluster_count[cluster], capacity,
-                       cluster_lights, light_pos_range, light_color);
-    sum += ts_surface_base(s.ke, s.kd, ambient.xyz);
+                       cluster_lights, TS_LIGHT_ARGS);
+    sum += ts_shade_directionals(&s, TS_DIRECTIONAL_ARGS) + s.base;
   }
   image[y * width + x] = (float4)(sum, 0.0f);
 }

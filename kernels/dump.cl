@@ -1,6 +1,9 @@
 /*
- * Writes, per pixel, the values the shading kernels actually use after decoding the G-buffer
- * (ts_load_surface in gbuffer.h): P.xyz N.xyz kd.rgb ks.rgb shininess ke.rgb mask = 17 floats.
+ * Writes, per pixel, the values the shading kernels read after decoding the G-buffer
+ * (kernels/gbuffer.h) in DUMP_CHANNELS floats: P.xyz N.xyz, the material's stored terms m0..m6,
+ * ke.rgb, mask. The material terms are those of the shading model (TS_SHADING):
+ *   Blinn-Phong          kd.rgb ks.rgb shininess
+ *   metallic-roughness   base.rgb metallic roughness 0 0
  * Host side: `tileshade render --dump` (src/render/render_job.cpp) writes them to gbuffer.exr.
  */
 #include "gbuffer.h"
@@ -12,17 +15,29 @@ __kernel void decode_gbuffer(float4 camera, TS_GBUFFER_PARAMS, __global float *o
   int width = (int)camera.z, height = (int)camera.w;
   if (x >= width || y >= height) return;
   __global float *o = out + (size_t)(y * width + x) * DUMP_CHANNELS;
-  ts_surface s;
-  int mask = ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s);
-  if (!mask) {
-    for (int c = 0; c < DUMP_CHANNELS; ++c) o[c] = 0.0f;
-    return;
-  }
-  o[0] = s.P.x; o[1] = s.P.y; o[2] = s.P.z;
-  o[3] = s.N.x; o[4] = s.N.y; o[5] = s.N.z;
-  o[6] = s.kd.x; o[7] = s.kd.y; o[8] = s.kd.z;
-  o[9] = s.ks.x; o[10] = s.ks.y; o[11] = s.ks.z;
-  o[12] = s.shininess;
-  o[13] = s.ke.x; o[14] = s.ke.y; o[15] = s.ke.z;
+  for (int c = 0; c < DUMP_CHANNELS; ++c) o[c] = 0.0f;
+  int i = y * width + x;
+  float depth = gb_depth[i];
+  if (depth <= 0.0f) return;
+  float3 P = ts_view_position(x, y, depth, camera.x, camera.y, width, height);
+  float4 normal = ts_decode_normal(i, gb_normal);
+  float4 diffuse = ts_decode_diffuse(i, gb_diffuse);
+  o[0] = P.x; o[1] = P.y; o[2] = P.z;
+  o[3] = normal.x; o[4] = normal.y; o[5] = normal.z;
+  o[6] = diffuse.x; o[7] = diffuse.y; o[8] = diffuse.z;
+#if TS_SHADING == 1
+  o[9] = diffuse.w;
+  o[10] = ts_decode_roughness(i, normal, gb_specular);
+#elif TS_HAS_SPECULAR
+  float4 spec = ts_decode_specular(i, gb_specular);
+  o[9] = spec.x; o[10] = spec.y; o[11] = spec.z;
+  o[12] = spec.w;
+#else
+  o[12] = 1.0f;
+#endif
+#if TS_HAS_EMISSIVE
+  float3 ke = ts_decode_emissive(i, gb_emissive);
+  o[13] = ke.x; o[14] = ke.y; o[15] = ke.z;
+#endif
   o[16] = 1.0f;
 }

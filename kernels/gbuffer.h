@@ -1,26 +1,64 @@
 /*
- * G-buffer access for every technique's kernels: one function decodes a pixel into the values the
- * shading function takes. The host mirror is src/raster/gbuffer_layout.cpp (decodeSurface); a test
- * (GBufferDecode in tests/pipeline_test.cpp) checks the two agree through the `decode_gbuffer`
- * kernel (kernels/dump.cl): colours exactly, positions and normals to float rounding.
+ * G-buffer access and the shading entry points of every technique's kernels: one function decodes
+ * a pixel into the values the shading function takes (ts_load_surface), one shades a light
+ * (ts_shade_punctual, ts_shade_directionals). The host mirror of the decoding is
+ * src/raster/gbuffer_layout.cpp (decodeSurface); a test (GBufferDecode in tests/pipeline_test.cpp)
+ * checks the two agree through the `decode_gbuffer` kernel (kernels/dump.cl).
  *
- * Planes (one element per pixel, row-major, row 0 = top of the screen):
- *   depth     float         linear view depth -z_view; 0 = background (no geometry)
- *   normal    view-space normal (renormalized after decoding)
- *   diffuse   kd rgb
- *   specular  ks rgb + shininess
- *   emissive  ke rgb
- * Layouts (build option): fp32 (float4 planes, default), TS_GBUFFER_FP16 (half4 planes read with
- * vload_half4), TS_GBUFFER_PACKED (octahedral normals, unorm8 colours; below). Depth stays float32
- * in every layout, as in the paper.
+ * Planes (one element per pixel, row-major, row 0 = top of the screen), present only when the
+ * scene needs them (SceneFeatures; the layout table is in docs/accuracy.md, "G-buffer layouts"):
+ *   depth     float         linear view depth -z_view; 0 = background (no geometry). Always.
+ *   normal    view-space normal (renormalised after decoding); fp32/fp16 metallic-roughness:
+ *             roughness in w. Always.
+ *   diffuse   Blinn-Phong kd rgb; metallic-roughness base colour rgb + metallic. Always.
+ *   specular  Blinn-Phong ks rgb + shininess (TS_HAS_SPECULAR); packed metallic-roughness:
+ *             roughness (unorm8). Otherwise absent.
+ *   emissive  ke rgb (TS_HAS_EMISSIVE). Otherwise absent.
+ * An absent plane is still a kernel argument (a one-element buffer) and is never read.
+ * Precisions (build option): fp32 (float4 elements, default), TS_GBUFFER_FP16 (half4, read with
+ * vload_half4), TS_GBUFFER_PACKED (octahedral normals, unorm8 colours; below). Depth stays
+ * float32 in every layout, as in the paper.
+ *
+ * Scene features (SceneFeatures::kernelDefines): TS_SHADING, TS_HAS_SPECULAR, TS_HAS_EMISSIVE,
+ * TS_HAS_SPOT, TS_HAS_DIRECTIONAL; all default to the general pipeline.
  */
 #ifndef TS_GBUFFER_H
 #define TS_GBUFFER_H
 
 #define TS_REAL float
 #define TS_REAL3 float3
+#define TS_REAL4 float4
 #define TS_MAKE3(x, y, z) ((float3)((x), (y), (z)))
-/* TS_LANES > 1 (build option, CPU devices): the light term works on vectors of TS_LANES pixels
+#define TS_MAKE4(x, y, z, w) ((float4)((x), (y), (z), (w)))
+/* Literals are float literals here: no double reaches a device without fp64. */
+#define TS_LIT_(x) x##f
+#define TS_LIT(x) TS_LIT_(x)
+
+#ifndef TS_SHADING
+#define TS_SHADING 0 /* TS_SHADING_BLINN_PHONG */
+#endif
+#ifndef TS_HAS_SPECULAR
+#define TS_HAS_SPECULAR 1
+#endif
+#ifndef TS_HAS_EMISSIVE
+#define TS_HAS_EMISSIVE 1
+#endif
+#ifndef TS_HAS_SPOT
+#define TS_HAS_SPOT 1
+#endif
+#ifndef TS_HAS_DIRECTIONAL
+#define TS_HAS_DIRECTIONAL 1
+#endif
+#ifndef TS_MODEL
+#define TS_MODEL 0 /* TS_MODEL_WINDOWED */
+#endif
+/* The metallic-roughness model always has its specular term (F0 >= 0.04). */
+#if TS_SHADING == 1
+#undef TS_HAS_SPECULAR
+#define TS_HAS_SPECULAR 1
+#endif
+
+/* TS_LANES > 1 (build option, CPU devices): the light terms work on vectors of TS_LANES pixels
  * (kernels/shading.h, kernels/lanes.h). */
 #ifndef TS_LANES
 #define TS_LANES 1
@@ -46,28 +84,31 @@
  * ~(0.7*|s*log2 x| * 3.5 + 3) ulp, stays below 4e-6 wherever x^s >= 2^-24 — the same order as
  * pow's own 16-ulp allowance (docs/accuracy.md). */
 static inline TS_LANE ts_pow_unit(TS_LANE x, TS_LANE s) {
-  return s == (TS_LANE)0 ? (TS_LANE)1 : exp2(s * log2(x));
+  return s == (TS_LANE)0.0f ? (TS_LANE)1.0f : exp2(s * log2(x));
 }
 #define TS_POW ts_pow_unit
 #endif
 #include "shading.h"
-#define TS_REAL4 float4
-#define TS_MAKE4(x, y, z, w) ((float4)((x), (y), (z), (w)))
 #include "culling.h"
 
-/* Per-plane element types and decoders of the three layouts. */
+/* ---- Per-plane element types and decoders of the three precisions ---------------------- */
 #if defined(TS_GBUFFER_PACKED)
-/* packed (24 B/pixel): normal = octahedral, 2 x snorm16 in one uint; diffuse = unorm8 RGBA;
- * specular = unorm8 RGB + shininess byte b, s = 2^(11 b/255) (1..2048); emissive = half4 (HDR). */
+/* packed: normal = octahedral, 2 x snorm16 in one uint; diffuse = unorm8 RGBA (metallic-roughness:
+ * base colour + metallic); specular = unorm8 RGB + shininess byte b, s = 2^(11 b/255) (1..2048),
+ * or (metallic-roughness) unorm8 roughness; emissive = half4 (HDR). */
 typedef uint ts_gb_normal;
 typedef uint ts_gb_diffuse;
+#if TS_SHADING == 1
+typedef uchar ts_gb_specular;
+#else
 typedef uint ts_gb_specular;
+#endif
 typedef half ts_gb_emissive;
 static inline float3 ts_unorm8x3(uint v) {
   return (float3)((float)(v & 255u), (float)((v >> 8) & 255u), (float)((v >> 16) & 255u)) /
          255.0f;
 }
-static inline float3 ts_decode_normal(int i, __global const ts_gb_normal *p) {
+static inline float4 ts_decode_normal(int i, __global const ts_gb_normal *p) {
   uint v = p[i];
   float ex = fmax((float)(short)(v & 0xffffu) / 32767.0f, -1.0f);
   float ey = fmax((float)(short)(v >> 16) / 32767.0f, -1.0f);
@@ -78,25 +119,36 @@ static inline float3 ts_decode_normal(int i, __global const ts_gb_normal *p) {
     n.x = nx;
     n.y = ny;
   }
-  return normalize(n);
+  return (float4)(normalize(n), 0.0f);
 }
-static inline float3 ts_decode_diffuse(int i, __global const ts_gb_diffuse *p) {
-  return ts_unorm8x3(p[i]);
+static inline float4 ts_decode_diffuse(int i, __global const ts_gb_diffuse *p) {
+  uint v = p[i];
+  return (float4)(ts_unorm8x3(v), (float)(v >> 24) / 255.0f);
 }
+#if TS_SHADING == 1
+static inline float4 ts_decode_specular(int i, __global const ts_gb_specular *p) {
+  return (float4)((float)p[i] / 255.0f, 0.0f, 0.0f, 0.0f);
+}
+#else
 static inline float4 ts_decode_specular(int i, __global const ts_gb_specular *p) {
   uint v = p[i];
   return (float4)(ts_unorm8x3(v), exp2((float)(v >> 24) * (11.0f / 255.0f)));
 }
+#endif
 static inline float3 ts_decode_emissive(int i, __global const ts_gb_emissive *p) {
   return vload_half4(i, p).xyz;
 }
+/* Roughness (metallic-roughness): in the specular plane. */
+static inline float ts_decode_roughness(int i, float4 normal, __global const ts_gb_specular *p) {
+  return ts_decode_specular(i, p).x;
+}
 #else
 #if defined(TS_GBUFFER_FP16)
-/* fp16 (36 B/pixel): every plane half4, read with vload_half4 (exact conversion). */
+/* fp16: every plane half4, read with vload_half4 (exact conversion). */
 typedef half ts_gb_elem;
 #define TS_LOAD4(i, p) vload_half4((i), (p))
 #else
-/* fp32 (68 B/pixel): every plane float4. */
+/* fp32: every plane float4. */
 typedef float ts_gb_elem;
 #define TS_LOAD4(i, p) vload4((i), (p))
 #endif
@@ -104,17 +156,22 @@ typedef ts_gb_elem ts_gb_normal;
 typedef ts_gb_elem ts_gb_diffuse;
 typedef ts_gb_elem ts_gb_specular;
 typedef ts_gb_elem ts_gb_emissive;
-static inline float3 ts_decode_normal(int i, __global const ts_gb_normal *p) {
-  return normalize(TS_LOAD4(i, p).xyz);
+static inline float4 ts_decode_normal(int i, __global const ts_gb_normal *p) {
+  float4 n = TS_LOAD4(i, p);
+  return (float4)(normalize(n.xyz), n.w);
 }
-static inline float3 ts_decode_diffuse(int i, __global const ts_gb_diffuse *p) {
-  return TS_LOAD4(i, p).xyz;
+static inline float4 ts_decode_diffuse(int i, __global const ts_gb_diffuse *p) {
+  return TS_LOAD4(i, p);
 }
 static inline float4 ts_decode_specular(int i, __global const ts_gb_specular *p) {
   return TS_LOAD4(i, p);
 }
 static inline float3 ts_decode_emissive(int i, __global const ts_gb_emissive *p) {
   return TS_LOAD4(i, p).xyz;
+}
+/* Roughness (metallic-roughness): in the normal's w. */
+static inline float ts_decode_roughness(int i, float4 normal, __global const ts_gb_specular *p) {
+  return normal.w;
 }
 #endif
 
@@ -125,10 +182,25 @@ static inline float3 ts_decode_emissive(int i, __global const ts_gb_emissive *p)
       __global const ts_gb_emissive *gb_emissive
 #define TS_GBUFFER_ARGS gb_depth, gb_normal, gb_diffuse, gb_specular, gb_emissive
 
-/* Camera: (tan of half fov x, tan of half fov y, width, height). */
+/* Kernel parameters and arguments for the lights (ts::ViewLights): point and spot lights (the
+ * culled ones; kernels/shading.h "Lights") and the directional lights (never culled). */
+#define TS_LIGHT_PARAMS                                                                          \
+  __global const float4 *light_pos_range, __global const float4 *light_color,                    \
+      __global const float4 *light_spot
+#define TS_LIGHT_ARGS light_pos_range, light_color, light_spot
+#define TS_DIRECTIONAL_PARAMS                                                                    \
+  __global const float4 *dir_light_dir, __global const float4 *dir_light_color,                  \
+      int dir_light_count
+#define TS_DIRECTIONAL_ARGS dir_light_dir, dir_light_color, dir_light_count
+
+/* A decoded pixel: what the light terms need (kernels/shading.h) and its light-independent base.
+ *   kd, ks   the colours the weights wd, ws multiply (Blinn-Phong: the material's; metallic-
+ *            roughness: (1 - F0) c_diff and F0)
+ *   gloss    Blinn-Phong shininess, metallic-roughness alpha; view_term: its Smith view term
+ *   base     emission + ambient * c_diff */
 typedef struct {
-  float3 P, N, V, kd, ks, ke;
-  float shininess;
+  float3 P, N, V, kd, ks, base;
+  float gloss, view_term;
 } ts_surface;
 
 /* Reads the depth only: background test and depth-range work need no more. */
@@ -136,28 +208,84 @@ static inline float ts_load_depth(int x, int y, int width, __global const float 
   return gb_depth[y * width + x];
 }
 
-/* Decodes pixel (x,y); returns 0 for background (surface left untouched). */
-static inline int ts_load_surface(int x, int y, float4 camera, TS_GBUFFER_PARAMS, ts_surface *s) {
+/* Decodes pixel (x,y); returns 0 for background (surface left untouched). camera = (tan x,
+ * tan y, width, height). */
+static inline int ts_load_surface(int x, int y, float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
+                                  ts_surface *s) {
   int width = (int)camera.z;
   int i = y * width + x;
   float depth = gb_depth[i];
   if (depth <= 0.0f) return 0;
   s->P = ts_view_position(x, y, depth, camera.x, camera.y, width, (int)camera.w);
   s->V = normalize(-s->P);
-  s->N = ts_decode_normal(i, gb_normal);
-  s->kd = ts_decode_diffuse(i, gb_diffuse);
+  float4 normal = ts_decode_normal(i, gb_normal);
+  s->N = normal.xyz;
+  float4 diffuse = ts_decode_diffuse(i, gb_diffuse);
+  float3 c_diff;
+#if TS_SHADING == 1
+  ts_metallic_roughness_terms(diffuse.xyz, diffuse.w, ts_decode_roughness(i, normal, gb_specular),
+                              &c_diff, &s->kd, &s->ks, &s->gloss);
+  s->view_term = ts_smith_view_term(s->N, s->V, s->gloss);
+#else
+  c_diff = s->kd = diffuse.xyz;
+#if TS_HAS_SPECULAR
   float4 spec = ts_decode_specular(i, gb_specular);
   s->ks = spec.xyz;
-  s->shininess = spec.w;
-  s->ke = ts_decode_emissive(i, gb_emissive);
+  s->gloss = spec.w;
+#else
+  s->ks = (float3)(0.0f);
+  s->gloss = 1.0f;
+#endif
+  s->view_term = 1.0f;
+#endif
+#if TS_HAS_EMISSIVE
+  float3 ke = ts_decode_emissive(i, gb_emissive);
+#else
+  float3 ke = (float3)(0.0f);
+#endif
+  s->base = ts_surface_base(ke, c_diff, ambient.xyz);
   return 1;
 }
 
+/* The spot parameters of light `light` (a point light's when the build has no spot lights). */
+static inline float4 ts_light_spot(__global const float4 *light_spot, uint light) {
+#if TS_HAS_SPOT
+  return light_spot[light];
+#else
+  return (float4)(0.0f, 0.0f, 0.0f, -1.0f);
+#endif
+}
+
+/* The culling volume of light `light` (kernels/culling.h). */
+static inline ts_light_volume ts_load_light_volume(TS_LIGHT_PARAMS, uint light) {
+  return ts_make_light_volume(light_pos_range[light], ts_light_spot(light_spot, light));
+}
+
 #if TS_LANES == 1
-/* Lights: view-space position + range in one float4, colour (intensity included) in another. */
-static inline float3 ts_shade_light(const ts_surface *s, float4 pos_range, float4 color, int model) {
-  return ts_point_light(s->P, s->N, s->V, s->kd, s->ks, s->shininess, pos_range.xyz, color.xyz,
-                        pos_range.w, model);
+static inline ts_shading_point ts_surface_point(const ts_surface *s) {
+  ts_shading_point p = {s->P.x, s->P.y, s->P.z, s->N.x, s->N.y, s->N.z,
+                        s->V.x, s->V.y, s->V.z, s->gloss, s->view_term};
+  return p;
+}
+
+/* The contribution of point or spot light `light` to the surface. */
+static inline float3 ts_shade_punctual(const ts_surface *s, TS_LIGHT_PARAMS, uint light) {
+  ts_shading_point p = ts_surface_point(s);
+  return ts_punctual_light(&p, s->kd, s->ks, light_pos_range[light], light_color[light],
+                           ts_light_spot(light_spot, light), TS_MODEL, TS_SHADING,
+                           TS_HAS_SPECULAR, TS_HAS_SPOT);
+}
+
+/* The summed contributions of every directional light (none in a build without them). */
+static inline float3 ts_shade_directionals(const ts_surface *s, TS_DIRECTIONAL_PARAMS) {
+  float3 sum = (float3)(0.0f);
+#if TS_HAS_DIRECTIONAL
+  ts_shading_point p = ts_surface_point(s);
+  for (int k = 0; k < dir_light_count; ++k)
+    sum += ts_directional_light(&p, s->kd, s->ks, dir_light_dir[k].xyz, dir_light_color[k].xyz,
+                                TS_SHADING, TS_HAS_SPECULAR);
+#endif
+  return sum;
 }
 #endif
 

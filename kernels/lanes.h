@@ -14,15 +14,39 @@
  * Layout of the local buffer: TS_LANE_PLANES planes of `slots` floats (slots = the work-group
  * size rounded up to whole vectors; tiled_single.cl uses its tile's pixels and 3 more planes);
  * plane f of pixel slot i is at soa[f * slots + i]. Slots without a lit pixel (background, off
- * screen, padding) hold a surface that no light reaches.
+ * screen, padding) hold a surface that no light reaches. Only the terms the scene's features use
+ * have planes (a diffuse-only scene stores P, N and kd: 9 planes instead of 17); the host sizes
+ * the buffer from the same rule (lanePlaneCount in src/techniques/tile_grid.cpp, checked at build
+ * time through TS_HOST_LANE_PLANES).
  *
  * The includer includes gbuffer.h first (with TS_LANES > 1).
  */
 #ifndef TS_LANES_H
 #define TS_LANES_H
 
-/* P, N, V, kd, ks (3 each) and shininess. */
+/* Plane indices: P, N always; V, gloss and ks with a specular term; the Smith view term with
+ * metallic-roughness; kd always. */
+#define TS_LP_P 0
+#define TS_LP_N 3
+#if TS_HAS_SPECULAR
+#define TS_LP_V 6
+#define TS_LP_GLOSS 9
+#define TS_LP_KD 10
+#define TS_LP_KS 13
+#if TS_SHADING == 1
+#define TS_LP_VIEW_TERM 16
+#define TS_LANE_PLANES 17
+#else
 #define TS_LANE_PLANES 16
+#endif
+#else
+#define TS_LP_KD 6
+#define TS_LANE_PLANES 9
+#endif
+#ifdef TS_HOST_LANE_PLANES
+/* The host's count must be ours (a negative array size stops the build otherwise). */
+typedef char ts_lane_planes_match_the_host[TS_LANE_PLANES == TS_HOST_LANE_PLANES ? 1 : -1];
+#endif
 
 #define TS_LANE_VLOAD_(n) vload##n
 #define TS_LANE_VLOAD(n) TS_LANE_VLOAD_(n)
@@ -49,33 +73,40 @@ typedef struct {
   TS_LANE r, g, b;
 } ts_lane_rgb;
 
+static inline void ts_lanes_put3(__local float *soa, int slots, int plane, int i, float3 v) {
+  soa[plane * slots + i] = v.x;
+  soa[(plane + 1) * slots + i] = v.y;
+  soa[(plane + 2) * slots + i] = v.z;
+}
+
 /* Stores slot i of `slots`: the surface s, or (s null) an unlit slot — far away with black
- * materials, so every light is out of its range and its sum stays 0. */
+ * materials, so every light is out of its range and its sum stays 0. (A directional light
+ * reaches every slot: the unlit slot's normal is 0, so its N.l is 0 and it gets nothing.) */
 static inline void ts_lanes_put(__local float *soa, int slots, int i, const ts_surface *s) {
-  float v[TS_LANE_PLANES];
-  if (s) {
-    v[0] = s->P.x, v[1] = s->P.y, v[2] = s->P.z;
-    v[3] = s->N.x, v[4] = s->N.y, v[5] = s->N.z;
-    v[6] = s->V.x, v[7] = s->V.y, v[8] = s->V.z;
-    v[9] = s->shininess;
-    v[10] = s->kd.x, v[11] = s->kd.y, v[12] = s->kd.z;
-    v[13] = s->ks.x, v[14] = s->ks.y, v[15] = s->ks.z;
-  } else {
-    for (int f = 0; f < TS_LANE_PLANES; ++f) v[f] = 0.0f;
-    v[2] = -1e18f; /* d2 ~ 1e36 stays finite and beyond every range */
-    v[9] = 1.0f;
-  }
-  for (int f = 0; f < TS_LANE_PLANES; ++f) soa[f * slots + i] = v[f];
+  const float3 zero = (float3)(0.0f);
+  /* d2 ~ 1e36 stays finite and beyond every range */
+  ts_lanes_put3(soa, slots, TS_LP_P, i, s ? s->P : (float3)(0.0f, 0.0f, -1e18f));
+  ts_lanes_put3(soa, slots, TS_LP_N, i, s ? s->N : zero);
+  ts_lanes_put3(soa, slots, TS_LP_KD, i, s ? s->kd : zero);
+#if TS_HAS_SPECULAR
+  ts_lanes_put3(soa, slots, TS_LP_V, i, s ? s->V : zero);
+  ts_lanes_put3(soa, slots, TS_LP_KS, i, s ? s->ks : zero);
+  soa[TS_LP_GLOSS * slots + i] = s ? s->gloss : 1.0f;
+#if TS_SHADING == 1
+  soa[TS_LP_VIEW_TERM * slots + i] = s ? s->view_term : 1.0f;
+#endif
+#endif
 }
 
 /* Step 1, every work-item: decodes pixel (x, y) into *s when `wanted` (and not background),
  * stores its slot (unlit otherwise) and the padding slots past the group; returns whether the
  * pixel is lit. A barrier must follow. */
 static inline int ts_lanes_store_pixel(__local float *soa, int x, int y, int wanted,
-                                       float4 camera, TS_GBUFFER_PARAMS, ts_surface *s) {
+                                       float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
+                                       ts_surface *s) {
   int group_size = (int)(get_local_size(0) * get_local_size(1)), item = ts_lane_item();
   int slots = ts_lane_slots();
-  int lit = wanted && ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, s);
+  int lit = wanted && ts_load_surface(x, y, camera, ambient, TS_GBUFFER_ARGS, s);
   ts_lanes_put(soa, slots, item, lit ? s : 0);
   for (int i = group_size + item; i < slots; i += group_size) ts_lanes_put(soa, slots, i, 0);
   return lit;
@@ -88,30 +119,84 @@ static inline int ts_lanes_first_slot(void) {
   return item < ts_lane_slots() / TS_LANES ? item * TS_LANES : -1;
 }
 
+static inline TS_LANE ts_lanes_plane(__local const float *soa, int slots, int plane, int first) {
+  return TS_LANE_VLOAD(TS_LANES)(0, soa + plane * slots + first);
+}
+
 /* Loads the TS_LANES slots from `first` (of `slots`). */
 static inline ts_lane_surface ts_lanes_get(__local const float *soa, int slots, int first) {
-  TS_LANE v[TS_LANE_PLANES];
-  for (int f = 0; f < TS_LANE_PLANES; ++f) v[f] = TS_LANE_VLOAD(TS_LANES)(0, soa + f * slots + first);
+  const TS_LANE zero = (TS_LANE)0.0f, one = (TS_LANE)1.0f;
   ts_lane_surface s;
-  s.p.px = v[0], s.p.py = v[1], s.p.pz = v[2];
-  s.p.nx = v[3], s.p.ny = v[4], s.p.nz = v[5];
-  s.p.vx = v[6], s.p.vy = v[7], s.p.vz = v[8];
-  s.p.shininess = v[9];
-  s.kdr = v[10], s.kdg = v[11], s.kdb = v[12];
-  s.ksr = v[13], s.ksg = v[14], s.ksb = v[15];
+  s.p.px = ts_lanes_plane(soa, slots, TS_LP_P, first);
+  s.p.py = ts_lanes_plane(soa, slots, TS_LP_P + 1, first);
+  s.p.pz = ts_lanes_plane(soa, slots, TS_LP_P + 2, first);
+  s.p.nx = ts_lanes_plane(soa, slots, TS_LP_N, first);
+  s.p.ny = ts_lanes_plane(soa, slots, TS_LP_N + 1, first);
+  s.p.nz = ts_lanes_plane(soa, slots, TS_LP_N + 2, first);
+  s.kdr = ts_lanes_plane(soa, slots, TS_LP_KD, first);
+  s.kdg = ts_lanes_plane(soa, slots, TS_LP_KD + 1, first);
+  s.kdb = ts_lanes_plane(soa, slots, TS_LP_KD + 2, first);
+#if TS_HAS_SPECULAR
+  s.p.vx = ts_lanes_plane(soa, slots, TS_LP_V, first);
+  s.p.vy = ts_lanes_plane(soa, slots, TS_LP_V + 1, first);
+  s.p.vz = ts_lanes_plane(soa, slots, TS_LP_V + 2, first);
+  s.p.gloss = ts_lanes_plane(soa, slots, TS_LP_GLOSS, first);
+  s.ksr = ts_lanes_plane(soa, slots, TS_LP_KS, first);
+  s.ksg = ts_lanes_plane(soa, slots, TS_LP_KS + 1, first);
+  s.ksb = ts_lanes_plane(soa, slots, TS_LP_KS + 2, first);
+#else
+  s.p.vx = s.p.vy = s.p.vz = zero;
+  s.p.gloss = one;
+  s.ksr = s.ksg = s.ksb = zero;
+#endif
+#if TS_HAS_SPECULAR && TS_SHADING == 1
+  s.p.view_term = ts_lanes_plane(soa, slots, TS_LP_VIEW_TERM, first);
+#else
+  s.p.view_term = one;
+#endif
   return s;
 }
 
-/* sum += the light's contribution, lane by lane: C*diffuse*kd + C*specular*ks as ts_point_light
- * forms it. */
-static inline void ts_lanes_add_light(ts_lane_rgb *sum, const ts_lane_surface *s, float4 pos_range,
-                                      float4 color, int model) {
-  TS_LANE specular;
-  TS_LANE diffuse = ts_light_weights(&s->p, (TS_LANE)pos_range.x, (TS_LANE)pos_range.y,
-                                     (TS_LANE)pos_range.z, (TS_LANE)pos_range.w, model, &specular);
-  sum->r += color.x * diffuse * s->kdr + color.x * specular * s->ksr;
-  sum->g += color.y * diffuse * s->kdg + color.y * specular * s->ksg;
-  sum->b += color.z * diffuse * s->kdb + color.z * specular * s->ksb;
+/* sum += C (wd kd + ws ks + wf), lane by lane, as ts_weighted_color forms it. */
+static inline void ts_lanes_add_weighted(ts_lane_rgb *sum, const ts_lane_surface *s,
+                                         ts_light_weights_t w, float4 color) {
+  sum->r += color.x * (w.wd * s->kdr + w.ws * s->ksr + w.wf);
+  sum->g += color.y * (w.wd * s->kdg + w.ws * s->ksg + w.wf);
+  sum->b += color.z * (w.wd * s->kdb + w.ws * s->ksb + w.wf);
+}
+
+/* sum += point or spot light `light`'s contribution. */
+static inline void ts_lanes_add_light(ts_lane_rgb *sum, const ts_lane_surface *s,
+                                      TS_LIGHT_PARAMS, uint light) {
+  float4 pr = light_pos_range[light], color = light_color[light];
+  float4 spot = ts_light_spot(light_spot, light);
+  ts_light_weights_t w = ts_punctual_weights(
+      &s->p, (TS_LANE)pr.x, (TS_LANE)pr.y, (TS_LANE)pr.z, (TS_LANE)pr.w, (TS_LANE)spot.x,
+      (TS_LANE)spot.y, (TS_LANE)spot.z, (TS_LANE)spot.w, (TS_LANE)color.w, TS_MODEL, TS_SHADING,
+      TS_HAS_SPECULAR, TS_HAS_SPOT);
+  ts_lanes_add_weighted(sum, s, w, color);
+}
+
+/* sum += every directional light's contribution (none in a build without them). */
+static inline void ts_lanes_add_directionals(ts_lane_rgb *sum, const ts_lane_surface *s,
+                                             TS_DIRECTIONAL_PARAMS) {
+#if TS_HAS_DIRECTIONAL
+  for (int k = 0; k < dir_light_count; ++k) {
+    float4 d = dir_light_dir[k];
+    ts_light_weights_t w = ts_directional_weights(&s->p, (TS_LANE)d.x, (TS_LANE)d.y,
+                                                  (TS_LANE)d.z, TS_SHADING, TS_HAS_SPECULAR);
+    ts_lanes_add_weighted(sum, s, w, dir_light_color[k]);
+  }
+#endif
+}
+
+/* How many directional lights the lanes loop adds (0 in a build without them). */
+static inline int ts_directional_count(int dir_light_count) {
+#if TS_HAS_DIRECTIONAL
+  return dir_light_count;
+#else
+  return 0;
+#endif
 }
 
 /* Stores (loads) the r, g, b sums of the TS_LANES slots from `first` in planes `plane` to
@@ -126,9 +211,9 @@ static inline void ts_lanes_put_rgb(__local float *soa, int slots, int plane, in
 static inline ts_lane_rgb ts_lanes_get_rgb(__local const float *soa, int slots, int plane,
                                            int first) {
   ts_lane_rgb sum;
-  sum.r = TS_LANE_VLOAD(TS_LANES)(0, soa + plane * slots + first);
-  sum.g = TS_LANE_VLOAD(TS_LANES)(0, soa + (plane + 1) * slots + first);
-  sum.b = TS_LANE_VLOAD(TS_LANES)(0, soa + (plane + 2) * slots + first);
+  sum.r = ts_lanes_plane(soa, slots, plane, first);
+  sum.g = ts_lanes_plane(soa, slots, plane + 1, first);
+  sum.b = ts_lanes_plane(soa, slots, plane + 2, first);
   return sum;
 }
 

@@ -3,20 +3,28 @@
  * clustered.cl): the per-bin light test, the count/fill append of the paper's grid (per-bin
  * count + offset, one index list), and the shading loop over one bin's list.
  *
- * The includer defines TILE_W, TILE_H, TS_MODEL and TS_CULL and includes gbuffer.h first.
+ * The includer defines TILE_W, TILE_H and TS_CULL and includes gbuffer.h first.
  */
 #ifndef TS_LIGHT_LISTS_H
 #define TS_LIGHT_LISTS_H
 
-/* Whether the light sphere (c, r) may reach the pixels of tile (tx, ty) whose geometry depth lies
- * in zr = (zmin, zmax): the depth-range test, then the configured per-tile test (TS_CULL). The
- * caller has already placed the tile inside the light's screen rectangle. */
-static inline int ts_light_meets_bin(float3 c, float r, int tx, int ty, float2 zr, float4 camera) {
+/* Whether light volume v (kernels/culling.h) may reach the pixels of tile (tx, ty) whose
+ * geometry depth lies in zr = (zmin, zmax): the depth-range test, then the per-tile test (TS_CULL;
+ * cones always). The caller has already placed the tile inside the light's screen rectangle. */
+static inline int ts_light_meets_bin(const ts_light_volume *v, int tx, int ty, float2 zr,
+                                     float4 camera) {
   int width = (int)camera.z, height = (int)camera.w;
-  if (!ts_sphere_meets_depth_range(c, r, zr.x, zr.y)) return 0;
-  return ts_sphere_meets_tile(c, r, TS_CULL, tx * TILE_W, ty * TILE_H,
-                              min((tx + 1) * TILE_W, width), min((ty + 1) * TILE_H, height), width,
-                              height, camera.x, camera.y, zr.x, zr.y);
+  if (!ts_light_meets_depth_range(v, zr.x, zr.y)) return 0;
+  return ts_light_meets_tile(v, TS_CULL, tx * TILE_W, ty * TILE_H,
+                             min((tx + 1) * TILE_W, width), min((ty + 1) * TILE_H, height), width,
+                             height, camera.x, camera.y, zr.x, zr.y);
+}
+
+/* The tile rectangle (x0, y0)-(x1, y1) of light volume v; 0 when it misses the screen. */
+static inline int ts_light_tile_rect(const ts_light_volume *v, float4 camera, float znear,
+                                     int *x0, int *y0, int *x1, int *y1) {
+  float4 b = ts_light_ndc_bounds(v, znear, camera.x, camera.y);
+  return ts_ndc_bounds_to_tiles(b, (int)camera.z, (int)camera.w, TILE_W, TILE_H, x0, y0, x1, y1);
 }
 
 /* fill == 0: counts `light` into bin_count[bin].  fill == 1: appends it to the bin's list at
@@ -42,15 +50,10 @@ static inline uint ts_bin_written(uint begin, uint n, uint capacity) {
 #if TS_LANES == 1
 /* The summed contributions of the `n` lights listed from `begin` at surface s. */
 static inline float3 ts_shade_bin(const ts_surface *s, uint begin, uint n, uint capacity,
-                                  __global const uint *bin_lights,
-                                  __global const float4 *light_pos_range,
-                                  __global const float4 *light_color) {
+                                  __global const uint *bin_lights, TS_LIGHT_PARAMS) {
   float3 sum = (float3)(0.0f);
   n = ts_bin_written(begin, n, capacity);
-  for (uint k = 0; k < n; ++k) {
-    uint light = bin_lights[begin + k];
-    sum += ts_shade_light(s, light_pos_range[light], light_color[light], TS_MODEL);
-  }
+  for (uint k = 0; k < n; ++k) sum += ts_shade_punctual(s, TS_LIGHT_ARGS, bin_lights[begin + k]);
   return sum;
 }
 #endif

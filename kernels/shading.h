@@ -4,35 +4,51 @@
  *
  * The includer defines the scalar and vector types first:
  *   TS_REAL          scalar type            (float in kernels; double in the reference)
- *   TS_REAL3         3-vector of TS_REAL    (float3; glm::dvec3)
+ *   TS_REAL3/4       3-/4-vectors of it     (float3/float4; glm::dvec3/dvec4)
  *   TS_MAKE3(x,y,z)  builds a TS_REAL3
- * and makes dot, sqrt, pow, max, clamp visible for those types (OpenCL has them built in;
- * src/reference/shading_cpu.h provides them for C++).
+ * and makes dot, sqrt, pow, max, min, clamp visible for those types (OpenCL has them built in;
+ * src/reference/shading_cpu.h provides them for C++). TS_LIT(x) writes a literal of TS_REAL (a
+ * float literal in kernels, so devices without fp64 see no double).
  *
- * Shading model (view space, camera at the origin looking down -Z):
- *   v = Lp - P;  d2 = dot(v,v);  no contribution if d2 >= r*r (windowed model)
- *   d = sqrt(d2);  l = v/d
- *   window  = clamp(1 - (d/r)^4, 0, 1)^2
- *   falloff = window / max(d2, dmin*dmin)
- *   ndl  = max(dot(N,l), 0)
- *   h    = normalize(l + V)    V = normalize(-P); zero-length h gives spec = 0
- *   spec = ndl > 0 ? pow(max(dot(N,h),0), s) : 0
- *   out  = C * falloff * (kd*ndl + ks*spec)
- *   pixel = ke + a*kd + sum(out);  background = 0
- * The "physical" model drops the window and the range cut: falloff = 1 / max(d2, dmin*dmin).
+ * Everything is in view space: camera at the origin looking down -Z. The model, its hard cases
+ * and the reasons for each choice are in docs/shading.md. In short, for a light with colour C
+ * (intensity included) reaching surface point P from unit direction l:
  *
- * Cost (for the device-limit estimate in the benchmark): a contributing evaluation is about
- * TS_SHADE_FLOPS floating-point operations (sqrt, divide and pow counted as one each).
+ *   contribution = C * falloff * (wd*kd + ws*ks + wf)            (rgb: kd, ks per pixel)
+ *
+ * falloff (punctual lights; 1 for directional ones):
+ *   window(d)  = clamp(1 - (d/r)^4, 0, 1)^2         windowed model; 1 in the physical model
+ *   angular    = clamp((dot(-l, axis) - cos_outer) * angle_scale, 0, 1)^2    spot lights only
+ *   falloff    = window * angular / max(d^2, dmin^2)
+ * weights, with ndl = max(dot(N, l), 0) and h = normalize(l + V):
+ *   Blinn-Phong         wd = ndl   ws = ndl * max(dot(N,h),0)^s   wf = 0
+ *                       kd, ks: the material's
+ *   metallic-roughness  wd = ndl (1-Fc)   ws = ndl (1-Fc) S   wf = ndl Fc S       (glTF spec)
+ *                       Fc = (1 - dot(V,h))^5, S = pi * D_GGX * V_Smith,
+ *                       kd = (1-F0) c_diff, ks = F0 (ts_metallic_roughness_terms)
+ * Both are continuous everywhere: every term carries ndl, so nothing jumps where N.l = 0.
+ *   pixel = ke + a*c_diff + sum over lights;  background = 0
+ *
+ * Build-time choices (kernels pass them as constants to the runtime parameters below, so the
+ * compiler removes what a scene does not need; the reference passes the same values at run time):
+ *   model     TS_MODEL_WINDOWED | TS_MODEL_PHYSICAL (range cut or not)
+ *   shading   TS_SHADING_BLINN_PHONG | TS_SHADING_METALLIC_ROUGHNESS
+ *   specular  0: Lambert only (ws = wf = 0; no V, h or material exponent needed)
+ *   spot      0: every punctual light is a point light (the angular term is never computed)
  */
 #ifndef TS_REAL
-#error "define TS_REAL, TS_REAL3 and TS_MAKE3 before including shading.h"
+#error "define TS_REAL, TS_REAL3, TS_REAL4 and TS_MAKE3 before including shading.h"
+#endif
+#ifndef TS_LIT
+#define TS_LIT(x) ((TS_REAL)(x))
 #endif
 
 /* dmin: the distance (scene units) below which the inverse-square falloff stops growing, so a
  * light touching a surface gives a finite value. One documented constant for every technique. */
-#ifndef TS_DMIN
 #define TS_DMIN 0.1
-#endif
+/* The smallest metallic-roughness roughness: GGX with roughness 0 is a delta (D infinite at
+ * N = h, 0/0 elsewhere); 0.045 (alpha = 0.002) is the value fp32 renderers use (Filament). */
+#define TS_MIN_ROUGHNESS 0.045
 
 /* The square root and power used by the shading function; kernels/gbuffer.h swaps in the
  * native_ variants for the "native" arithmetic knob. */
@@ -43,31 +59,66 @@
 #define TS_POW pow
 #endif
 
-#ifndef TS_SHADE_FLOPS
-#define TS_SHADE_FLOPS 60
-#endif
+/* Cost of one contributing evaluation, for the device-limit estimate of the benchmark, in
+ * floating-point operations (sqrt, divide and pow counted as one each). */
+#define TS_SHADE_FLOPS_BLINN_PHONG 60
+#define TS_SHADE_FLOPS_METALLIC_ROUGHNESS 96
+#define TS_SHADE_FLOPS TS_SHADE_FLOPS_BLINN_PHONG
 
-/* Shading models. */
+/* Range models. */
 #define TS_MODEL_WINDOWED 0
 #define TS_MODEL_PHYSICAL 1
+/* Shading models (SceneFeatures::model). */
+#define TS_SHADING_BLINN_PHONG 0
+#define TS_SHADING_METALLIC_ROUGHNESS 1
 
 /* View-space position of pixel (x,y) at linear depth `depth` (= -z_view > 0). Pixel centres sit at
  * +0.5; image row 0 is the top of the screen. tan_x/tan_y: tangents of the half field of view. */
 static inline TS_REAL3 ts_view_position(int x, int y, TS_REAL depth, TS_REAL tan_x, TS_REAL tan_y,
                                         int width, int height) {
-  TS_REAL ndc_x = ((TS_REAL)2 * ((TS_REAL)x + (TS_REAL)0.5)) / (TS_REAL)width - (TS_REAL)1;
-  TS_REAL ndc_y = (TS_REAL)1 - ((TS_REAL)2 * ((TS_REAL)y + (TS_REAL)0.5)) / (TS_REAL)height;
+  TS_REAL ndc_x = (TS_LIT(2.0) * ((TS_REAL)x + TS_LIT(0.5))) / (TS_REAL)width - TS_LIT(1.0);
+  TS_REAL ndc_y = TS_LIT(1.0) - (TS_LIT(2.0) * ((TS_REAL)y + TS_LIT(0.5))) / (TS_REAL)height;
   return TS_MAKE3(ndc_x * tan_x * depth, ndc_y * tan_y * depth, -depth);
 }
 
+/* ---- Per-pixel material terms ------------------------------------------------------------ */
+
+/* The terms of a metallic-roughness surface (glTF 2.0, Appendix B) that the light weights use:
+ * c_diff = base (1 - metallic) (also what the ambient term lights), F0 = mix(0.04, base,
+ * metallic), kd = (1 - F0) c_diff (the diffuse colour the Fresnel-weighted lights see) and
+ * alpha = max(roughness, TS_MIN_ROUGHNESS)^2. */
+static inline void ts_metallic_roughness_terms(TS_REAL3 base, TS_REAL metallic, TS_REAL roughness,
+                                               TS_REAL3 *c_diff, TS_REAL3 *kd, TS_REAL3 *f0,
+                                               TS_REAL *alpha) {
+  TS_REAL m = clamp(metallic, TS_LIT(0.0), TS_LIT(1.0));
+  *c_diff = base * (TS_LIT(1.0) - m);
+  *f0 = TS_MAKE3(TS_LIT(0.04), TS_LIT(0.04), TS_LIT(0.04)) * (TS_LIT(1.0) - m) + base * m;
+  *kd = (TS_MAKE3(TS_LIT(1.0), TS_LIT(1.0), TS_LIT(1.0)) - *f0) * *c_diff;
+  TS_REAL r = clamp(roughness, TS_LIT(TS_MIN_ROUGHNESS), TS_LIT(1.0));
+  *alpha = r * r;
+}
+
+/* Smith-GGX's view term of the height-correlated visibility, per pixel:
+ * N.V + sqrt(alpha^2 + (1 - alpha^2) (N.V)^2), with N.V clamped to [0, 1]. */
+static inline TS_REAL ts_smith_view_term(TS_REAL3 N, TS_REAL3 V, TS_REAL alpha) {
+  TS_REAL nv = clamp(dot(N, V), TS_LIT(0.0), TS_LIT(1.0));
+  TS_REAL a2 = alpha * alpha;
+  return nv + TS_SQRT(a2 + (TS_LIT(1.0) - a2) * nv * nv);
+}
+
+/* The light-independent part of a pixel: emission plus the global ambient term a*c_diff. */
+static inline TS_REAL3 ts_surface_base(TS_REAL3 ke, TS_REAL3 c_diff, TS_REAL3 ambient) {
+  return ke + ambient * c_diff;
+}
+
 /* ---- Lanes ------------------------------------------------------------------------------
- * The light term below is written once for a "lane" type TS_LANE: by default the scalar TS_REAL
+ * The light terms below are written once for a "lane" type TS_LANE: by default the scalar TS_REAL
  * (one pixel: float in kernels, double in the reference), or an OpenCL vector of TS_LANES floats
  * that shades that many pixels against the same light at once (kernels/lanes.h; CPU devices,
  * where a compiler does not vectorise a per-pixel light loop by itself). The code therefore
  * branches only on "any lane": TS_ANY is the condition itself for a scalar and any() for a vector,
  * and per-lane choices are TS_SELECT (OpenCL's ?: works per component on vectors). For a scalar
- * the early exits are ordinary branches, as before: no cost for the GPU or the reference. */
+ * the early exits are ordinary branches: no cost for the GPU or the reference. */
 #ifndef TS_LANE
 #define TS_LANE TS_REAL
 #define TS_ANY(c) (c)
@@ -78,66 +129,149 @@ static inline TS_REAL3 ts_view_position(int x, int y, TS_REAL depth, TS_REAL tan
 typedef struct {
   TS_LANE px, py, pz; /* view-space position P */
   TS_LANE nx, ny, nz; /* unit normal N */
-  TS_LANE vx, vy, vz; /* unit view vector V = normalize(-P) */
-  TS_LANE shininess;
+  TS_LANE vx, vy, vz; /* unit view vector V = normalize(-P) (specular only) */
+  TS_LANE gloss;      /* Blinn-Phong: shininess s; metallic-roughness: alpha (specular only) */
+  TS_LANE view_term;  /* metallic-roughness: ts_smith_view_term (specular only) */
 } ts_shading_point;
 
-/* The two weights of one point light at (lx, ly, lz) with range r on surface point p: returns the
- * diffuse weight falloff*ndl and stores the specular weight falloff*spec, so the contribution is
- * C*diffuse*kd + C*specular*ks. Lanes outside the range, or with the light exactly on the point
- * (no direction: it lights nothing, instead of NaN), get 0 for both. */
-static inline TS_LANE ts_light_weights(const ts_shading_point *p, TS_LANE lx, TS_LANE ly,
-                                       TS_LANE lz, TS_LANE r, int model, TS_LANE *specular) {
-  const TS_LANE zero = (TS_LANE)0, one = (TS_LANE)1;
+/* The three weights of a light (see the top of this file): contribution = C (wd kd + ws ks + wf). */
+typedef struct {
+  TS_LANE wd, ws, wf;
+} ts_light_weights_t;
+
+/* The weights of a light from unit direction (ux, uy, uz) with `falloff` already known, for the
+ * lanes `lit` says the light reaches (the others get 0). */
+static inline ts_light_weights_t ts_brdf_weights(const ts_shading_point *p, TS_LANE ux, TS_LANE uy,
+                                                 TS_LANE uz, TS_LANE falloff, int shading,
+                                                 int specular) {
+  const TS_LANE zero = (TS_LANE)TS_LIT(0.0), one = (TS_LANE)TS_LIT(1.0);
+  ts_light_weights_t w = {zero, zero, zero};
+  /* Written as selects: a lane whose direction is NaN (light on the point: falloff 0) compares
+   * false and gets 0 (max() is undefined for NaN in OpenCL). */
+  TS_LANE n_dot_l = p->nx * ux + p->ny * uy + p->nz * uz;
+  TS_LANE ndl = TS_SELECT(n_dot_l > zero && falloff > zero, n_dot_l, zero);
+  TS_LANE lit = falloff * ndl;
+  if (!TS_ANY(lit > zero)) return w;
+  w.wd = lit;
+  if (!specular) return w;
+  TS_LANE hx = ux + p->vx, hy = uy + p->vy, hz = uz + p->vz; /* h = l + V, normalised below */
+  TS_LANE hlen2 = hx * hx + hy * hy + hz * hz;
+  /* l = -V: no half vector; the lane keeps its diffuse weight and gets no specular. */
+  TS_LANE has_h = TS_SELECT(hlen2 > zero, one, zero);
+  TS_LANE hlen = TS_SQRT(TS_SELECT(hlen2 > zero, hlen2, one));
+  TS_LANE ndh = max((p->nx * hx + p->ny * hy + p->nz * hz) / hlen, zero);
+  if (shading == TS_SHADING_BLINN_PHONG) {
+    w.ws = lit * has_h * TS_POW(ndh, p->gloss);
+    return w;
+  }
+  /* GGX's pi*D: alpha^2 / ((N.h)^2 (alpha^2 - 1) + 1)^2 with 1 - (N.h)^2 = |N x h|^2, which keeps
+   * its precision where N.h -> 1 (the peak, for small alpha) instead of cancelling; 0 for
+   * microfacets facing away (N.h <= 0), where the denominator can vanish. */
+  TS_LANE cx = p->ny * hz - p->nz * hy, cy = p->nz * hx - p->nx * hz, cz = p->nx * hy - p->ny * hx;
+  TS_LANE a2 = p->gloss * p->gloss;
+  TS_LANE den = (cx * cx + cy * cy + cz * cz) / (hlen * hlen) + ndh * ndh * a2;
+  TS_LANE d_pi = TS_SELECT(ndh > zero && has_h > zero, a2 / (den * den), zero);
+  /* Height-correlated Smith visibility with 4 N.l N.v folded in: 1 / (light term * view term). */
+  TS_LANE light_term = ndl + TS_SQRT(a2 + (one - a2) * ndl * ndl);
+  TS_LANE s = d_pi / (light_term * p->view_term);
+  TS_LANE vdh = clamp((p->vx * hx + p->vy * hy + p->vz * hz) / hlen, zero, one);
+  TS_LANE f1 = one - vdh, f2 = f1 * f1;
+  TS_LANE fc = f2 * f2 * f1; /* Schlick: F = F0 + (1 - F0) fc */
+  w.wd = lit * (one - fc);
+  w.ws = w.wd * s;
+  w.wf = lit * fc * s;
+  return w;
+}
+
+/* The weights of a point or spot light at (lx, ly, lz) with range r. A spot light shines along
+ * the unit axis (ax, ay, az) within the cone whose half-angle has cosine cos_outer, fading in
+ * with angle_scale = 1/(cos inner - cos outer); a point light has axis 0 and cos_outer -1, which
+ * makes the angular term exactly 1. Lanes outside the range or the cone, or with the light
+ * exactly on the point (no direction: it lights nothing, instead of NaN), get 0. */
+static inline ts_light_weights_t ts_punctual_weights(const ts_shading_point *p, TS_LANE lx,
+                                                     TS_LANE ly, TS_LANE lz, TS_LANE r,
+                                                     TS_LANE ax, TS_LANE ay, TS_LANE az,
+                                                     TS_LANE cos_outer, TS_LANE angle_scale,
+                                                     int model, int shading, int specular,
+                                                     int spot) {
+  const TS_LANE zero = (TS_LANE)TS_LIT(0.0), one = (TS_LANE)TS_LIT(1.0);
+  ts_light_weights_t none = {zero, zero, zero};
   TS_LANE vx = lx - p->px, vy = ly - p->py, vz = lz - p->pz;
   TS_LANE d2 = vx * vx + vy * vy + vz * vz;
   TS_LANE window = one;
   if (model == TS_MODEL_WINDOWED) {
     TS_LANE r2 = r * r;
-    if (!TS_ANY(d2 < r2)) { /* the common exit: no lane in range */
-      *specular = zero;
-      return zero;
-    }
-    TS_LANE q = d2 / r2; /* (d/r)^2, so (d/r)^4 = q*q without a sqrt */
+    if (!TS_ANY(d2 < r2)) return none; /* the common exit: no lane in range */
+    TS_LANE q = d2 / r2;               /* (d/r)^2, so (d/r)^4 = q*q without a sqrt */
     TS_LANE w = clamp(one - q * q, zero, one);
     window = TS_SELECT(d2 < r2, w * w, zero);
   }
-  *specular = zero;
-  if (!TS_ANY(d2 > zero)) return zero;
+  if (!TS_ANY(d2 > zero)) return none;
   TS_LANE d = TS_SQRT(d2);
-  TS_LANE ux = vx / d, uy = vy / d, uz = vz / d; /* l = v/d */
-  TS_LANE dmin = (TS_LANE)TS_DMIN;
-  TS_LANE falloff = window / max(d2, dmin * dmin);
-  /* A lane with d2 = 0 has l = NaN (OpenCL leaves max(NaN, 0) undefined): ndl > 0 is false for
-   * it and the last line returns 0 for it. */
-  TS_LANE ndl = max(p->nx * ux + p->ny * uy + p->nz * uz, zero);
-  if (TS_ANY(ndl > zero)) {
-    TS_LANE hx = ux + p->vx, hy = uy + p->vy, hz = uz + p->vz; /* h = l + V, normalised below */
-    TS_LANE hlen2 = hx * hx + hy * hy + hz * hz;
-    if (TS_ANY(hlen2 > zero)) {
-      TS_LANE hlen = TS_SQRT(hlen2);
-      TS_LANE ndh = max((p->nx * hx + p->ny * hy + p->nz * hz) / hlen, zero);
-      TS_LANE spec = TS_POW(ndh, p->shininess);
-      *specular = TS_SELECT(ndl > zero && hlen2 > zero, falloff * spec, zero);
-    }
+  TS_LANE ux = vx / d, uy = vy / d, uz = vz / d; /* l = v/d; NaN where d2 = 0 */
+  TS_LANE dmin = (TS_LANE)TS_LIT(TS_DMIN);
+  TS_LANE falloff = TS_SELECT(d2 > zero, window / max(d2, dmin * dmin), zero);
+  if (spot) {
+    TS_LANE cd = -(ax * ux + ay * uy + az * uz); /* cosine between the axis and the light ray */
+    TS_LANE t = clamp((cd - cos_outer) * angle_scale, zero, one);
+    falloff = TS_SELECT(d2 > zero, falloff * t * t, zero);
   }
-  return TS_SELECT(d2 > zero, falloff * ndl, zero);
+  return ts_brdf_weights(p, ux, uy, uz, falloff, shading, specular);
+}
+
+/* The weights of a directional light arriving from the unit direction (lx, ly, lz) (towards the
+ * light): no range, no falloff. */
+static inline ts_light_weights_t ts_directional_weights(const ts_shading_point *p, TS_LANE lx,
+                                                        TS_LANE ly, TS_LANE lz, int shading,
+                                                        int specular) {
+  return ts_brdf_weights(p, lx, ly, lz, (TS_LANE)TS_LIT(1.0), shading, specular);
 }
 
 #if !defined(TS_LANES) || TS_LANES == 1
-/* Contribution of one point light at Lp (colour C, range r) to the surface point P with unit normal
- * N, unit view vector V = normalize(-P), diffuse kd, specular ks and shininess s: the vector form
- * of ts_light_weights that every per-pixel kernel and the reference call. */
+/* ---- One pixel ---------------------------------------------------------------------------
+ * The vector forms every per-pixel kernel and the reference call. */
+
+/* The shading point of a surface: P, N, V and, when the specular term is on, its gloss and
+ * (metallic-roughness) the per-pixel Smith view term. */
+static inline ts_shading_point ts_make_shading_point(TS_REAL3 P, TS_REAL3 N, TS_REAL3 V,
+                                                     TS_REAL gloss, int shading) {
+  ts_shading_point p = {P.x, P.y, P.z, N.x, N.y, N.z, V.x, V.y, V.z, gloss, TS_LIT(0.0)};
+  if (shading == TS_SHADING_METALLIC_ROUGHNESS) p.view_term = ts_smith_view_term(N, V, gloss);
+  return p;
+}
+
+static inline TS_REAL3 ts_weighted_color(ts_light_weights_t w, TS_REAL3 C, TS_REAL3 kd,
+                                         TS_REAL3 ks) {
+  return C * (w.wd * kd + w.ws * ks + TS_MAKE3(w.wf, w.wf, w.wf));
+}
+
+/* Contribution of one point or spot light (kernels/shading.h "Lights" layout: pos_range =
+ * position + range, color = rgb + spot angle scale, spot = axis + cos outer). */
+static inline TS_REAL3 ts_punctual_light(const ts_shading_point *p, TS_REAL3 kd, TS_REAL3 ks,
+                                         TS_REAL4 pos_range, TS_REAL4 color, TS_REAL4 spot,
+                                         int model, int shading, int specular, int spot_on) {
+  ts_light_weights_t w = ts_punctual_weights(p, pos_range.x, pos_range.y, pos_range.z,
+                                             pos_range.w, spot.x, spot.y, spot.z, spot.w,
+                                             color.w, model, shading, specular, spot_on);
+  return ts_weighted_color(w, TS_MAKE3(color.x, color.y, color.z), kd, ks);
+}
+
+/* Contribution of one directional light (dir: unit vector towards the light). */
+static inline TS_REAL3 ts_directional_light(const ts_shading_point *p, TS_REAL3 kd, TS_REAL3 ks,
+                                            TS_REAL3 dir, TS_REAL3 color, int shading,
+                                            int specular) {
+  ts_light_weights_t w = ts_directional_weights(p, dir.x, dir.y, dir.z, shading, specular);
+  return ts_weighted_color(w, color, kd, ks);
+}
+
+/* A Blinn-Phong point light at Lp (colour C, range r) on the surface P, N, V = normalize(-P),
+ * kd, ks, shininess s: the papers' case, for tests and examples. */
 static inline TS_REAL3 ts_point_light(TS_REAL3 P, TS_REAL3 N, TS_REAL3 V, TS_REAL3 kd, TS_REAL3 ks,
                                       TS_REAL s, TS_REAL3 Lp, TS_REAL3 C, TS_REAL r, int model) {
-  ts_shading_point p = {P.x, P.y, P.z, N.x, N.y, N.z, V.x, V.y, V.z, s};
-  TS_REAL specular;
-  TS_REAL diffuse = ts_light_weights(&p, Lp.x, Lp.y, Lp.z, r, model, &specular);
-  return C * diffuse * kd + C * specular * ks;
+  ts_shading_point p = ts_make_shading_point(P, N, V, s, TS_SHADING_BLINN_PHONG);
+  ts_light_weights_t w = ts_punctual_weights(&p, Lp.x, Lp.y, Lp.z, r, TS_LIT(0.0), TS_LIT(0.0),
+                                             TS_LIT(0.0), TS_LIT(-1.0), TS_LIT(1.0), model,
+                                             TS_SHADING_BLINN_PHONG, 1, 0);
+  return ts_weighted_color(w, C, kd, ks);
 }
 #endif
-
-/* The light-independent part of a pixel: emission plus the global ambient term a*kd. */
-static inline TS_REAL3 ts_surface_base(TS_REAL3 ke, TS_REAL3 kd, TS_REAL3 ambient) {
-  return ke + ambient * kd;
-}

@@ -2,7 +2,8 @@
  * Multi-kernel tiled deferred shading (Olsson & Assarsson 2011, the CUDA variant), host side in
  * src/techniques/tiled.cpp. Per frame:
  *   1. tile_depth_bounds  one work-group per tile: min/max linear depth of the tile's geometry
- *   2. bin_lights (COUNT) per light: screen-space tile rectangle of its sphere, each tile tested
+ *   2. bin_lights (COUNT) per light: screen-space tile rectangle of its volume (sphere or cone),
+ *                         each tile tested
  *                         against the tile's depth range, tile_count[t]++
  *      exclusive_scan     tile_offset = exclusive prefix sum of tile_count; total
  *      bin_lights (FILL)  the same traversal, writing light indices into the tile light list
@@ -10,14 +11,12 @@
  * The grid is the paper's: per-tile (offset, count) + tile light index list + the global light
  * list (the frame's light buffers).
  *
- * Build-time constants: TILE_W, TILE_H (pixels), TS_MODEL (shading model), TS_CULL (per-tile test,
- * culling.h), TS_LANES (shading in lanes on CPU devices, lanes.h), the G-buffer layout (gbuffer.h).
+ * Build-time constants: TILE_W, TILE_H (pixels), TS_CULL (per-tile test, culling.h), TS_LANES
+ * (shading in lanes on CPU devices, lanes.h), the scene's features and the G-buffer layout
+ * (gbuffer.h). Directional lights are not binned: every pixel adds them after its tile's list.
  */
 #include "gbuffer.h"
 
-#ifndef TS_MODEL
-#define TS_MODEL TS_MODEL_WINDOWED
-#endif
 #ifndef TS_CULL
 #define TS_CULL TS_CULL_RECT
 #endif
@@ -65,25 +64,23 @@ __kernel void tile_depth_bounds(__global const float *gb_depth, int width, int h
 /* One work-group per light; its work-items share the tiles of the light's screen rectangle, so a
  * light covering the whole screen is not binned by a single work-item.
  * fill == 0: count into tile_count; fill == 1: append to the tile lists (ts_bin_light). */
-__kernel void bin_lights(__global const float4 *light_pos_range, int light_count, float4 camera,
+__kernel void bin_lights(__global const float4 *light_pos_range,
+                         __global const float4 *light_spot, int light_count, float4 camera,
                          float znear, __global const float2 *tile_depth, int fill,
                          __global uint *tile_count, __global const uint *tile_offset,
                          __global uint *tile_cursor, __global uint *tile_lights, uint capacity) {
   int light = get_group_id(0);
   if (light >= light_count) return;
-  int width = (int)camera.z, height = (int)camera.w;
+  int width = (int)camera.z;
   int tiles_x = (width + TILE_W - 1) / TILE_W;
-  float4 pr = light_pos_range[light];
-  float3 c = pr.xyz;
-  float r = pr.w;
-  float4 b = ts_sphere_ndc_bounds(c, r, znear, camera.x, camera.y);
+  ts_light_volume v = ts_make_light_volume(light_pos_range[light], ts_light_spot(light_spot, light));
   int x0, y0, x1, y1;
-  if (!ts_ndc_bounds_to_tiles(b, width, height, TILE_W, TILE_H, &x0, &y0, &x1, &y1)) return;
+  if (!ts_light_tile_rect(&v, camera, znear, &x0, &y0, &x1, &y1)) return;
   int rect_w = x1 - x0 + 1, rect_tiles = rect_w * (y1 - y0 + 1);
   for (int i = get_local_id(0); i < rect_tiles; i += get_local_size(0)) {
     int tx = x0 + i % rect_w, ty = y0 + i / rect_w;
     int tile = ty * tiles_x + tx;
-    if (ts_light_meets_bin(c, r, tx, ty, tile_depth[tile], camera))
+    if (ts_light_meets_bin(&v, tx, ty, tile_depth[tile], camera))
       ts_bin_light((uint)light, tile, fill, tile_count, tile_offset, tile_cursor, tile_lights,
                    capacity);
   }
@@ -104,9 +101,8 @@ static inline int group_tile(int width) {
 
 #if TS_LANES == 1
 /* One work-item per pixel. */
-__kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
-                          __global const float4 *light_pos_range,
-                          __global const float4 *light_color, __global const uint *tile_count,
+__kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS, TS_LIGHT_PARAMS,
+                          TS_DIRECTIONAL_PARAMS, __global const uint *tile_count,
                           __global const uint *tile_offset, __global const uint *tile_lights,
                           uint capacity, __global float4 *image) {
   int x = get_global_id(0), y = get_global_id(1);
@@ -114,22 +110,21 @@ __kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
   if (x >= width || y >= height) return;
   ts_surface s;
   float3 sum = (float3)(0.0f);
-  if (ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)) {
+  if (ts_load_surface(x, y, camera, ambient, TS_GBUFFER_ARGS, &s)) {
     int tile = group_tile(width);
     sum = ts_shade_bin(&s, tile_offset[tile], tile_count[tile], capacity, tile_lights,
-                       light_pos_range, light_color);
-    sum += ts_surface_base(s.ke, s.kd, ambient.xyz);
+                       TS_LIGHT_ARGS);
+    sum += ts_shade_directionals(&s, TS_DIRECTIONAL_ARGS) + s.base;
   }
   image[y * width + x] = (float4)(sum, 0.0f);
 }
 #else
 #include "lanes.h"
 /* In lanes (kernels/lanes.h): every work-item decodes its pixel, then one work-item per TS_LANES
- * pixels runs the tile's list for all of them. `soa`: TS_LANE_PLANES floats per pixel slot of
- * local memory, from the host. */
-__kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
-                          __global const float4 *light_pos_range,
-                          __global const float4 *light_color, __global const uint *tile_count,
+ * pixels runs the tile's list (and the directional lights) for all of them. `soa`: TS_LANE_PLANES
+ * floats per pixel slot of local memory, from the host. */
+__kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS, TS_LIGHT_PARAMS,
+                          TS_DIRECTIONAL_PARAMS, __global const uint *tile_count,
                           __global const uint *tile_offset, __global const uint *tile_lights,
                           uint capacity, __global float4 *image, __local float *soa) {
   int x = get_global_id(0), y = get_global_id(1);
@@ -138,27 +133,27 @@ __kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
   int tile = group_tile(width);
   uint begin = tile_offset[tile];
   uint n = ts_bin_written(begin, tile_count[tile], capacity);
+  int lights = (int)n + ts_directional_count(dir_light_count);
   ts_surface s;
   /* A tile without lights (most of them, with small lights) skips the trip through local
    * memory (1.7x faster shading of the atrium's small lights on PoCL). Every item still reaches
    * both barriers: a uniform early return before them corrupted PoCL's heap. */
-  int lit = n > 0 ? ts_lanes_store_pixel(soa, x, y, inside, camera, TS_GBUFFER_ARGS, &s)
-                  : inside && ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s);
+  int lit = lights > 0 ? ts_lanes_store_pixel(soa, x, y, inside, camera, ambient, TS_GBUFFER_ARGS, &s)
+                       : inside && ts_load_surface(x, y, camera, ambient, TS_GBUFFER_ARGS, &s);
   barrier(CLK_LOCAL_MEM_FENCE);
   int first = ts_lanes_first_slot();
-  if (n > 0 && first >= 0) {
+  if (lights > 0 && first >= 0) {
     ts_lane_surface lanes = ts_lanes_get(soa, ts_lane_slots(), first);
-    ts_lane_rgb sum = {(TS_LANE)0, (TS_LANE)0, (TS_LANE)0};
-    for (uint k = 0; k < n; ++k) {
-      uint light = tile_lights[begin + k];
-      ts_lanes_add_light(&sum, &lanes, light_pos_range[light], light_color[light], TS_MODEL);
-    }
+    ts_lane_rgb sum = {(TS_LANE)0.0f, (TS_LANE)0.0f, (TS_LANE)0.0f};
+    for (uint k = 0; k < n; ++k)
+      ts_lanes_add_light(&sum, &lanes, TS_LIGHT_ARGS, tile_lights[begin + k]);
+    ts_lanes_add_directionals(&sum, &lanes, TS_DIRECTIONAL_ARGS);
     ts_lanes_put_rgb(soa, ts_lane_slots(), 0, first, &sum);
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (!inside) return;
   float3 sum = (float3)(0.0f);
-  if (lit) sum = (n > 0 ? ts_lanes_pixel_sum(soa) : sum) + ts_surface_base(s.ke, s.kd, ambient.xyz);
+  if (lit) sum = (lights > 0 ? ts_lanes_pixel_sum(soa) : sum) + s.base;
   image[y * width + x] = (float4)(sum, 0.0f);
 }
 #endif

@@ -7,7 +7,8 @@
  *   3. shade the tile's pixels over that list.
  * Every tile repeats the light tests that the multi-kernel variant (tiled.cl) does once per light
  * rectangle: simple, but redundant per-tile work. The per-tile test is the same as tiled.cl's
- * (projected-sphere rectangle, depth range, then TS_CULL), so both build identical tile sets.
+ * (the light volume's rectangle, depth range, then the tile test), so both build identical tile
+ * sets. Directional lights are not tested: every pixel adds them.
  *
  * The local list holds LIST_CAPACITY lights. A tile that accepts more is shaded in chunks: when
  * the next batch of tests could overflow the list, the list is shaded into private accumulators
@@ -18,14 +19,11 @@
  * time.
  *
  * Build-time constants: TILE_W, TILE_H (pixels), GROUP_W, GROUP_H (work-group shape, at most the
- * tile), LIST_CAPACITY (>= GROUP_W*GROUP_H), TS_MODEL, TS_CULL, TS_LANES, the G-buffer layout
- * (gbuffer.h).
+ * tile), LIST_CAPACITY (>= GROUP_W*GROUP_H), TS_CULL, TS_LANES, the scene's features and the
+ * G-buffer layout (gbuffer.h).
  */
 #include "gbuffer.h"
 
-#ifndef TS_MODEL
-#define TS_MODEL TS_MODEL_WINDOWED
-#endif
 #ifndef TS_CULL
 #define TS_CULL TS_CULL_RECT
 #endif
@@ -35,15 +33,14 @@
 /* Pixels of the tile each work-item owns (the tile may be larger than the work-group). */
 #define PIXELS_PER_ITEM (((TILE_W + GROUP_W - 1) / GROUP_W) * ((TILE_H + GROUP_H - 1) / GROUP_H))
 
-/* Does the light `pr` (view-space centre, range) reach tile (tx, ty) with depth range zr? The
- * same decisions as tiled.cl's bin_lights: inside the light's tile rectangle, then the bin test. */
-static int light_meets_tile(float4 pr, int tx, int ty, float2 zr, float4 camera, float znear) {
-  int width = (int)camera.z, height = (int)camera.w;
-  float4 b = ts_sphere_ndc_bounds(pr.xyz, pr.w, znear, camera.x, camera.y);
+/* Does light volume v reach tile (tx, ty) with depth range zr? The same decisions as tiled.cl's
+ * bin_lights: inside the light's tile rectangle, then the bin test. */
+static int light_meets_tile(const ts_light_volume *v, int tx, int ty, float2 zr, float4 camera,
+                            float znear) {
   int x0, y0, x1, y1;
-  if (!ts_ndc_bounds_to_tiles(b, width, height, TILE_W, TILE_H, &x0, &y0, &x1, &y1)) return 0;
+  if (!ts_light_tile_rect(v, camera, znear, &x0, &y0, &x1, &y1)) return 0;
   if (tx < x0 || tx > x1 || ty < y0 || ty > y1) return 0;
-  return ts_light_meets_bin(pr.xyz, pr.w, tx, ty, zr, camera);
+  return ts_light_meets_bin(v, tx, ty, zr, camera);
 }
 
 /* Screen position of the k-th pixel owned by this work-item; returns 0 when it is off the tile
@@ -58,25 +55,24 @@ static int owned_pixel(int k, int tx, int ty, int width, int height, int *x, int
 
 #if TS_LANES == 1
 /* Adds the listed lights' contributions to this work-item's pixels. The last call (`image` not
- * null) also adds the light-independent base and writes the pixels, so the common single-chunk
- * tile decodes each pixel's G-buffer once. */
+ * null) also adds the directional lights and the light-independent base and writes the pixels,
+ * so the common single-chunk tile decodes each pixel's G-buffer once. */
 static void shade_list(__local const uint *list, uint n, int tx, int ty, float4 camera,
-                       float4 ambient, TS_GBUFFER_PARAMS, __global const float4 *light_pos_range,
-                       __global const float4 *light_color, float3 *sum, __global float4 *image) {
+                       float4 ambient, TS_GBUFFER_PARAMS, TS_LIGHT_PARAMS, TS_DIRECTIONAL_PARAMS,
+                       float3 *sum, __global float4 *image) {
   int width = (int)camera.z, height = (int)camera.w;
   for (int k = 0; k < PIXELS_PER_ITEM; ++k) {
     int x, y;
     ts_surface s;
     if (!owned_pixel(k, tx, ty, width, height, &x, &y)) continue;
-    if (!ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)) {
+    if (!ts_load_surface(x, y, camera, ambient, TS_GBUFFER_ARGS, &s)) {
       if (image) image[y * width + x] = (float4)(0.0f);
       continue;
     }
-    for (uint i = 0; i < n; ++i) {
-      uint light = list[i];
-      sum[k] += ts_shade_light(&s, light_pos_range[light], light_color[light], TS_MODEL);
-    }
-    if (image) image[y * width + x] = (float4)(sum[k] + ts_surface_base(s.ke, s.kd, ambient.xyz), 0.0f);
+    for (uint i = 0; i < n; ++i) sum[k] += ts_shade_punctual(&s, TS_LIGHT_ARGS, list[i]);
+    if (image)
+      image[y * width + x] =
+          (float4)(sum[k] + ts_shade_directionals(&s, TS_DIRECTIONAL_ARGS) + s.base, 0.0f);
   }
 }
 #else
@@ -105,9 +101,9 @@ static void lanes_store_tile(__local float *soa, int tx, int ty, float4 camera, 
     if (slot < 0) continue;
     ts_surface s;
     int lit = owned_pixel(k, tx, ty, width, height, &x, &y) &&
-              ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s);
+              ts_load_surface(x, y, camera, ambient, TS_GBUFFER_ARGS, &s);
     ts_lanes_put(soa, TILE_SLOTS, slot, lit ? &s : 0);
-    float3 base = lit ? ts_surface_base(s.ke, s.kd, ambient.xyz) : (float3)(0.0f);
+    float3 base = lit ? s.base : (float3)(0.0f);
     soa[SUM_PLANE * TILE_SLOTS + slot] = base.x;
     soa[(SUM_PLANE + 1) * TILE_SLOTS + slot] = base.y;
     soa[(SUM_PLANE + 2) * TILE_SLOTS + slot] = base.z;
@@ -118,19 +114,17 @@ static void lanes_store_tile(__local float *soa, int tx, int ty, float4 camera, 
   }
 }
 
-/* Adds the listed lights to the sums of every slot of the tile, TS_LANES slots per step. */
+/* Adds the listed lights (and, in the last chunk, the directional lights: `dir_count` of them)
+ * to the sums of every slot of the tile, TS_LANES slots per step. */
 static void lanes_shade_list(__local const uint *list, uint n, __local float *soa,
-                             __global const float4 *light_pos_range,
-                             __global const float4 *light_color) {
+                             TS_LIGHT_PARAMS, TS_DIRECTIONAL_PARAMS) {
   int lid = get_local_id(1) * GROUP_W + get_local_id(0);
-  if (n == 0) return;
+  if (n == 0 && dir_light_count == 0) return;
   for (int first = lid * TS_LANES; first < TILE_SLOTS; first += GROUP_SIZE * TS_LANES) {
     ts_lane_surface lanes = ts_lanes_get(soa, TILE_SLOTS, first);
     ts_lane_rgb sum = ts_lanes_get_rgb(soa, TILE_SLOTS, SUM_PLANE, first);
-    for (uint i = 0; i < n; ++i) {
-      uint light = list[i];
-      ts_lanes_add_light(&sum, &lanes, light_pos_range[light], light_color[light], TS_MODEL);
-    }
+    for (uint i = 0; i < n; ++i) ts_lanes_add_light(&sum, &lanes, TS_LIGHT_ARGS, list[i]);
+    ts_lanes_add_directionals(&sum, &lanes, TS_DIRECTIONAL_ARGS);
     ts_lanes_put_rgb(soa, TILE_SLOTS, SUM_PLANE, first, &sum);
   }
 }
@@ -140,13 +134,12 @@ static void lanes_shade_list(__local const uint *list, uint n, __local float *so
  * pays for that trip. */
 static void lanes_shade_chunk(__local const uint *list, uint n, int first_chunk,
                               __local float *soa, int tx, int ty, float4 camera, float4 ambient,
-                              TS_GBUFFER_PARAMS, __global const float4 *light_pos_range,
-                              __global const float4 *light_color) {
+                              TS_GBUFFER_PARAMS, TS_LIGHT_PARAMS, TS_DIRECTIONAL_PARAMS) {
   if (first_chunk) {
     lanes_store_tile(soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS);
     barrier(CLK_LOCAL_MEM_FENCE);
   }
-  lanes_shade_list(list, n, soa, light_pos_range, light_color);
+  lanes_shade_list(list, n, soa, TS_LIGHT_ARGS, TS_DIRECTIONAL_ARGS);
 }
 
 /* Writes this work-item's on-screen pixels of a tile that lists no light: the base alone. */
@@ -157,8 +150,8 @@ static void write_base_tile(int tx, int ty, float4 camera, float4 ambient, TS_GB
     int x, y;
     ts_surface s;
     if (!owned_pixel(k, tx, ty, width, height, &x, &y)) continue;
-    image[y * width + x] = ts_load_surface(x, y, camera, TS_GBUFFER_ARGS, &s)
-                               ? (float4)(ts_surface_base(s.ke, s.kd, ambient.xyz), 0.0f)
+    image[y * width + x] = ts_load_surface(x, y, camera, ambient, TS_GBUFFER_ARGS, &s)
+                               ? (float4)(s.base, 0.0f)
                                : (float4)(0.0f);
   }
 }
@@ -193,9 +186,8 @@ static void record_chunk(__local const uint *list, uint n, uint accepted, int ti
  * LIST_CAPACITY entries, passed from the host (PoCL miscompiles a kernel-scope __local array
  * handed to a helper function; an argument works everywhere). */
 __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_tiled_single(
-    float4 camera, float4 ambient, float znear, TS_GBUFFER_PARAMS,
-    __global const float4 *light_pos_range, __global const float4 *light_color, int light_count,
-    __global uint *tile_count, __global uint *tile_lights, uint record_stride,
+    float4 camera, float4 ambient, float znear, TS_GBUFFER_PARAMS, TS_LIGHT_PARAMS,
+    int light_count, TS_DIRECTIONAL_PARAMS, __global uint *tile_count, __global uint *tile_lights, uint record_stride,
     __global float4 *image, __local uint *list
 #if TS_LANES > 1
     , __local float *soa
@@ -252,11 +244,12 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
     barrier(CLK_LOCAL_MEM_FENCE);
     if (n + GROUP_SIZE > LIST_CAPACITY) {
 #if TS_LANES == 1
-      shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, light_pos_range, light_color,
-                 sum, 0);
+      shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, TS_LIGHT_ARGS,
+                 TS_DIRECTIONAL_ARGS, sum, 0);
 #else
+      /* Directional lights are added once, with the last chunk (0 of them here). */
       lanes_shade_chunk(list, n, accepted == 0, soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS,
-                        light_pos_range, light_color);
+                        TS_LIGHT_ARGS, dir_light_dir, dir_light_color, 0);
 #endif
       record_chunk(list, n, accepted, tile, record_stride, tile_lights);
       accepted += n;
@@ -264,20 +257,23 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
       barrier(CLK_LOCAL_MEM_FENCE);
     }
     int light = base + lid;
-    if (light < light_count && light_meets_tile(light_pos_range[light], tx, ty, zr, camera, znear))
-      list[atomic_inc(&list_len)] = (uint)light;
+    if (light < light_count) {
+      ts_light_volume v = ts_load_light_volume(TS_LIGHT_ARGS, (uint)light);
+      if (light_meets_tile(&v, tx, ty, zr, camera, znear)) list[atomic_inc(&list_len)] = (uint)light;
+    }
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   uint n = list_len;
 #if TS_LANES == 1
-  shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, light_pos_range, light_color, sum,
-             image);
+  shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, TS_LIGHT_ARGS, TS_DIRECTIONAL_ARGS,
+             sum, image);
 #else
-  if (accepted + n == 0) {
+  int dir_count = ts_directional_count(dir_light_count);
+  if (accepted + n == 0 && dir_count == 0) {
     write_base_tile(tx, ty, camera, ambient, TS_GBUFFER_ARGS, image);
   } else {
     lanes_shade_chunk(list, n, accepted == 0, soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS,
-                      light_pos_range, light_color);
+                      TS_LIGHT_ARGS, dir_light_dir, dir_light_color, dir_count);
     barrier(CLK_LOCAL_MEM_FENCE);
     lanes_write_tile(soa, tx, ty, camera, image);
   }

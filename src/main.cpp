@@ -62,6 +62,18 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   renderCmd->add_option("--light-range", render.lightRange, "override every light's range (0: keep)")
       ->capture_default_str();
+  renderCmd->add_option("--variant", render.variant,
+                        "built-in scene variants, a comma list of: " +
+                            joined(ts::builtinVariants()) + " (scenes/README.md)");
+  renderCmd->add_option("--shading-model", render.shadingModel,
+                        "auto (the scene's own: metallic-roughness for glTF, blinn-phong for the "
+                        "built-ins), blinn-phong or metallic-roughness")
+      ->capture_default_str();
+  renderCmd->add_option("--features", render.features,
+                        "what the kernels and the G-buffer model: auto (what the scene needs), "
+                        "general (everything), or a comma list of specular, emissive, textures, "
+                        "point, spot, directional (docs/features.md)")
+      ->capture_default_str();
   renderCmd->add_option("--light-threshold", render.lightThreshold,
                         "ranges from the attenuation threshold t: r = sqrt(max(C)/t), e.g. "
                         "0.01953125 (5/256); 0 keeps the scene's ranges")

@@ -209,10 +209,10 @@ TEST(AccuracyKnobs, PackedDecodeMatchesTheHostForEveryCode) {
       }
       // exp2 of the shininess byte: the same float (OpenCL's exp2 may be 3 ulp off in general;
       // docs/accuracy.md), checked for all 256 codes.
-      ASSERT_NEAR(o[12], float(s.shininess), 3.0 * std::ldexp(double(s.shininess), -23)) << x;
+      ASSERT_NEAR(o[12], float(s.gloss), 3.0 * std::ldexp(double(s.gloss), -23)) << x;
       if (y == 0) RecordProperty("shininess_" + std::to_string(x) + "_ulps_off",
-                                 std::to_string(std::abs(double(o[12]) - s.shininess) /
-                                                std::ldexp(s.shininess, -23)));
+                                 std::to_string(std::abs(double(o[12]) - s.gloss) /
+                                                std::ldexp(s.gloss, -23)));
     }
 }
 

@@ -171,11 +171,9 @@ TEST(DeferredNearPlane, LightAroundCameraCoversWholeScreen) {
   PreparedFrame f = prepareFrame(builtinScene("street", "few"), 0, 200, 120, GBufferFormat::FP32);
   float zn = f.intrinsics.znear;
   f.lights = ViewLights();
-  f.lights.positionRange = {glm::vec4(0.3f, -0.2f, -0.5f * zn, 40.0f),  // contains the camera
-                            glm::vec4(3.0f, -1.6f, 0.0f, 3.3f),         // straddles the near plane
-                            glm::vec4(0.0f, 0.0f, 50.0f, 3.0f)};        // behind the camera
-  f.lights.color = {glm::vec4(30.0f, 25.0f, 20.0f, 0.0f), glm::vec4(5.0f, 8.0f, 12.0f, 0.0f),
-                    glm::vec4(100.0f, 100.0f, 100.0f, 0.0f)};
+  f.lights.addPoint({0.3f, -0.2f, -0.5f * zn}, 40.0f, {30.0f, 25.0f, 20.0f});  // holds the camera
+  f.lights.addPoint({3.0f, -1.6f, 0.0f}, 3.3f, {5.0f, 8.0f, 12.0f});  // straddles the near plane
+  f.lights.addPoint({0.0f, 0.0f, 50.0f}, 3.0f, {100.0f, 100.0f, 100.0f});  // behind the camera
   ASSERT_GT(glm::length(glm::vec3(f.lights.positionRange[1])), f.lights.positionRange[1].w);
   ASSERT_GT(insidePairs(f, 1), 0u) << "the near-plane light reaches no geometry";
   ReferenceImage ref = reference(f);

@@ -119,7 +119,7 @@ TEST(GBufferLayout, Fp32RoundTripIsExact) {
       if (!geometry) continue;
       EXPECT_EQ(s.kd, glm::dvec3(glm::vec3(g.diffuse[i])));
       EXPECT_EQ(s.ks, glm::dvec3(glm::vec3(g.specular[i])));
-      EXPECT_EQ(s.shininess, double(g.specular[i].w));
+      EXPECT_EQ(s.gloss, double(g.specular[i].w));
       EXPECT_EQ(s.ke, glm::dvec3(glm::vec3(g.emissive[i])));
       glm::dvec3 n = glm::normalize(glm::dvec3(glm::vec3(g.normal[i])));
       EXPECT_NEAR(glm::distance(s.N, n), 0.0, 1e-15);
@@ -173,7 +173,7 @@ TEST(GBufferLayout, Fp16StoresRoundToNearestEvenHalves) {
   ts::SurfaceD s;
   ASSERT_TRUE(ts::decodeSurface(e, intrinsics(2, 1), 0, 0, s));
   EXPECT_EQ(s.kd, glm::dvec3(1.0, 1.0 + std::ldexp(1.0, -9), halfToDouble(0x2E66)));
-  EXPECT_EQ(s.shininess, 1000.0);
+  EXPECT_EQ(s.gloss, 1000.0);
   EXPECT_EQ(s.ks.x, halfToDouble(halfBits(e.specular, 0, 0)));
   EXPECT_NE(s.ks.x, 0.04);  // 0.04 is not a half
   glm::dvec3 n(halfToDouble(halfBits(e.normal, 0, 0)), halfToDouble(halfBits(e.normal, 0, 1)),
@@ -380,8 +380,8 @@ TEST(GBufferLayout, PackedShininessByteWithinItsRelativeBound) {
   ts::SurfaceD s;
   ASSERT_TRUE(ts::decodeSurface(e, intrinsics(3, 2), 2, 0, s));
   EXPECT_EQ(u32At(e.specular, 2) >> 24, pk::encodeShininess(g.specular[2].w));
-  EXPECT_EQ(s.shininess, double(pk::decodeShininess(uint8_t(u32At(e.specular, 2) >> 24))));
-  EXPECT_NEAR(s.shininess, g.specular[2].w, g.specular[2].w * pk::kMaxShininessRelError);
+  EXPECT_EQ(s.gloss, double(pk::decodeShininess(uint8_t(u32At(e.specular, 2) >> 24))));
+  EXPECT_NEAR(s.gloss, g.specular[2].w, g.specular[2].w * pk::kMaxShininessRelError);
 }
 
 TEST(GBufferLayout, PackedEmissiveIsHalfAndDepthFloat) {

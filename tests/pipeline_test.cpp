@@ -144,9 +144,9 @@ TEST(GBufferDecode, KernelMatchesHostDecoder) {
         // Packed shininess is decoded with exp2, which OpenCL allows 3 ulp; the other layouts
         // store it and must match exactly.
         if (format == GBufferFormat::PACKED)
-          EXPECT_NEAR(o[12], s.shininess, 3 * std::ldexp(1.0, std::ilogb(s.shininess) - 23));
+          EXPECT_NEAR(o[12], s.gloss, 3 * std::ldexp(1.0, std::ilogb(s.gloss) - 23));
         else
-          EXPECT_EQ(o[12], float(s.shininess));
+          EXPECT_EQ(o[12], float(s.gloss));
       }
     EXPECT_GT(geometry, 0u);
   }

@@ -201,38 +201,71 @@ std::string gbufferKernelDefines(GBufferFormat format) {
   return "";
 }
 
+bool EncodedGBuffer::hasSpecularPlane() const {
+  if (model == ShadingModel::MetallicRoughness) return format == GBufferFormat::PACKED;
+  return hasSpecular;
+}
+
 size_t EncodedGBuffer::bytesPerPixel() const {
-  // depth + normal, diffuse, specular + emissive
-  return sizeof(float) + 3 * elementBytes(format) + emissiveBytes(format);
+  size_t bytes = sizeof(float) + 2 * elementBytes(format);  // depth, normal, diffuse
+  if (hasSpecularPlane())
+    bytes += model == ShadingModel::MetallicRoughness ? 1 : elementBytes(format);
+  if (hasEmissive) bytes += emissiveBytes(format);
+  return bytes;
 }
 
 std::string EncodedGBuffer::kernelDefines() const { return gbufferKernelDefines(format); }
 
 EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format) {
+  return encode(gbuffer, format, SceneFeatures::general(gbuffer.model));
+}
+
+EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format,
+                      const SceneFeatures& features) {
   const size_t n = gbuffer.pixelCount();
   if (gbuffer.depth.size() != n || gbuffer.normal.size() != n || gbuffer.diffuse.size() != n ||
       gbuffer.specular.size() != n || gbuffer.emissive.size() != n)
     throw Error("G-buffer planes do not match its size " + std::to_string(gbuffer.width) + "x" +
                 std::to_string(gbuffer.height));
+  if (features.model != gbuffer.model)
+    throw Error("G-buffer rasterized for " + toString(gbuffer.model) + " cannot be stored for " +
+                toString(features.model));
   EncodedGBuffer e;
   e.format = format;
+  e.model = gbuffer.model;
+  e.hasSpecular = features.specular || gbuffer.model == ShadingModel::MetallicRoughness;
+  e.hasEmissive = features.emissive;
   e.width = gbuffer.width;
   e.height = gbuffer.height;
+  const bool mr = gbuffer.model == ShadingModel::MetallicRoughness;
   raster_detail::assignRange(e.depth, gbuffer.depth.begin(), gbuffer.depth.end());
   if (format == GBufferFormat::PACKED) {
     e.normal = encodePacked(gbuffer.normal, n,
                             [](const glm::vec4& v) { return packed::encodeNormal(glm::vec3(v)); });
+    // Blinn-Phong: kd rgb (alpha 1); metallic-roughness: base rgb + metallic.
     e.diffuse = encodePacked(gbuffer.diffuse, n, packUnorm8x4);
-    e.specular = encodePacked(gbuffer.specular, n, [](const glm::vec4& v) {
-      return (packUnorm8x4(v) & 0x00ffffffu) | uint32_t(packed::encodeShininess(v.w)) << 24;
-    });
-    e.emissive = encodePlane(gbuffer.emissive, n, GBufferFormat::FP16);
+    if (mr) {
+      raster_detail::assignZeroed(e.specular, n);
+      for (size_t i = 0; i < n; ++i) e.specular[i] = packed::encodeUnorm8(gbuffer.specular[i].x);
+    } else if (e.hasSpecularPlane()) {
+      e.specular = encodePacked(gbuffer.specular, n, [](const glm::vec4& v) {
+        return (packUnorm8x4(v) & 0x00ffffffu) | uint32_t(packed::encodeShininess(v.w)) << 24;
+      });
+    }
+    if (e.hasEmissive) e.emissive = encodePlane(gbuffer.emissive, n, GBufferFormat::FP16);
     return e;
   }
-  e.normal = encodePlane(gbuffer.normal, n, format);
+  if (mr) {
+    // Roughness rides in the normal's unused w.
+    std::vector<glm::vec4> normal(gbuffer.normal.begin(), gbuffer.normal.end());
+    for (size_t i = 0; i < n; ++i) normal[i].w = gbuffer.specular[i].x;
+    e.normal = encodePlane(normal, n, format);
+  } else {
+    e.normal = encodePlane(gbuffer.normal, n, format);
+  }
   e.diffuse = encodePlane(gbuffer.diffuse, n, format);
-  e.specular = encodePlane(gbuffer.specular, n, format);
-  e.emissive = encodePlane(gbuffer.emissive, n, format);
+  if (e.hasSpecularPlane()) e.specular = encodePlane(gbuffer.specular, n, format);
+  if (e.hasEmissive) e.emissive = encodePlane(gbuffer.emissive, n, format);
   return e;
 }
 
@@ -244,30 +277,48 @@ bool decodeSurface(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera
                 std::to_string(gbuffer.height));
   if (x < 0 || y < 0 || x >= gbuffer.width || y >= gbuffer.height)
     throw std::out_of_range("decodeSurface: pixel outside the G-buffer");
-  // ts_load_surface, step by step.
+  // ts_load_surface, step by step: the stored values as the kernels decode them (in float), then
+  // widened; the derived terms in double.
   const size_t i = size_t(y) * size_t(camera.width) + size_t(x);
   const float depth = gbuffer.depth[i];
   if (depth <= 0.0f) return false;
   surface.P = shading_d::ts_view_position(x, y, double(depth), double(camera.tanHalfFovX),
                                           double(camera.tanHalfFovY), camera.width, camera.height);
   surface.V = normalizeLikeOpenCL(-surface.P);
-  if (gbuffer.format == GBufferFormat::PACKED) {
-    // ts_decode_* of TS_GBUFFER_PACKED: the float values the kernels compute, then widened.
-    surface.N = normalizeLikeOpenCL(
-        glm::dvec3(packed::decodeNormalUnnormalized(loadPacked(gbuffer.normal, i))));
-    surface.kd = glm::dvec3(unorm8x3(loadPacked(gbuffer.diffuse, i)));
-    const uint32_t spec = loadPacked(gbuffer.specular, i);
-    surface.ks = glm::dvec3(unorm8x3(spec));
-    surface.shininess = double(packed::decodeShininess(uint8_t(spec >> 24)));
-    surface.ke = glm::dvec3(glm::vec3(load4(gbuffer.emissive, i, GBufferFormat::FP16)));
-    return true;
+  const bool packedLayout = gbuffer.format == GBufferFormat::PACKED;
+  glm::vec4 normal(0.0f), diffuse(0.0f), specular(0.0f, 0.0f, 0.0f, 1.0f);
+  if (packedLayout) {
+    normal = glm::vec4(packed::decodeNormalUnnormalized(loadPacked(gbuffer.normal, i)), 0.0f);
+    const uint32_t d = loadPacked(gbuffer.diffuse, i);
+    diffuse = glm::vec4(unorm8x3(d), packed::decodeUnorm8(uint8_t(d >> 24)));
+    if (gbuffer.model == ShadingModel::MetallicRoughness) {
+      specular.x = packed::decodeUnorm8(gbuffer.specular[i]);
+    } else if (gbuffer.hasSpecularPlane()) {
+      const uint32_t spec = loadPacked(gbuffer.specular, i);
+      specular = glm::vec4(unorm8x3(spec), packed::decodeShininess(uint8_t(spec >> 24)));
+    }
+  } else {
+    normal = load4(gbuffer.normal, i, gbuffer.format);
+    diffuse = load4(gbuffer.diffuse, i, gbuffer.format);
+    if (gbuffer.model == ShadingModel::MetallicRoughness) specular.x = normal.w;
+    else if (gbuffer.hasSpecularPlane()) specular = load4(gbuffer.specular, i, gbuffer.format);
   }
-  surface.N = normalizeLikeOpenCL(glm::dvec3(glm::vec3(load4(gbuffer.normal, i, gbuffer.format))));
-  surface.kd = glm::dvec3(glm::vec3(load4(gbuffer.diffuse, i, gbuffer.format)));
-  const glm::vec4 spec = load4(gbuffer.specular, i, gbuffer.format);
-  surface.ks = glm::dvec3(glm::vec3(spec));
-  surface.shininess = double(spec.w);
-  surface.ke = glm::dvec3(glm::vec3(load4(gbuffer.emissive, i, gbuffer.format)));
+  surface.N = normalizeLikeOpenCL(glm::dvec3(glm::vec3(normal)));
+  if (gbuffer.model == ShadingModel::MetallicRoughness) {
+    shading_d::ts_metallic_roughness_terms(glm::dvec3(glm::vec3(diffuse)), double(diffuse.w),
+                                           double(specular.x), &surface.cDiff, &surface.kd,
+                                           &surface.ks, &surface.gloss);
+    surface.viewTerm = shading_d::ts_smith_view_term(surface.N, surface.V, surface.gloss);
+  } else {
+    surface.kd = surface.cDiff = glm::dvec3(glm::vec3(diffuse));
+    surface.ks = gbuffer.hasSpecularPlane() ? glm::dvec3(glm::vec3(specular)) : glm::dvec3(0.0);
+    surface.gloss = gbuffer.hasSpecularPlane() ? double(specular.w) : 1.0;
+    surface.viewTerm = 1.0;
+  }
+  surface.ke = glm::dvec3(0.0);
+  if (gbuffer.hasEmissive)
+    surface.ke = glm::dvec3(glm::vec3(
+        load4(gbuffer.emissive, i, packedLayout ? GBufferFormat::FP16 : gbuffer.format)));
   return true;
 }
 

@@ -8,12 +8,15 @@
 #include <glm/glm.hpp>
 
 #include "raster/gbuffer.h"
+#include "scene/scene_features.h"
 
 namespace ts {
 
-// fp32: float4 planes (68 B/pixel). fp16: half4 planes (36 B/pixel). packed (24 B/pixel):
-// octahedral normal in 2 x snorm16, unorm8 diffuse RGBA, unorm8 specular RGB + a shininess byte,
-// half4 emissive. Depth is float32 in every layout. Error bounds: docs/accuracy.md.
+// Storage precisions. fp32: float4 planes. fp16: half4 planes. packed: octahedral normal in
+// 2 x snorm16, unorm8 diffuse RGBA, unorm8 specular RGB + a shininess byte (metallic-roughness:
+// a roughness byte), half4 emissive. Depth is float32 in every layout. Which planes a layout has
+// depends on the scene's features (EncodedGBuffer); with every plane, Blinn-Phong takes 68, 36 and
+// 24 B/pixel. Table and error bounds: docs/accuracy.md.
 enum class GBufferFormat { FP32, FP16, PACKED };
 
 std::string toString(GBufferFormat format);
@@ -22,22 +25,34 @@ GBufferFormat parseGBufferFormat(const std::string& name);
 // OpenCL build option selecting the layout's decoder in kernels/gbuffer.h ("" for fp32).
 std::string gbufferKernelDefines(GBufferFormat format);
 
-// The planes exactly as they are uploaded (see kernels/gbuffer.h for the layout).
+// The planes exactly as they are uploaded (see kernels/gbuffer.h for the layout). Depth, normal and
+// diffuse are always there; the specular plane only for Blinn-Phong with a specular term (ks +
+// shininess) or packed metallic-roughness (roughness byte; fp32/fp16 keep roughness in the
+// normal's w, metallic in the diffuse's w), the emissive plane only with emission. An absent
+// plane is an empty vector.
 struct EncodedGBuffer {
   GBufferFormat format = GBufferFormat::FP32;
+  ShadingModel model = ShadingModel::BlinnPhong;
+  bool hasSpecular = true, hasEmissive = true;  // the features the planes were chosen for
   int width = 0;
   int height = 0;
   std::vector<float> depth;
   // fp32/fp16: 4 elements per pixel each. packed: one uint per pixel for normal, diffuse and
-  // specular, half4 for emissive.
+  // (Blinn-Phong) specular, one byte for the metallic-roughness specular plane, half4 emissive.
   std::vector<uint8_t> normal, diffuse, specular, emissive;
 
   size_t pixelCount() const { return size_t(width) * size_t(height); }
-  size_t bytesPerPixel() const;  // all planes together
-  // OpenCL build options selecting the matching decoder in kernels/gbuffer.h.
+  bool hasSpecularPlane() const;
+  size_t bytesPerPixel() const;  // the planes present, together
+  // OpenCL build options selecting the matching decoder in kernels/gbuffer.h (the precision; the
+  // planes present follow from the features' own defines).
   std::string kernelDefines() const;
 };
 
+// Encodes the planes `features` needs (model: the G-buffer's own, which must equal
+// features.model).
+EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format, const SceneFeatures& features);
+// Every plane, for the G-buffer's model (the general layout).
 EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format);
 
 // The packed layout's element codecs (kernels/gbuffer.h, TS_GBUFFER_PACKED), exposed for tests.
@@ -64,10 +79,15 @@ constexpr double kMaxUnorm8Error = 0.5 / 255.0 + 1e-7;  // half a step, plus flo
 constexpr double kMaxShininessRelError = 0.0151;  // 2^(11/510) - 1 = 1.506%, plus float rounding
 }  // namespace packed
 
-// A decoded pixel in double precision, from the stored values.
+// A decoded pixel in double precision, from the stored values: ts_surface of kernels/gbuffer.h,
+// with the emission and the ambient albedo apart (the reference forms the base itself).
 struct SurfaceD {
-  glm::dvec3 P{0.0}, N{0.0}, V{0.0}, kd{0.0}, ks{0.0}, ke{0.0};
-  double shininess = 0.0;
+  glm::dvec3 P{0.0}, N{0.0}, V{0.0};
+  glm::dvec3 kd{0.0}, ks{0.0};  // the colours of the weights wd and ws (kernels/shading.h)
+  double gloss = 1.0;           // Blinn-Phong shininess, metallic-roughness alpha
+  double viewTerm = 1.0;        // metallic-roughness: Smith view term
+  glm::dvec3 cDiff{0.0};        // the colour the ambient term lights
+  glm::dvec3 ke{0.0};
 };
 
 // Returns false for background. Mirrors ts_load_surface (kernels/gbuffer.h).

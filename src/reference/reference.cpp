@@ -22,11 +22,30 @@ void parallelRows(int height, int threads, Body body) {
   for (auto& th : pool) th.join();
 }
 
-glm::dvec3 lightContribution(const SurfaceD& s, const ViewLights& lights, size_t i, int model) {
-  glm::dvec3 lp = glm::dvec3(glm::vec3(lights.positionRange[i]));
-  glm::dvec3 c = glm::dvec3(glm::vec3(lights.color[i]));
-  double r = double(lights.positionRange[i].w);
-  return shading_d::ts_point_light(s.P, s.N, s.V, s.kd, s.ks, s.shininess, lp, c, r, model);
+// The light terms as every kernel forms them, in double: the general pipeline (specular and spot
+// terms on; a scene without them contributes exactly 0 through them), the G-buffer's shading
+// model.
+glm::dvec4 widen(const glm::vec4& v) { return glm::dvec4(v); }
+
+shading_d::ts_shading_point shadingPoint(const SurfaceD& s, int shading) {
+  shading_d::ts_shading_point p = shading_d::ts_make_shading_point(s.P, s.N, s.V, s.gloss, shading);
+  p.view_term = s.viewTerm;  // as decoded (the same formula; kept for one source of truth)
+  return p;
+}
+
+glm::dvec3 lightContribution(const SurfaceD& s, const shading_d::ts_shading_point& p,
+                             const ViewLights& lights, size_t i, int model, int shading) {
+  return shading_d::ts_punctual_light(&p, s.kd, s.ks, widen(lights.positionRange[i]),
+                                      widen(lights.color[i]), widen(lights.spot[i]), model,
+                                      shading, 1, 1);
+}
+
+glm::dvec3 directionalContribution(const SurfaceD& s, const shading_d::ts_shading_point& p,
+                                   const ViewLights& lights, size_t i, int shading) {
+  return shading_d::ts_directional_light(&p, s.kd, s.ks,
+                                         glm::dvec3(glm::vec3(lights.directionalDir[i])),
+                                         glm::dvec3(glm::vec3(lights.directionalColor[i])),
+                                         shading, 1);
 }
 
 bool nonZero(const glm::dvec3& v) { return v.x != 0.0 || v.y != 0.0 || v.z != 0.0; }
@@ -42,19 +61,29 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
   ref.rgb.assign(gbuffer.pixelCount(), glm::dvec3(0.0));
   std::vector<uint64_t> rowContributing(size_t(gbuffer.height), 0);
   glm::dvec3 a = glm::dvec3(ambient);
+  const int shading = int(gbuffer.model);
   parallelRows(gbuffer.height, threads, [&](int y) {
     for (int x = 0; x < gbuffer.width; ++x) {
       SurfaceD s;
       if (!decodeSurface(gbuffer, camera, x, y, s)) continue;
+      shading_d::ts_shading_point p = shadingPoint(s, shading);
       glm::dvec3 sum(0.0);
+      // Punctual lights in list order, then the directional ones, as the kernels add them.
       for (size_t i = 0; i < lights.size(); ++i) {
-        glm::dvec3 c = lightContribution(s, lights, i, model);
+        glm::dvec3 c = lightContribution(s, p, lights, i, model, shading);
         if (nonZero(c)) {
           sum += c;
           ++rowContributing[size_t(y)];
         }
       }
-      ref.rgb[size_t(y) * gbuffer.width + x] = sum + shading_d::ts_surface_base(s.ke, s.kd, a);
+      for (size_t i = 0; i < lights.directionalCount(); ++i) {
+        glm::dvec3 c = directionalContribution(s, p, lights, i, shading);
+        if (nonZero(c)) {
+          sum += c;
+          ++rowContributing[size_t(y)];
+        }
+      }
+      ref.rgb[size_t(y) * gbuffer.width + x] = sum + shading_d::ts_surface_base(s.ke, s.cDiff, a);
     }
   });
   for (auto n : rowContributing) ref.contributing += n;
@@ -76,10 +105,11 @@ uint64_t countMissedContributions(const LightAssignment& assignment, const Encod
     for (int x = 0; x < gbuffer.width; ++x) {
       SurfaceD s;
       if (!decodeSurface(gbuffer, camera, x, y, s)) continue;
+      shading_d::ts_shading_point p = shadingPoint(s, int(gbuffer.model));
       size_t pixel = size_t(y) * gbuffer.width + x;
       int bin = assignment.pixelBin.empty() ? -1 : assignment.pixelBin[pixel];
       for (size_t i = 0; i < n; ++i) {
-        if (!nonZero(lightContribution(s, lights, i, model))) continue;
+        if (!nonZero(lightContribution(s, p, lights, i, model, int(gbuffer.model)))) continue;
         bool seen = bin >= 0 && listed[size_t(bin) * n + i];
         if (!seen && !assignment.lightRect.empty()) {
           const glm::ivec4& r = assignment.lightRect[i];

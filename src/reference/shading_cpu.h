@@ -28,6 +28,8 @@ inline double dot(const glm::dvec3& a, const glm::dvec3& b) { return glm::dot(a,
 #undef TS_REAL
 #undef TS_REAL3
 #undef TS_REAL4
+#undef TS_LANE
+#undef TS_ANY
 }  // namespace shading_d
 
 namespace shading_f {
@@ -46,6 +48,8 @@ inline float dot(const glm::vec3& a, const glm::vec3& b) { return glm::dot(a, b)
 #undef TS_REAL
 #undef TS_REAL3
 #undef TS_REAL4
+#undef TS_LANE
+#undef TS_ANY
 }  // namespace shading_f
 
 }  // namespace ts

@@ -9,7 +9,15 @@ namespace ts {
 PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
                            GBufferFormat format) {
   return prepareFrame(scene, frame, width, height, format,
-                      analyzeScene(scene, ShadingModel::BlinnPhong));
+                      SceneFeatures::general(ShadingModel::BlinnPhong));
+}
+
+SceneFeatures resolveFeatures(const Scene& scene, const std::string& shadingModel,
+                              const std::string& features) {
+  ShadingModel model = shadingModel.empty() || shadingModel == "auto"
+                           ? nativeShadingModel(scene)
+                           : parseShadingModel(shadingModel);
+  return chooseFeatures(features, analyzeScene(scene, model));
 }
 
 PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
@@ -28,7 +36,7 @@ PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
   f.gbuffer = rasterize(scene, f.camera, width, height, raster);
   f.rasterMs =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  f.encoded = encode(f.gbuffer, format);
+  f.encoded = encode(f.gbuffer, format, features);
   f.lights = toViewSpace(scene.lights, f.camera.viewFromWorld);
   f.ambient = scene.ambient;
   return f;

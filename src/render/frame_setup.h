@@ -1,6 +1,8 @@
 #pragma once
 // Host-side preparation of one frame: camera, rasterized and encoded G-buffer, view-space lights.
 // Shared by `render`, `bench` and the tests.
+#include <string>
+
 #include "raster/gbuffer.h"
 #include "raster/gbuffer_layout.h"
 #include "scene/scene.h"
@@ -25,11 +27,18 @@ struct PreparedFrame {
   }
 };
 
-// Rasterizes for `features.model` (the material terms the G-buffer planes hold).
+// Rasterizes for `features.model` (the material terms the G-buffer planes hold) and stores the
+// planes `features` needs.
 PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
                            GBufferFormat format, const SceneFeatures& features);
-// The same with the scene's own features (analyzeScene) for Blinn-Phong shading.
+// The general Blinn-Phong pipeline's frame (every plane): what a default TechniqueConfig reads.
 PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
                            GBufferFormat format);
+
+// The features of a run: the shading model ("auto": the scene's own, nativeShadingModel; or
+// "blinn-phong", "metallic-roughness"), then the analysis of the scene for it, overridden by
+// `features` ("auto", "general" or a list; chooseFeatures). Throws ts::Error on bad input.
+SceneFeatures resolveFeatures(const Scene& scene, const std::string& shadingModel,
+                              const std::string& features);
 
 }  // namespace ts

@@ -47,7 +47,7 @@ void writeDump(ClContext& cl, DeviceFrame& frame, const TechniqueConfig& config,
                const std::string& dir) {
   cl::Program program = cl.build("dump.cl", config.kernelOptions());
   cl::Kernel kernel(program, "decode_gbuffer");
-  const int channels = 17;
+  const int channels = 17;  // DUMP_CHANNELS of kernels/dump.cl
   size_t pixels = size_t(frame.width()) * frame.height();
   cl::Buffer out(cl.context(), CL_MEM_WRITE_ONLY, pixels * channels * sizeof(float));
   kernel.setArg(0, toCl(frame.camera.kernelCamera()));
@@ -58,24 +58,63 @@ void writeDump(ClContext& cl, DeviceFrame& frame, const TechniqueConfig& config,
                                   cl::NDRange(8, 8));
   std::vector<float> data(pixels * channels);
   cl.queue().enqueueReadBuffer(out, CL_TRUE, 0, data.size() * sizeof(float), data.data());
-  writeExr(dir + "/gbuffer.exr", frame.width(), frame.height(),
-           {"P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "kd.R", "kd.G", "kd.B", "ks.R", "ks.G",
-            "ks.B", "shininess", "ke.R", "ke.G", "ke.B", "mask"},
-           data);
+  // The material channels (6..12) are the shading model's stored terms (kernels/dump.cl).
+  const bool mr = config.features.model == ShadingModel::MetallicRoughness;
+  std::vector<std::string> names = {"P.x", "P.y", "P.z", "N.x", "N.y", "N.z"};
+  if (mr) {
+    for (const char* n : {"base.R", "base.G", "base.B", "metallic", "roughness", "unused.0",
+                          "unused.1"})
+      names.push_back(n);
+  } else {
+    for (const char* n : {"kd.R", "kd.G", "kd.B", "ks.R", "ks.G", "ks.B", "shininess"})
+      names.push_back(n);
+  }
+  for (const char* n : {"ke.R", "ke.G", "ke.B", "mask"}) names.push_back(n);
+  writeExr(dir + "/gbuffer.exr", frame.width(), frame.height(), names, data);
 
+  // Lights in view space with the kernels' own values (kernels/shading.h, "Lights").
   nlohmann::json lights = nlohmann::json::array();
-  for (size_t i = 0; i < frame.lights->size(); ++i) {
-    const auto& p = frame.lights->positionRange[i];
-    const auto& c = frame.lights->color[i];
-    lights.push_back({{"type", "point"},
-                      {"position", {p.x, p.y, p.z}},
-                      {"color", {c.x, c.y, c.z}},
-                      {"range", p.w}});
+  const ViewLights& vl = *frame.lights;
+  for (size_t i = 0; i < vl.size(); ++i) {
+    const auto& p = vl.positionRange[i];
+    const auto& c = vl.color[i];
+    const auto& sp = vl.spot[i];
+    nlohmann::json l = {{"type", sp.w > -1.0f ? "spot" : "point"},
+                        {"position", {p.x, p.y, p.z}},
+                        {"color", {c.x, c.y, c.z}},
+                        {"range", p.w}};
+    if (sp.w > -1.0f) {
+      l["direction"] = {sp.x, sp.y, sp.z};
+      l["cos_outer"] = sp.w;
+      l["angle_scale"] = c.w;
+    }
+    lights.push_back(l);
+  }
+  for (size_t i = 0; i < vl.directionalCount(); ++i) {
+    const auto& d = vl.directionalDir[i];
+    const auto& c = vl.directionalColor[i];
+    lights.push_back({{"type", "directional"},
+                      {"to_light", {d.x, d.y, d.z}},
+                      {"color", {c.x, c.y, c.z}}});
   }
   nlohmann::json j = {{"dmin", TS_DMIN},
+                      {"shading_model", toString(config.features.model)},
                       {"ambient", {frame.ambient.x, frame.ambient.y, frame.ambient.z}},
                       {"lights", lights}};
   std::ofstream(dir + "/lights.json") << j.dump(2) << "\n";
+}
+
+// "924 lights" or "12 lights: 6 point, 5 spot, 1 directional".
+std::string lightSummary(const std::vector<Light>& lights) {
+  size_t count[3] = {0, 0, 0};
+  for (const Light& l : lights) ++count[int(l.type)];
+  std::string s = std::to_string(lights.size()) + " lights";
+  if (count[0] == lights.size()) return s;
+  const char* names[3] = {"point", "spot", "directional"};
+  std::string parts;
+  for (int t = 0; t < 3; ++t)
+    if (count[t]) parts += (parts.empty() ? "" : ", ") + std::to_string(count[t]) + " " + names[t];
+  return s + ": " + parts;
 }
 
 std::string kernelSummary(const FrameResult& r) {
@@ -96,14 +135,17 @@ void runRender(const RenderOptions& o) {
   sceneOptions.seed = o.seed;
   sceneOptions.lightCount = o.lightCount;
   sceneOptions.lightRange = o.lightRange;
+  sceneOptions.variant = o.variant;
   Scene scene = loadScene(o.scene, sceneOptions);
   if (o.lightThreshold > 0.0f) applyThresholdRanges(scene.lights, o.lightThreshold);
-  PreparedFrame prepared = prepareFrame(scene, o.frame, o.width, o.height, o.format);
+  const SceneFeatures features = resolveFeatures(scene, o.shadingModel, o.features);
+  PreparedFrame prepared = prepareFrame(scene, o.frame, o.width, o.height, o.format, features);
 
   ClContext cl(o.device);
   DeviceFrame frame = prepared.upload(cl);
   TechniqueConfig config;
   config.format = o.format;
+  config.features = features;
   config.tileWidth = o.tileWidth;
   config.tileHeight = o.tileHeight;
   config.clusterSlices = o.clusterSlices;
@@ -131,9 +173,11 @@ void runRender(const RenderOptions& o) {
   }
 
   std::cout << "tileshade: " << scene.name << " (" << scene.triangleCount() << " triangles, "
-            << prepared.lights.size() << " lights), frame " << o.frame << ", " << o.width << "x"
-            << o.height << ", G-buffer " << toString(o.format) << ", tile " << o.tileWidth << "x"
+            << lightSummary(scene.lights) << "), frame " << o.frame << ", " << o.width << "x"
+            << o.height << ", G-buffer " << toString(o.format) << " ("
+            << prepared.encoded.bytesPerPixel() << " B/pixel), tile " << o.tileWidth << "x"
             << o.tileHeight << "\n"
+            << "features: " << features.describe() << "\n"
             << "device: " << cl.deviceName() << "\n";
   if (reference)
     std::cout << "reference: " << reference->contributing
@@ -193,13 +237,18 @@ void runRender(const RenderOptions& o) {
       {"scene", scene.name},
       {"scene_spec", o.scene},
       {"light_set", o.lightSet},
-      {"lights", prepared.lights.size()},
+      {"lights", scene.lights.size()},
+      {"directional_lights", prepared.lights.directionalCount()},
       {"triangles", scene.triangleCount()},
       {"frame", o.frame},
       {"width", o.width},
       {"height", o.height},
       {"gbuffer", toString(o.format)},
       {"gbuffer_bytes_per_pixel", prepared.encoded.bytesPerPixel()},
+      {"shading_model", toString(features.model)},
+      {"features", features.describe()},
+      {"kernel_options", config.kernelOptions()},
+      {"variant", o.variant},
       {"geometry_pixels", prepared.gbuffer.geometryPixels()},
       {"tile", {o.tileWidth, o.tileHeight}},
       {"culling", o.culling},

@@ -13,6 +13,10 @@ struct RenderOptions {
   int lightCount = -1;                 // -1 = the light set's own count
   float lightRange = 0.0f;             // > 0 overrides every light's range
   float lightThreshold = 0.0f;         // > 0: ranges from the attenuation threshold (light_range.h)
+  std::string variant;                 // built-in scene variants (scene_loader.h), "" = none
+  std::string shadingModel = "auto";   // auto (the scene's own), blinn-phong, metallic-roughness
+  std::string features = "auto";      // auto (the scene's needs), general, or a list
+                                       // (chooseFeatures, scene_features.h)
   uint32_t seed = 1;
   std::vector<std::string> techniques{"tiled"};  // "all" expands to every registered technique
   int tileWidth = 16, tileHeight = 16;

@@ -10,7 +10,8 @@ namespace {
 
 class BruteTechnique : public Technique {
  public:
-  BruteTechnique(ClContext& cl, const TechniqueConfig& config) : cl_(cl), lanes_(config.lanes) {
+  BruteTechnique(ClContext& cl, const TechniqueConfig& config)
+      : cl_(cl), config_(config), lanes_(config.lanes) {
     program_ = cl.build("brute.cl", config.kernelOptions() + config.lanesOption());
     kernel_ = cl::Kernel(program_, "shade_brute");
   }
@@ -18,7 +19,7 @@ class BruteTechnique : public Technique {
   std::string name() const override { return "brute"; }
   int lanes() const override { return lanes_; }
 
-  FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
+  FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     size_t pixels = size_t(frame.width()) * frame.height();
     if (imageBytes_ != pixels * sizeof(cl_float4)) {
       imageBytes_ = pixels * sizeof(cl_float4);
@@ -30,11 +31,13 @@ class BruteTechnique : public Technique {
     kernel_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
     frame.setGBufferArgs(kernel_, arg);
     arg += 5;
-    kernel_.setArg(arg++, frame.lightPositionRange);
-    kernel_.setArg(arg++, frame.lightColor);
+    frame.setLightArgs(kernel_, arg);
+    arg += 3;
     kernel_.setArg(arg++, frame.lightCount());
+    frame.setDirectionalArgs(kernel_, arg);
+    arg += 3;
     kernel_.setArg(arg++, image_);
-    if (lanes_ > 1) kernel_.setArg(arg++, laneLocalMemory(lanes_, 16 * 16));
+    if (lanes_ > 1) kernel_.setArg(arg++, laneLocalMemory(config_, 16 * 16));
     cl_.queue().enqueueNDRangeKernel(
         kernel_, cl::NullRange, cl::NDRange(roundUp(frame.width(), 16), roundUp(frame.height(), 16)),
         cl::NDRange(16, 16), nullptr, timer_.next("shade"));
@@ -60,6 +63,7 @@ class BruteTechnique : public Technique {
 
  private:
   ClContext& cl_;
+  TechniqueConfig config_;
   int lanes_;
   cl::Program program_;
   cl::Kernel kernel_;

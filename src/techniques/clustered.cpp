@@ -51,7 +51,7 @@ class ClusteredTechnique : public Technique {
 
   std::string name() const override { return "clustered"; }
 
-  FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
+  FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
     if (config_.presizeLists)
       // Every light in every slice of its tile rectangle bounds the entries; capped, since many
@@ -106,6 +106,7 @@ class ClusteredTechnique : public Technique {
     c.evaluations = c.lightingComputations;
     size_t screen = size_t(frame.width()) * frame.height();
     c.gbufferBytesRead = 3 * 4 * screen + geometry * (frame.gbuffer->bytesPerPixel() - 4);
+    addDirectionalWork(c, geometry, frame);
     return c;
   }
 
@@ -187,17 +188,18 @@ class ClusteredTechnique : public Technique {
 
     // 2. Binning: count, scan, fill.
     binLights_.setArg(0, frame.lightPositionRange);
-    binLights_.setArg(1, frame.lightCount());
-    binLights_.setArg(2, camera);
-    binLights_.setArg(3, frame.camera.znear);
-    binLights_.setArg(4, depthRange_);
-    binLights_.setArg(5, clusterDepth_);
-    binLights_.setArg(7, clusterCount_);
-    binLights_.setArg(8, clusterOffset_);
-    binLights_.setArg(9, clusterCursor_);
-    binLights_.setArg(10, clusterLights_);
-    binLights_.setArg(11, cl_uint(capacity_));
-    enqueueBinning(q, binLights_, 6, frame.lightCount(), scan_, clusterCount_, int(clusters),
+    binLights_.setArg(1, frame.lightSpot);
+    binLights_.setArg(2, frame.lightCount());
+    binLights_.setArg(3, camera);
+    binLights_.setArg(4, frame.camera.znear);
+    binLights_.setArg(5, depthRange_);
+    binLights_.setArg(6, clusterDepth_);
+    binLights_.setArg(8, clusterCount_);
+    binLights_.setArg(9, clusterOffset_);
+    binLights_.setArg(10, clusterCursor_);
+    binLights_.setArg(11, clusterLights_);
+    binLights_.setArg(12, cl_uint(capacity_));
+    enqueueBinning(q, binLights_, 7, frame.lightCount(), scan_, clusterCount_, int(clusters),
                    clusterOffset_, total_, timer_);
 
     // 3. Shading: one work-item per pixel.
@@ -206,8 +208,10 @@ class ClusteredTechnique : public Technique {
     shade_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
     frame.setGBufferArgs(shade_, arg);
     arg += 5;
-    shade_.setArg(arg++, frame.lightPositionRange);
-    shade_.setArg(arg++, frame.lightColor);
+    frame.setLightArgs(shade_, arg);
+    arg += 3;
+    frame.setDirectionalArgs(shade_, arg);
+    arg += 3;
     shade_.setArg(arg++, pixelSlice_);
     shade_.setArg(arg++, clusterCount_);
     shade_.setArg(arg++, clusterOffset_);

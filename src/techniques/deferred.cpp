@@ -10,7 +10,8 @@
 // culling/position code of the kernels, kernels/culling.h and shading.h via ts::shading_f):
 //   lightingComputations  deferred: on-screen pixels covered by light rectangles (sum of areas),
 //                         the paper's count for light volumes; stencil: geometry pixels whose
-//                         position lies inside a light sphere (d2 < r*r)
+//                         position lies inside a light volume (range sphere, spot cone); both
+//                         plus geometry pixels x directional lights (the base pass)
 //   evaluations           shading-function calls the kernels make: deferred, geometry pixels in
 //                         rectangles; stencil, the same as its lighting computations
 //   gbufferBytesRead      base pass: depth for every pixel, the other planes for geometry pixels;
@@ -33,12 +34,11 @@ namespace {
 constexpr size_t kAccumBytes = sizeof(cl_float4);  // one accumulation value per pixel
 constexpr int kGroup = 16;                            // work-group edge of the per-light launch
 
-// The pixel rectangle (x0, y0, x1, y1; x1/y1 exclusive) covered by a light's sphere clipped to
-// the near plane: culling.h's tile rectangle with 1x1 tiles, in float like the kernels, as a
-// vertex stage would compute it. Empty (all zero) when the sphere misses the screen.
-glm::ivec4 lightRectangle(glm::vec4 posRange, const CameraIntrinsics& camera) {
-  glm::vec4 b = shading_f::ts_sphere_ndc_bounds(glm::vec3(posRange), posRange.w, camera.znear,
-                                                camera.tanHalfFovX, camera.tanHalfFovY);
+// The pixel rectangle (x0, y0, x1, y1; x1/y1 exclusive) covered by a light's volume (sphere or
+// cone) clipped to the near plane: culling.h's tile rectangle with 1x1 tiles, in float like the
+// kernels, as a vertex stage would compute it. Empty (all zero) when it misses the screen.
+glm::ivec4 lightRectangle(const ViewLights& lights, size_t i, const CameraIntrinsics& camera) {
+  glm::vec4 b = lightNdcBounds(lights, i, camera);
   int x0, y0, x1, y1;
   if (!shading_f::ts_ndc_bounds_to_tiles(b, camera.width, camera.height, 1, 1, &x0, &y0, &x1, &y1))
     return glm::ivec4(0);
@@ -59,8 +59,7 @@ WorkCounters deferredCounters(const DeviceFrame& frame, const std::vector<glm::i
   for (size_t i = 0; i < rects.size(); ++i) {
     const glm::ivec4& r = rects[i];
     if (isEmpty(r)) continue;
-    glm::vec4 pr = frame.lights->positionRange[i];
-    glm::vec3 lp(pr);
+    glm::vec4 pr = frame.lights->positionRange[i], spot = frame.lights->spot[i];
     uint64_t covered = uint64_t(r.z - r.x) * uint64_t(r.w - r.y), hits = 0;
     for (int y = r.y; y < r.w; ++y)
       for (int x = r.x; x < r.z; ++x) {
@@ -68,9 +67,9 @@ WorkCounters deferredCounters(const DeviceFrame& frame, const std::vector<glm::i
         if (depth <= 0.0f) continue;
         if (stencil) {
           // The kernel's test, on the same float position reconstruction.
-          glm::vec3 v = lp - shading_f::ts_view_position(x, y, depth, cam.tanHalfFovX,
-                                                          cam.tanHalfFovY, cam.width, cam.height);
-          if (!(shading_f::dot(v, v) < pr.w * pr.w)) continue;
+          glm::vec3 P = shading_f::ts_view_position(x, y, depth, cam.tanHalfFovX, cam.tanHalfFovY,
+                                                    cam.width, cam.height);
+          if (!shading_f::ts_light_volume_holds(pr, spot, P)) continue;
         }
         ++hits;
       }
@@ -83,13 +82,14 @@ WorkCounters deferredCounters(const DeviceFrame& frame, const std::vector<glm::i
     }
     c.evaluations += hits;
   }
+  addDirectionalWork(c, geometry, frame);
   return c;
 }
 
 class DeferredTechnique : public Technique {
  public:
   DeferredTechnique(ClContext& cl, const TechniqueConfig& config, bool stencil)
-      : cl_(cl), stencil_(stencil), lanes_(config.lanes) {
+      : cl_(cl), config_(config), stencil_(stencil), lanes_(config.lanes) {
     program_ = cl.build("deferred.cl", config.kernelOptions() + config.lanesOption() +
                                            (stencil ? " -DTS_STENCIL" : ""));
     base_ = cl::Kernel(program_, "deferred_base");
@@ -99,7 +99,7 @@ class DeferredTechnique : public Technique {
   std::string name() const override { return stencil_ ? "deferred-stencil" : "deferred"; }
   int lanes() const override { return lanes_; }
 
-  FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
+  FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     size_t pixels = size_t(frame.width()) * frame.height();
     if (pixels != accumPixels_) {
       accum_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE, pixels * kAccumBytes);
@@ -107,7 +107,7 @@ class DeferredTechnique : public Technique {
     }
     std::vector<glm::ivec4> rects(frame.lights->size());
     for (size_t i = 0; i < rects.size(); ++i)
-      rects[i] = lightRectangle(frame.lights->positionRange[i], frame.camera);
+      rects[i] = lightRectangle(*frame.lights, i, frame.camera);
 
     timer_.clear();
     enqueueFrame(frame, rects);
@@ -135,7 +135,9 @@ class DeferredTechnique : public Technique {
     base_.setArg(0, camera);
     base_.setArg(1, toCl(glm::vec4(frame.ambient, 0.0f)));
     frame.setGBufferArgs(base_, 2);
-    base_.setArg(7, accum_);
+    frame.setDirectionalArgs(base_, 7);
+    base_.setArg(10, accum_);
+    if (lanes_ > 1) base_.setArg(11, laneLocalMemory(config_, kGroup * kGroup));
     q.enqueueNDRangeKernel(base_, cl::NullRange,
                            cl::NDRange(roundUp(frame.width(), kGroup),
                                        roundUp(frame.height(), kGroup)),
@@ -144,16 +146,16 @@ class DeferredTechnique : public Technique {
     // 2. One launch per light, all enqueued before waiting: arguments are captured at enqueue
     // time, and the in-order queue serialises the read-modify-writes of successive lights.
     light_.setArg(0, camera);
-    frame.setGBufferArgs(light_, 1);
-    light_.setArg(6, frame.lightPositionRange);
-    light_.setArg(7, frame.lightColor);
-    light_.setArg(10, accum_);
-    if (lanes_ > 1) light_.setArg(11, laneLocalMemory(lanes_, kGroup * kGroup));
+    light_.setArg(1, toCl(glm::vec4(frame.ambient, 0.0f)));
+    frame.setGBufferArgs(light_, 2);
+    frame.setLightArgs(light_, 7);
+    light_.setArg(12, accum_);
+    if (lanes_ > 1) light_.setArg(13, laneLocalMemory(config_, kGroup * kGroup));
     for (size_t i = 0; i < rects.size(); ++i) {
       const glm::ivec4& r = rects[i];
       if (isEmpty(r)) continue;
-      light_.setArg(8, cl_int(i));
-      light_.setArg(9, cl_int4{{r.x, r.y, r.z, r.w}});
+      light_.setArg(10, cl_int(i));
+      light_.setArg(11, cl_int4{{r.x, r.y, r.z, r.w}});
       q.enqueueNDRangeKernel(light_, cl::NullRange,
                              cl::NDRange(roundUp(r.z - r.x, kGroup), roundUp(r.w - r.y, kGroup)),
                              local, nullptr, timer_.next("light"));
@@ -161,6 +163,7 @@ class DeferredTechnique : public Technique {
   }
 
   ClContext& cl_;
+  TechniqueConfig config_;
   bool stencil_;
   int lanes_;
   cl::Program program_;

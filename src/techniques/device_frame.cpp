@@ -5,27 +5,40 @@
 
 namespace ts {
 
+void ViewLights::addPoint(glm::vec3 position, float range, glm::vec3 color) {
+  positionRange.emplace_back(position, range);
+  this->color.emplace_back(color, 1.0f);
+  spot.emplace_back(glm::vec3(0.0f), -1.0f);
+}
+
+void ViewLights::addSpot(glm::vec3 position, float range, glm::vec3 color, glm::vec3 axis,
+                         float innerConeAngle, float outerConeAngle) {
+  float cosInner = std::cos(innerConeAngle), cosOuter = std::cos(outerConeAngle);
+  positionRange.emplace_back(position, range);
+  // glTF's recommended angle scale: 1 / max(0.001, cos inner - cos outer).
+  this->color.emplace_back(color, 1.0f / std::max(1e-3f, cosInner - cosOuter));
+  spot.emplace_back(glm::normalize(axis), cosOuter);
+}
+
+void ViewLights::addDirectional(glm::vec3 towardsLight, glm::vec3 color) {
+  directionalDir.emplace_back(glm::normalize(towardsLight), 0.0f);
+  directionalColor.emplace_back(color, 0.0f);
+}
+
 ViewLights toViewSpace(const std::vector<Light>& lights, const glm::mat4& viewFromWorld) {
   ViewLights out;
   const glm::mat3 rotation(viewFromWorld);
   for (const auto& l : lights) {
-    glm::vec3 dir = l.type == LightType::Point ? glm::vec3(0.0f)
-                                                : glm::normalize(rotation * l.direction);
     if (l.type == LightType::Directional) {
-      out.directionalDir.emplace_back(-dir, 0.0f);
-      out.directionalColor.emplace_back(l.color, 0.0f);
+      out.addDirectional(-(rotation * l.direction), l.color);
       continue;
     }
     glm::vec3 p = glm::vec3(viewFromWorld * glm::vec4(l.position, 1.0f));
-    out.positionRange.emplace_back(p, l.range);
-    if (l.type == LightType::Spot) {
-      float cosInner = std::cos(l.innerConeAngle), cosOuter = std::cos(l.outerConeAngle);
-      out.color.emplace_back(l.color, 1.0f / std::max(1e-3f, cosInner - cosOuter));
-      out.spot.emplace_back(dir, cosOuter);
-    } else {
-      out.color.emplace_back(l.color, 1.0f);
-      out.spot.emplace_back(glm::vec3(0.0f), -1.0f);
-    }
+    if (l.type == LightType::Spot)
+      out.addSpot(p, l.range, l.color, rotation * l.direction, l.innerConeAngle,
+                  l.outerConeAngle);
+    else
+      out.addPoint(p, l.range, l.color);
   }
   return out;
 }
@@ -34,7 +47,8 @@ namespace {
 
 template <typename T>
 cl::Buffer readOnlyBuffer(ClContext& cl, const std::vector<T>& data) {
-  // OpenCL refuses zero-sized buffers; an empty light list still gets one (unused) element.
+  // OpenCL refuses zero-sized buffers; an empty light list or an absent G-buffer plane still gets
+  // one (unused) element.
   size_t bytes = std::max<size_t>(data.size() * sizeof(T), sizeof(T));
   cl::Buffer buffer(cl.context(), CL_MEM_READ_ONLY, bytes);
   if (!data.empty())
@@ -43,6 +57,18 @@ cl::Buffer readOnlyBuffer(ClContext& cl, const std::vector<T>& data) {
 }
 
 }  // namespace
+
+void DeviceFrame::setLightArgs(cl::Kernel& kernel, cl_uint first) const {
+  kernel.setArg(first + 0, lightPositionRange);
+  kernel.setArg(first + 1, lightColor);
+  kernel.setArg(first + 2, lightSpot);
+}
+
+void DeviceFrame::setDirectionalArgs(cl::Kernel& kernel, cl_uint first) const {
+  kernel.setArg(first + 0, directionalDir);
+  kernel.setArg(first + 1, directionalColor);
+  kernel.setArg(first + 2, directionalCount());
+}
 
 void DeviceFrame::setGBufferArgs(cl::Kernel& kernel, cl_uint first) const {
   kernel.setArg(first + 0, depth);
@@ -67,6 +93,9 @@ DeviceFrame DeviceFrame::upload(ClContext& cl, const EncodedGBuffer& gbuffer,
   f.emissive = readOnlyBuffer(cl, gbuffer.emissive);
   f.lightPositionRange = readOnlyBuffer(cl, lights.positionRange);
   f.lightColor = readOnlyBuffer(cl, lights.color);
+  f.lightSpot = readOnlyBuffer(cl, lights.spot);
+  f.directionalDir = readOnlyBuffer(cl, lights.directionalDir);
+  f.directionalColor = readOnlyBuffer(cl, lights.directionalColor);
   return f;
 }
 

@@ -23,6 +23,13 @@ struct ViewLights {
   std::vector<glm::vec4> directionalColor;  // rgb, w unused
   size_t size() const { return positionRange.size(); }
   size_t directionalCount() const { return directionalDir.size(); }
+
+  // Appends a light in view space, in the layout above (the only way the entries are written, so
+  // the three arrays stay in step and a point light's spot entry makes its cone term exactly 1).
+  void addPoint(glm::vec3 position, float range, glm::vec3 color);
+  void addSpot(glm::vec3 position, float range, glm::vec3 color, glm::vec3 axis,
+               float innerConeAngle, float outerConeAngle);
+  void addDirectional(glm::vec3 towardsLight, glm::vec3 color);
 };
 
 inline cl_float4 toCl(glm::vec4 v) { return {{v.x, v.y, v.z, v.w}}; }
@@ -35,15 +42,21 @@ struct DeviceFrame {
   CameraIntrinsics camera;
   glm::vec3 ambient{0.0f};
 
-  cl::Buffer depth, normal, diffuse, specular, emissive;  // G-buffer planes
-  cl::Buffer lightPositionRange, lightColor;              // at least one element each
+  cl::Buffer depth, normal, diffuse, specular, emissive;  // G-buffer planes (absent: 1 element)
+  cl::Buffer lightPositionRange, lightColor, lightSpot;   // at least one element each
+  cl::Buffer directionalDir, directionalColor;            // at least one element each
 
   int width() const { return camera.width; }
   int height() const { return camera.height; }
-  int lightCount() const { return int(lights->size()); }
+  int lightCount() const { return int(lights->size()); }  // point and spot lights
+  int directionalCount() const { return int(lights->directionalCount()); }
 
   // Sets the five G-buffer planes as kernel arguments first..first+4 (kernels/gbuffer.h order).
   void setGBufferArgs(cl::Kernel& kernel, cl_uint first) const;
+  // TS_LIGHT_PARAMS (position+range, colour, spot) as arguments first..first+2.
+  void setLightArgs(cl::Kernel& kernel, cl_uint first) const;
+  // TS_DIRECTIONAL_PARAMS (direction, colour, count) as arguments first..first+2.
+  void setDirectionalArgs(cl::Kernel& kernel, cl_uint first) const;
 
   // The caller keeps gbuffer and lights alive while the frame is used.
   static DeviceFrame upload(ClContext& cl, const EncodedGBuffer& gbuffer,

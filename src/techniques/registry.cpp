@@ -71,7 +71,31 @@ std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& c
   TechniqueConfig resolved = config;
   if (config.lanes == 0) resolved.lanes = cl.isGpu() ? 1 : info.autoLanesOnCpu;
   else if (!isLaneWidth(config.lanes)) throw badLanes(std::to_string(config.lanes));
-  return info.create(cl, resolved);
+  std::unique_ptr<Technique> technique = info.create(cl, resolved);
+  technique->features_ = resolved.features;
+  return technique;
+}
+
+FrameResult Technique::render(DeviceFrame& frame, const FrameRequest& request) {
+  checkFrameFeatures(features_, frame);
+  return renderFrame(frame, request);
+}
+
+void checkFrameFeatures(const SceneFeatures& features, const DeviceFrame& frame) {
+  const EncodedGBuffer& gb = *frame.gbuffer;
+  auto fail = [&](const std::string& what) {
+    throw Error("kernels built for '" + features.describe() + "' cannot shade this frame: " +
+                what);
+  };
+  if (gb.model != features.model)
+    fail("its G-buffer holds " + toString(gb.model) + " terms");
+  if (features.model == ShadingModel::BlinnPhong && features.specular && !gb.hasSpecularPlane())
+    fail("its G-buffer has no specular plane");
+  if (features.emissive && !gb.hasEmissive) fail("its G-buffer has no emissive plane");
+  if (!features.spot)
+    for (const glm::vec4& spot : frame.lights->spot)
+      if (spot.w > -1.0f) fail("it has spot lights");
+  if (!features.directional && frame.directionalCount() > 0) fail("it has directional lights");
 }
 
 namespace {
@@ -100,8 +124,8 @@ std::string cullingName(int culling) {
 std::string TechniqueConfig::kernelOptions() const {
   std::ostringstream o;
   const std::string layout = gbufferKernelDefines(format);
-  o << layout << (layout.empty() ? "" : " ") << "-DTS_MODEL=" << shadingModel
-    << " -DTS_CULL=" << culling;
+  o << layout << (layout.empty() ? "" : " ") << features.kernelDefines()
+    << " -DTS_MODEL=" << shadingModel << " -DTS_CULL=" << culling;
   if (math == "fast") o << " -cl-fast-relaxed-math";
   else if (math == "native") o << " -DTS_NATIVE_MATH";
   else if (math != "precise")
@@ -111,7 +135,16 @@ std::string TechniqueConfig::kernelOptions() const {
 }
 
 std::string TechniqueConfig::lanesOption() const {
-  return lanes > 1 ? " -DTS_LANES=" + std::to_string(lanes) : "";
+  return lanes > 1 ? " -DTS_LANES=" + std::to_string(lanes) +
+                         " -DTS_HOST_LANE_PLANES=" + std::to_string(lanePlanes())
+                   : "";
+}
+
+int TechniqueConfig::lanePlanes() const {
+  // P, N, kd; with a specular term V, gloss, ks; with metallic-roughness the Smith view term.
+  bool specular = features.specular || features.model == ShadingModel::MetallicRoughness;
+  if (!specular) return 9;
+  return features.model == ShadingModel::MetallicRoughness ? 17 : 16;
 }
 
 }  // namespace ts

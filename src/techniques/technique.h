@@ -14,6 +14,7 @@
 
 #include "cl/cl_context.h"
 #include "raster/gbuffer_layout.h"
+#include "scene/scene_features.h"
 #include "techniques/device_frame.h"
 
 namespace ts {
@@ -21,6 +22,10 @@ namespace ts {
 // Everything that changes how a technique's kernels are built or launched.
 struct TechniqueConfig {
   GBufferFormat format = GBufferFormat::FP32;
+  // What the kernels model (shading model, material terms, light types): only these are compiled
+  // in, and the G-buffer must have been encoded for the same features. Default: everything for
+  // Blinn-Phong.
+  SceneFeatures features = SceneFeatures::general(ShadingModel::BlinnPhong);
   int tileWidth = 16;
   int tileHeight = 16;
   int clusterSlices = 16;  // depth slices of the clustered technique
@@ -28,7 +33,8 @@ struct TechniqueConfig {
                                 // frame's entries (off: start small and grow, as tests do)
   int localListCapacity = 256;  // tiled-single: lights its local-memory list holds before it
                                 // shades a chunk (raised to the work-group size if smaller)
-  int shadingModel = 0;    // TS_MODEL_WINDOWED (0) or TS_MODEL_PHYSICAL (1), kernels/shading.h
+  int shadingModel = 0;    // range model: TS_MODEL_WINDOWED (0) or TS_MODEL_PHYSICAL (1),
+                           // kernels/shading.h
   int culling = 0;         // per-tile test: TS_CULL_RECT (0), _FRUSTUM (1), _AABB (2), culling.h
   std::string math = "precise";  // shading arithmetic: precise, fast (-cl-fast-relaxed-math),
                                  // native (native_ sqrt/powr/divide)
@@ -38,10 +44,15 @@ struct TechniqueConfig {
   // work-item per pixel, 2/4/8/16 = lanes. clustered has no lanes path and always runs 1.
   int lanes = 0;
 
-  // " -DTS_LANES=N" for a technique with a lanes path when lanes > 1, else "".
+  // " -DTS_LANES=N -DTS_HOST_LANE_PLANES=P" for a technique with a lanes path when lanes > 1,
+  // else "".
   std::string lanesOption() const;
+  // Floats per pixel slot of the lanes' local buffer for these features (kernels/lanes.h, which
+  // checks the count at build time).
+  int lanePlanes() const;
 
-  // Build options every technique passes to ClContext::build (G-buffer layout, model, extras).
+  // Build options every technique passes to ClContext::build (G-buffer layout, features, range
+  // model, culling test, arithmetic, extras).
   std::string kernelOptions() const;
 };
 
@@ -87,10 +98,27 @@ class Technique {
  public:
   virtual ~Technique() = default;
   virtual std::string name() const = 0;
-  virtual FrameResult render(DeviceFrame& frame, const FrameRequest& request) = 0;
+  // Renders a frame. Throws ts::Error, before any work, when the frame needs what the kernels
+  // were not built for (checkFrameFeatures).
+  FrameResult render(DeviceFrame& frame, const FrameRequest& request);
   // Pixels its shading kernel evaluates together per light (TechniqueConfig::lanes as it ran).
   virtual int lanes() const { return 1; }
+  // What its kernels were built for (TechniqueConfig::features).
+  const SceneFeatures& features() const { return features_; }
+
+ protected:
+  virtual FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) = 0;
+
+ private:
+  friend std::unique_ptr<Technique> createTechnique(const std::string&, ClContext&,
+                                                    const TechniqueConfig&);
+  SceneFeatures features_;
 };
+
+// Throws ts::Error naming the mismatch when kernels built for `features` cannot render `frame`
+// exactly: its G-buffer holds another model's terms or lacks a plane they read, or it has spot
+// or directional lights they do not shade.
+void checkFrameFeatures(const SceneFeatures& features, const DeviceFrame& frame);
 
 struct TechniqueInfo {
   std::string name;

@@ -65,7 +65,14 @@ WorkCounters tileWorkCounters(const TileGrid& grid, const std::vector<uint32_t>&
   // geometry pixel (background pixels stop after the depth read).
   size_t pixels = size_t(grid.width) * grid.height;
   c.gbufferBytesRead = 2 * 4 * pixels + geometry * (frame.gbuffer->bytesPerPixel() - 4);
+  addDirectionalWork(c, geometry, frame);
   return c;
+}
+
+void addDirectionalWork(WorkCounters& c, uint64_t geometryPixels, const DeviceFrame& frame) {
+  uint64_t work = geometryPixels * uint64_t(frame.directionalCount());
+  c.lightingComputations += work;
+  c.evaluations += work;
 }
 
 void enqueueBinning(cl::CommandQueue& queue, cl::Kernel& bin, cl_uint fillArg, int lightCount,
@@ -110,12 +117,17 @@ uint32_t runUntilListFits(ClContext& cl, cl::Buffer& list, size_t& capacity,
   }
 }
 
+glm::vec4 lightNdcBounds(const ViewLights& lights, size_t i, const CameraIntrinsics& camera) {
+  shading_f::ts_light_volume v =
+      shading_f::ts_make_light_volume(lights.positionRange[i], lights.spot[i]);
+  return shading_f::ts_light_ndc_bounds(&v, camera.znear, camera.tanHalfFovX, camera.tanHalfFovY);
+}
+
 size_t tileListBound(const TileGrid& grid, const DeviceFrame& frame) {
   const CameraIntrinsics& cam = frame.camera;
   size_t bound = 0;
-  for (const glm::vec4& pr : frame.lights->positionRange) {
-    glm::vec4 b = shading_f::ts_sphere_ndc_bounds(glm::vec3(pr), pr.w, cam.znear, cam.tanHalfFovX,
-                                                  cam.tanHalfFovY);
+  for (size_t i = 0; i < frame.lights->size(); ++i) {
+    glm::vec4 b = lightNdcBounds(*frame.lights, i, cam);
     int x0, y0, x1, y1;
     if (shading_f::ts_ndc_bounds_to_tiles(b, grid.width, grid.height, grid.tileW, grid.tileH, &x0,
                                           &y0, &x1, &y1))
@@ -148,10 +160,9 @@ size_t groupEdgeFor(int tile) {
   return 1;
 }
 
-cl::LocalSpaceArg laneLocalMemory(int lanes, size_t groupSize) {
-  const size_t kLanePlanes = 16;  // TS_LANE_PLANES
-  size_t slots = roundUp(groupSize, size_t(std::max(lanes, 1)));
-  return cl::Local(kLanePlanes * slots * sizeof(float));
+cl::LocalSpaceArg laneLocalMemory(const TechniqueConfig& config, size_t groupSize) {
+  size_t slots = roundUp(groupSize, size_t(std::max(config.lanes, 1)));
+  return cl::Local(size_t(config.lanePlanes()) * slots * sizeof(float));
 }
 
 size_t pow2AtLeast(size_t n, size_t cap) {

@@ -36,9 +36,18 @@ class FrameTimer {
 };
 
 // Counters of a frame shaded from per-tile lists (tiled techniques). Lighting computations are
-// the paper's: on-screen tile pixels x list length; evaluations: geometry pixels x list length.
+// the paper's: on-screen tile pixels x list length; evaluations: geometry pixels x list length;
+// both plus the directional lights' work (addDirectionalWork).
 WorkCounters tileWorkCounters(const TileGrid& grid, const std::vector<uint32_t>& counts,
                               const DeviceFrame& frame);
+
+// Directional lights are evaluated at every geometry pixel by every technique: adds geometry
+// pixels x directional lights to the lighting computations and the evaluations.
+void addDirectionalWork(WorkCounters& c, uint64_t geometryPixels, const DeviceFrame& frame);
+
+// Conservative NDC bounds of point or spot light i's volume (kernels/culling.h in float, as the
+// kernels compute them).
+glm::vec4 lightNdcBounds(const ViewLights& lights, size_t i, const CameraIntrinsics& camera);
 
 // The passes that build a binned light list (tiled, clustered), the paper's grid: count each
 // light into its bins, exclusive scan of the counts into offsets (and the total), fill the list.
@@ -77,9 +86,9 @@ std::vector<glm::vec4> readImage(ClContext& cl, const cl::Buffer& image, const D
 // tile edge that is at most 16, so a work-group never straddles two tiles (24 -> 12, 48 -> 16).
 size_t groupEdgeFor(int tile);
 
-// The local buffer of a kernel shading in lanes (kernels/lanes.h): TS_LANE_PLANES (16) floats per
-// pixel slot, the work-group's items rounded up to whole vectors of `lanes`.
-cl::LocalSpaceArg laneLocalMemory(int lanes, size_t groupSize);
+// The local buffer of a kernel shading in lanes (kernels/lanes.h): config.lanePlanes() floats per
+// pixel slot, the work-group's items rounded up to whole vectors of config.lanes.
+cl::LocalSpaceArg laneLocalMemory(const TechniqueConfig& config, size_t groupSize);
 
 // Smallest power of two >= n, capped at `cap`.
 size_t pow2AtLeast(size_t n, size_t cap);

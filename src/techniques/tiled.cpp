@@ -25,7 +25,7 @@ class TiledTechnique : public Technique {
   std::string name() const override { return "tiled"; }
   int lanes() const override { return config_.lanes; }
 
-  FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
+  FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
     if (config_.presizeLists) reserveList(cl_, tileLights_, capacity_, tileListBound(grid_, frame));
     FrameResult result;
@@ -96,16 +96,17 @@ class TiledTechnique : public Technique {
 
     // 2. Binning: count, scan, fill.
     binLights_.setArg(0, frame.lightPositionRange);
-    binLights_.setArg(1, frame.lightCount());
-    binLights_.setArg(2, camera);
-    binLights_.setArg(3, frame.camera.znear);
-    binLights_.setArg(4, tileDepth_);
-    binLights_.setArg(6, tileCount_);
-    binLights_.setArg(7, tileOffset_);
-    binLights_.setArg(8, tileCursor_);
-    binLights_.setArg(9, tileLights_);
-    binLights_.setArg(10, cl_uint(capacity_));
-    enqueueBinning(q, binLights_, 5, frame.lightCount(), scan_, tileCount_, int(tiles), tileOffset_,
+    binLights_.setArg(1, frame.lightSpot);
+    binLights_.setArg(2, frame.lightCount());
+    binLights_.setArg(3, camera);
+    binLights_.setArg(4, frame.camera.znear);
+    binLights_.setArg(5, tileDepth_);
+    binLights_.setArg(7, tileCount_);
+    binLights_.setArg(8, tileOffset_);
+    binLights_.setArg(9, tileCursor_);
+    binLights_.setArg(10, tileLights_);
+    binLights_.setArg(11, cl_uint(capacity_));
+    enqueueBinning(q, binLights_, 6, frame.lightCount(), scan_, tileCount_, int(tiles), tileOffset_,
                    total_, timer_);
 
     // 3. Shading: one work-item per pixel.
@@ -114,8 +115,10 @@ class TiledTechnique : public Technique {
     shade_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
     frame.setGBufferArgs(shade_, arg);
     arg += 5;
-    shade_.setArg(arg++, frame.lightPositionRange);
-    shade_.setArg(arg++, frame.lightColor);
+    frame.setLightArgs(shade_, arg);
+    arg += 3;
+    frame.setDirectionalArgs(shade_, arg);
+    arg += 3;
     shade_.setArg(arg++, tileCount_);
     shade_.setArg(arg++, tileOffset_);
     shade_.setArg(arg++, tileLights_);
@@ -123,7 +126,7 @@ class TiledTechnique : public Technique {
     shade_.setArg(arg++, image_);
     // Work-groups inside one tile: shade_tiled takes the tile from the group id.
     size_t lx = groupEdgeFor(grid_.tileW), ly = groupEdgeFor(grid_.tileH);
-    if (config_.lanes > 1) shade_.setArg(arg++, laneLocalMemory(config_.lanes, lx * ly));
+    if (config_.lanes > 1) shade_.setArg(arg++, laneLocalMemory(config_, lx * ly));
     q.enqueueNDRangeKernel(shade_, cl::NullRange,
                            cl::NDRange(roundUp(frame.width(), lx), roundUp(frame.height(), ly)),
                            cl::NDRange(lx, ly), nullptr, timer_.next("shade"));

@@ -37,7 +37,7 @@ class TiledSingleTechnique : public Technique {
   std::string name() const override { return "tiled-single"; }
   int lanes() const override { return config_.lanes; }
 
-  FrameResult render(DeviceFrame& frame, const FrameRequest& request) override {
+  FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame, request.wantAssignment);
     auto& q = cl_.queue();
     timer_.clear();
@@ -50,9 +50,11 @@ class TiledSingleTechnique : public Technique {
     kernel_.setArg(arg++, frame.camera.znear);
     frame.setGBufferArgs(kernel_, arg);
     arg += 5;
-    kernel_.setArg(arg++, frame.lightPositionRange);
-    kernel_.setArg(arg++, frame.lightColor);
+    frame.setLightArgs(kernel_, arg);
+    arg += 3;
     kernel_.setArg(arg++, frame.lightCount());
+    frame.setDirectionalArgs(kernel_, arg);
+    arg += 3;
     kernel_.setArg(arg++, tileCount_);
     kernel_.setArg(arg++, tileLights_);
     kernel_.setArg(arg++, stride);
@@ -85,11 +87,12 @@ class TiledSingleTechnique : public Technique {
   }
 
  private:
-  // The kernel's `soa` in lanes: TILE_PLANES (16 shading terms + 3 sums) floats per pixel slot,
+  // The kernel's `soa` in lanes: TILE_PLANES (the shading terms + 3 sums) floats per pixel slot,
   // the tile's pixels rounded up to whole vectors (kernels/tiled_single.cl).
   size_t laneTileBytes() const {
     size_t pixels = size_t(config_.tileWidth) * config_.tileHeight;
-    return (16 + 3) * roundUp(pixels, size_t(std::max(config_.lanes, 1))) * sizeof(float);
+    return size_t(config_.lanePlanes() + 3) * roundUp(pixels, size_t(std::max(config_.lanes, 1))) *
+           sizeof(float);
   }
 
   void allocate(const DeviceFrame& frame, bool record) {
