@@ -149,7 +149,7 @@ __kernel void bin_clusters(__global const float4 *light_pos_range,
   if (light >= light_count) return;
   int width = (int)camera.z;
   int tiles_x = (width + TILE_W - 1) / TILE_W;
-  ts_light_volume v = ts_make_light_volume(light_pos_range[light], ts_light_spot(light_spot, light));
+  ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, (uint)light);
   float zn = as_float(depth_range[0]), zf = as_float(depth_range[1]);
   float zlo = fmax(-v.hi.z, zn), zhi = fmin(-v.lo.z, zf);
   if (!(zlo <= zhi)) return; /* no geometry in the volume's depth extent (or none at all) */

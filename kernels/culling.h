@@ -162,6 +162,13 @@ static inline int ts_sphere_meets_tile(TS_REAL3 c, TS_REAL r, int mode, int px0,
  * only keep a light, never drop one (docs/techniques.md, "Spot lights"). A point light (axis 0,
  * cos_outer -1) gets exactly its sphere's tests. Light layout: kernels/shading.h. */
 #define TS_VOLUME_SLACK 1e-5
+/* How spot lights are culled (the spot culling knob; every mode is conservative):
+ *   TS_SPOT_CULL_CONE          the sector, as above (default)
+ *   TS_SPOT_CULL_BOUND_SPHERE  the sector's tight bounding sphere alone
+ *   TS_SPOT_CULL_RANGE_SPHERE  the range sphere, as if it were a point light */
+#define TS_SPOT_CULL_CONE 0
+#define TS_SPOT_CULL_BOUND_SPHERE 1
+#define TS_SPOT_CULL_RANGE_SPHERE 2
 
 typedef struct {
   TS_REAL3 center; /* bounding sphere */
@@ -180,7 +187,8 @@ static inline void ts_cone_extent(TS_REAL a, TS_REAL c, TS_REAL s, TS_REAL *lo, 
   *lo = a <= -c ? TS_LIT(-1.0) : a * c - across * s;
 }
 
-static inline ts_light_volume ts_make_light_volume(TS_REAL4 pos_range, TS_REAL4 spot) {
+static inline ts_light_volume ts_make_light_volume(TS_REAL4 pos_range, TS_REAL4 spot,
+                                                   int spot_cull) {
   ts_light_volume v;
   TS_REAL r = pos_range.w;
   TS_REAL3 p = TS_MAKE3(pos_range.x, pos_range.y, pos_range.z);
@@ -190,7 +198,7 @@ static inline ts_light_volume ts_make_light_volume(TS_REAL4 pos_range, TS_REAL4 
   v.range = r;
   v.cos_outer = spot.w;
   v.sin_outer = sqrt(max(TS_LIT(1.0) - spot.w * spot.w, TS_LIT(0.0)));
-  v.cone = spot.w > TS_LIT(0.0);
+  v.cone = spot.w > TS_LIT(0.0) && spot_cull != TS_SPOT_CULL_RANGE_SPHERE;
   if (!v.cone) { /* a point light, or a cone of 90 degrees or more: the range sphere */
     v.center = p;
     v.radius = r;
@@ -209,6 +217,13 @@ static inline ts_light_volume ts_make_light_volume(TS_REAL4 pos_range, TS_REAL4 
     v.center = p + v.axis * (r * v.cos_outer);
   }
   v.radius += slack;
+  if (spot_cull == TS_SPOT_CULL_BOUND_SPHERE) {
+    TS_REAL3 e = TS_MAKE3(v.radius, v.radius, v.radius);
+    v.lo = v.center - e;
+    v.hi = v.center + e;
+    v.cone = 0; /* tested as the sphere it now is */
+    return v;
+  }
   /* The exact box: along each axis the sector reaches from the apex to r times the extreme
    * component of a direction in the cone. */
   TS_REAL lx, hx, ly, hy, lz, hz;

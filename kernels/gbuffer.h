@@ -52,6 +52,9 @@
 #ifndef TS_MODEL
 #define TS_MODEL 0 /* TS_MODEL_WINDOWED */
 #endif
+#ifndef TS_SPOT_CULL
+#define TS_SPOT_CULL 0 /* TS_SPOT_CULL_CONE */
+#endif
 /* The metallic-roughness model always has its specular term (F0 >= 0.04). */
 #if TS_SHADING == 1
 #undef TS_HAS_SPECULAR
@@ -256,9 +259,11 @@ static inline float4 ts_light_spot(__global const float4 *light_spot, uint light
 #endif
 }
 
-/* The culling volume of light `light` (kernels/culling.h). */
-static inline ts_light_volume ts_load_light_volume(TS_LIGHT_PARAMS, uint light) {
-  return ts_make_light_volume(light_pos_range[light], ts_light_spot(light_spot, light));
+/* The culling volume of light `light` (kernels/culling.h, TS_SPOT_CULL). */
+static inline ts_light_volume ts_load_light_volume(__global const float4 *light_pos_range,
+                                                   __global const float4 *light_spot, uint light) {
+  return ts_make_light_volume(light_pos_range[light], ts_light_spot(light_spot, light),
+                              TS_SPOT_CULL);
 }
 
 #if TS_LANES == 1

@@ -24,7 +24,7 @@
  *   Blinn-Phong         wd = ndl   ws = ndl * max(dot(N,h),0)^s   wf = 0
  *                       kd, ks: the material's
  *   metallic-roughness  wd = ndl (1-Fc)   ws = ndl (1-Fc) S   wf = ndl Fc S       (glTF spec)
- *                       Fc = (1 - dot(V,h))^5, S = pi * D_GGX * V_Smith,
+ *                       Fc = (1 - dot(V,h))^5, S = pi * D_GGX * V_Smith (separable Smith-GGX),
  *                       kd = (1-F0) c_diff, ks = F0 (ts_metallic_roughness_terms)
  * Both are continuous everywhere: every term carries ndl, so nothing jumps where N.l = 0.
  *   pixel = ke + a*c_diff + sum over lights;  background = 0
@@ -98,7 +98,7 @@ static inline void ts_metallic_roughness_terms(TS_REAL3 base, TS_REAL metallic, 
   *alpha = r * r;
 }
 
-/* Smith-GGX's view term of the height-correlated visibility, per pixel:
+/* The view factor of the separable Smith-GGX visibility (the glTF specification's form), per pixel:
  * N.V + sqrt(alpha^2 + (1 - alpha^2) (N.V)^2), with N.V clamped to [0, 1]. */
 static inline TS_REAL ts_smith_view_term(TS_REAL3 N, TS_REAL3 V, TS_REAL alpha) {
   TS_REAL nv = clamp(dot(N, V), TS_LIT(0.0), TS_LIT(1.0));
@@ -171,7 +171,7 @@ static inline ts_light_weights_t ts_brdf_weights(const ts_shading_point *p, TS_L
   TS_LANE a2 = p->gloss * p->gloss;
   TS_LANE den = (cx * cx + cy * cy + cz * cz) / (hlen * hlen) + ndh * ndh * a2;
   TS_LANE d_pi = TS_SELECT(ndh > zero && has_h > zero, a2 / (den * den), zero);
-  /* Height-correlated Smith visibility with 4 N.l N.v folded in: 1 / (light term * view term). */
+  /* Separable Smith-GGX visibility with 4 N.l N.v folded in: 1 / (light term * view term). */
   TS_LANE light_term = ndl + TS_SQRT(a2 + (one - a2) * ndl * ndl);
   TS_LANE s = d_pi / (light_term * p->view_term);
   TS_LANE vdh = clamp((p->vx * hx + p->vy * hy + p->vz * hz) / hlen, zero, one);

@@ -73,7 +73,7 @@ __kernel void bin_lights(__global const float4 *light_pos_range,
   if (light >= light_count) return;
   int width = (int)camera.z;
   int tiles_x = (width + TILE_W - 1) / TILE_W;
-  ts_light_volume v = ts_make_light_volume(light_pos_range[light], ts_light_spot(light_spot, light));
+  ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, (uint)light);
   int x0, y0, x1, y1;
   if (!ts_light_tile_rect(&v, camera, znear, &x0, &y0, &x1, &y1)) return;
   int rect_w = x1 - x0 + 1, rect_tiles = rect_w * (y1 - y0 + 1);

@@ -258,7 +258,7 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
     }
     int light = base + lid;
     if (light < light_count) {
-      ts_light_volume v = ts_load_light_volume(TS_LIGHT_ARGS, (uint)light);
+      ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, (uint)light);
       if (light_meets_tile(&v, tx, ty, zr, camera, znear)) list[atomic_inc(&list_len)] = (uint)light;
     }
   }

@@ -82,6 +82,11 @@ int main(int argc, char** argv) {
                         "per-tile light test: rect (projected sphere + depth range), frustum "
                         "(+ tile side planes), aabb (+ tile box)")
       ->capture_default_str();
+  renderCmd->add_option("--spot-culling", render.spotCulling,
+                        "spot lights culled as: cone (their cone: rectangle, depth extent and "
+                        "per-tile cone test), bound-sphere (the cone's bounding sphere), "
+                        "range-sphere (as a point light)")
+      ->capture_default_str();
   renderCmd->add_option("--math", render.math,
                         "shading arithmetic: precise, fast (-cl-fast-relaxed-math), native "
                         "(native_ functions)")

@@ -150,6 +150,7 @@ void runRender(const RenderOptions& o) {
   config.tileHeight = o.tileHeight;
   config.clusterSlices = o.clusterSlices;
   config.culling = parseCulling(o.culling);
+  config.spotCulling = parseSpotCulling(o.spotCulling);
   config.math = o.math;
   config.lanes = parseLanes(o.lanes);
   config.kernelOptions();  // rejects a bad --math before any work
@@ -252,6 +253,7 @@ void runRender(const RenderOptions& o) {
       {"geometry_pixels", prepared.gbuffer.geometryPixels()},
       {"tile", {o.tileWidth, o.tileHeight}},
       {"culling", o.culling},
+      {"spot_culling", o.spotCulling},
       {"math", o.math},
       {"lanes_requested", o.lanes},
       {"light_threshold", o.lightThreshold},

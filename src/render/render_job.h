@@ -22,6 +22,7 @@ struct RenderOptions {
   int tileWidth = 16, tileHeight = 16;
   int clusterSlices = 16;
   std::string culling = "rect";        // per-tile test: rect, frustum, aabb
+  std::string spotCulling = "cone";    // spot lights as: cone, bound-sphere, range-sphere
   std::string math = "precise";        // shading arithmetic: precise, fast, native
   std::string lanes = "auto";          // pixels per vector in the light loop (TechniqueConfig)
   GBufferFormat format = GBufferFormat::FP32;

@@ -37,8 +37,9 @@ constexpr int kGroup = 16;                            // work-group edge of the 
 // The pixel rectangle (x0, y0, x1, y1; x1/y1 exclusive) covered by a light's volume (sphere or
 // cone) clipped to the near plane: culling.h's tile rectangle with 1x1 tiles, in float like the
 // kernels, as a vertex stage would compute it. Empty (all zero) when it misses the screen.
-glm::ivec4 lightRectangle(const ViewLights& lights, size_t i, const CameraIntrinsics& camera) {
-  glm::vec4 b = lightNdcBounds(lights, i, camera);
+glm::ivec4 lightRectangle(const ViewLights& lights, size_t i, const CameraIntrinsics& camera,
+                          int spotCulling) {
+  glm::vec4 b = lightNdcBounds(lights, i, camera, spotCulling);
   int x0, y0, x1, y1;
   if (!shading_f::ts_ndc_bounds_to_tiles(b, camera.width, camera.height, 1, 1, &x0, &y0, &x1, &y1))
     return glm::ivec4(0);
@@ -107,7 +108,7 @@ class DeferredTechnique : public Technique {
     }
     std::vector<glm::ivec4> rects(frame.lights->size());
     for (size_t i = 0; i < rects.size(); ++i)
-      rects[i] = lightRectangle(*frame.lights, i, frame.camera);
+      rects[i] = lightRectangle(*frame.lights, i, frame.camera, config_.spotCulling);
 
     timer_.clear();
     enqueueFrame(frame, rects);

@@ -117,6 +117,20 @@ int parseLanes(const std::string& text) {
 
 std::string lanesName(int lanes) { return lanes == 0 ? "auto" : std::to_string(lanes); }
 
+namespace {
+const char* const kSpotCullingNames[] = {"cone", "bound-sphere", "range-sphere"};  // TS_SPOT_CULL_*
+}
+
+int parseSpotCulling(const std::string& name) {
+  for (int i = 0; i < 3; ++i)
+    if (name == kSpotCullingNames[i]) return i;
+  throw Error("unknown spot culling '" + name + "' (known: cone, bound-sphere, range-sphere)");
+}
+
+std::string spotCullingName(int spotCulling) {
+  return spotCulling >= 0 && spotCulling < 3 ? kSpotCullingNames[spotCulling] : "?";
+}
+
 std::string cullingName(int culling) {
   return culling >= 0 && culling < 3 ? kCullingNames[culling] : "?";
 }
@@ -126,6 +140,7 @@ std::string TechniqueConfig::kernelOptions() const {
   const std::string layout = gbufferKernelDefines(format);
   o << layout << (layout.empty() ? "" : " ") << features.kernelDefines()
     << " -DTS_MODEL=" << shadingModel << " -DTS_CULL=" << culling;
+  if (features.spot) o << " -DTS_SPOT_CULL=" << spotCulling;
   if (math == "fast") o << " -cl-fast-relaxed-math";
   else if (math == "native") o << " -DTS_NATIVE_MATH";
   else if (math != "precise")

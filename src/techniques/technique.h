@@ -36,6 +36,8 @@ struct TechniqueConfig {
   int shadingModel = 0;    // range model: TS_MODEL_WINDOWED (0) or TS_MODEL_PHYSICAL (1),
                            // kernels/shading.h
   int culling = 0;         // per-tile test: TS_CULL_RECT (0), _FRUSTUM (1), _AABB (2), culling.h
+  int spotCulling = 0;     // spot lights as: TS_SPOT_CULL_CONE (0), _BOUND_SPHERE (1),
+                           // _RANGE_SPHERE (2), culling.h
   std::string math = "precise";  // shading arithmetic: precise, fast (-cl-fast-relaxed-math),
                                  // native (native_ sqrt/powr/divide)
   std::string buildOptions;  // extra OpenCL build options (e.g. -cl-fast-relaxed-math)
@@ -134,6 +136,9 @@ std::vector<std::string> techniqueNames();
 // Culling test names <-> TechniqueConfig::culling ("rect", "frustum", "aabb"); throws ts::Error.
 int parseCulling(const std::string& name);
 std::string cullingName(int culling);
+// Spot culling names <-> TechniqueConfig::spotCulling ("cone", "bound-sphere", "range-sphere").
+int parseSpotCulling(const std::string& name);
+std::string spotCullingName(int spotCulling);
 // "auto" -> 0, or the number of lanes (1, 2, 4, 8, 16); throws ts::Error otherwise.
 int parseLanes(const std::string& text);
 // "auto" for 0, else the number.

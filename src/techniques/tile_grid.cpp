@@ -117,17 +117,18 @@ uint32_t runUntilListFits(ClContext& cl, cl::Buffer& list, size_t& capacity,
   }
 }
 
-glm::vec4 lightNdcBounds(const ViewLights& lights, size_t i, const CameraIntrinsics& camera) {
+glm::vec4 lightNdcBounds(const ViewLights& lights, size_t i, const CameraIntrinsics& camera,
+                         int spotCulling) {
   shading_f::ts_light_volume v =
-      shading_f::ts_make_light_volume(lights.positionRange[i], lights.spot[i]);
+      shading_f::ts_make_light_volume(lights.positionRange[i], lights.spot[i], spotCulling);
   return shading_f::ts_light_ndc_bounds(&v, camera.znear, camera.tanHalfFovX, camera.tanHalfFovY);
 }
 
-size_t tileListBound(const TileGrid& grid, const DeviceFrame& frame) {
+size_t tileListBound(const TileGrid& grid, const DeviceFrame& frame, int spotCulling) {
   const CameraIntrinsics& cam = frame.camera;
   size_t bound = 0;
   for (size_t i = 0; i < frame.lights->size(); ++i) {
-    glm::vec4 b = lightNdcBounds(*frame.lights, i, cam);
+    glm::vec4 b = lightNdcBounds(*frame.lights, i, cam, spotCulling);
     int x0, y0, x1, y1;
     if (shading_f::ts_ndc_bounds_to_tiles(b, grid.width, grid.height, grid.tileW, grid.tileH, &x0,
                                           &y0, &x1, &y1))

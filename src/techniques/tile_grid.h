@@ -46,8 +46,9 @@ WorkCounters tileWorkCounters(const TileGrid& grid, const std::vector<uint32_t>&
 void addDirectionalWork(WorkCounters& c, uint64_t geometryPixels, const DeviceFrame& frame);
 
 // Conservative NDC bounds of point or spot light i's volume (kernels/culling.h in float, as the
-// kernels compute them).
-glm::vec4 lightNdcBounds(const ViewLights& lights, size_t i, const CameraIntrinsics& camera);
+// kernels compute them; spotCulling: TechniqueConfig::spotCulling).
+glm::vec4 lightNdcBounds(const ViewLights& lights, size_t i, const CameraIntrinsics& camera,
+                         int spotCulling);
 
 // The passes that build a binned light list (tiled, clustered), the paper's grid: count each
 // light into its bins, exclusive scan of the counts into offsets (and the total), fill the list.
@@ -73,7 +74,7 @@ uint32_t runUntilListFits(ClContext& cl, cl::Buffer& list, size_t& capacity,
 // Upper bound of a frame's tile light list entries: the tiles of every light's screen rectangle
 // (culling.h in float on the host), before any depth-range test. Sizing the list buffer with it
 // saves the grow-and-rerun of a first frame.
-size_t tileListBound(const TileGrid& grid, const DeviceFrame& frame);
+size_t tileListBound(const TileGrid& grid, const DeviceFrame& frame, int spotCulling);
 
 // Per-tile lists as a LightAssignment (pixelBin = the pixel's tile).
 LightAssignment tileAssignment(const TileGrid& grid, std::vector<uint32_t> offsets,

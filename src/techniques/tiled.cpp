@@ -27,7 +27,8 @@ class TiledTechnique : public Technique {
 
   FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
-    if (config_.presizeLists) reserveList(cl_, tileLights_, capacity_, tileListBound(grid_, frame));
+    if (config_.presizeLists)
+      reserveList(cl_, tileLights_, capacity_, tileListBound(grid_, frame, config_.spotCulling));
     FrameResult result;
     uint32_t total = runUntilListFits(
         cl_, tileLights_, capacity_, total_,

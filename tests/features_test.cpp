@@ -1,0 +1,360 @@
+// Fitting the pipeline to the scene (docs/features.md): the feature analysis, the specialised
+// kernels and G-buffer layouts against the general ones, spot and directional lights and the
+// metallic-roughness model in every technique against the double reference.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <memory>
+#include <random>
+
+#include "reference/error_metrics.h"
+#include "reference/reference.h"
+#include "render/frame_setup.h"
+#include "scene/scene_features.h"
+#include "scene/scene_loader.h"
+#include "techniques/technique.h"
+#include "util/error.h"
+#include "reference_check.h"
+#include "test_support.h"
+
+namespace ts {
+namespace {
+
+using test::Checked;
+using test::kFp32RelativeTolerance;
+using test::renderAndCheck;
+using test::renderOnly;
+
+Scene builtin(const std::string& name, const std::string& lights, const std::string& variant) {
+  SceneOptions o;
+  o.lightSet = lights;
+  o.variant = variant;
+  return loadScene("builtin:" + name, o);
+}
+
+// ---- the analysis ----------------------------------------------------------------------------
+
+TEST(SceneFeatures, BuiltinsAndTheirVariants) {
+  struct Expect {
+    std::string variant;
+    ShadingModel model;
+    bool specular, emissive, point, spot, directional;
+  };
+  const ShadingModel bp = ShadingModel::BlinnPhong, mr = ShadingModel::MetallicRoughness;
+  for (const Expect& e : std::vector<Expect>{
+           {"", bp, true, true, true, false, false},
+           {"diffuse", bp, false, false, true, false, false},
+           {"no-emission", bp, true, false, true, false, false},
+           {"spot", bp, true, true, true, true, false},
+           {"sun", bp, true, true, true, false, true},
+           {"metallic-roughness", mr, true, true, true, false, false},
+           {"diffuse,spot,sun", bp, false, false, true, true, true}}) {
+    Scene s = builtin("street", "many", e.variant);
+    SceneFeatures f = analyzeScene(s, nativeShadingModel(s));
+    EXPECT_EQ(f.model, e.model) << e.variant;
+    EXPECT_EQ(f.specular, e.specular) << e.variant;
+    EXPECT_EQ(f.emissive, e.emissive) << e.variant;
+    EXPECT_EQ(f.point, e.point) << e.variant;
+    EXPECT_EQ(f.spot, e.spot) << e.variant;
+    EXPECT_EQ(f.directional, e.directional) << e.variant;
+    EXPECT_FALSE(f.textures) << e.variant;
+  }
+  // A Blinn-Phong scene shaded with metallic-roughness always has the GGX term.
+  EXPECT_TRUE(analyzeScene(builtin("atrium", "small", "diffuse"), ShadingModel::MetallicRoughness)
+                  .specular);
+}
+
+TEST(SceneFeatures, OnlyMaterialsThatTrianglesUseCount) {
+  Scene s = builtin("atrium", "small", "diffuse");
+  Material shiny;
+  shiny.specular = glm::vec3(0.5f);
+  shiny.emissive = glm::vec3(1.0f);
+  s.materials.push_back(shiny);  // no triangle uses it
+  SceneFeatures f = analyzeScene(s, ShadingModel::BlinnPhong);
+  EXPECT_FALSE(f.specular);
+  EXPECT_FALSE(f.emissive);
+  s.triangleMaterial[0] = uint32_t(s.materials.size() - 1);
+  f = analyzeScene(s, ShadingModel::BlinnPhong);
+  EXPECT_TRUE(f.specular);
+  EXPECT_TRUE(f.emissive);
+}
+
+TEST(SceneFeatures, RealGltfContent) {
+  std::string path = test::sharedScene("dungeon/level-dungeon.gltf");
+  if (path.empty()) GTEST_SKIP() << "../shared/scenes/dungeon absent";
+  ::testing::internal::CaptureStderr();
+  Scene s = loadGltf(path);
+  ::testing::internal::GetCapturedStderr();
+  SceneFeatures f = analyzeScene(s, nativeShadingModel(s));
+  EXPECT_EQ(f.model, ShadingModel::MetallicRoughness);
+  EXPECT_TRUE(f.textures);
+  EXPECT_TRUE(f.point);
+  EXPECT_TRUE(f.directional);
+  EXPECT_FALSE(f.spot);
+}
+
+TEST(SceneFeatures, ChoosingOverridesTheAnalysisButNeverDropsANeed) {
+  SceneFeatures need = analyzeScene(builtin("street", "many", "diffuse,spot"),
+                                    ShadingModel::BlinnPhong);
+  EXPECT_EQ(chooseFeatures("auto", need), need);
+  SceneFeatures general = chooseFeatures("general", need);
+  EXPECT_TRUE(general.specular && general.emissive && general.spot && general.directional);
+  EXPECT_TRUE(general.covers(need));
+  SceneFeatures listed = chooseFeatures("point, spot,emissive", need);
+  EXPECT_TRUE(listed.emissive && listed.spot && listed.point);
+  EXPECT_FALSE(listed.specular || listed.directional);
+  try {
+    chooseFeatures("point", need);
+    FAIL() << "a list without spot was accepted for a scene with spot lights";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("spot"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(chooseFeatures("point,spot,shadows", need), Error);
+  // The build options follow the features.
+  EXPECT_NE(listed.kernelDefines().find("-DTS_HAS_SPECULAR=0"), std::string::npos);
+  EXPECT_NE(general.kernelDefines().find("-DTS_HAS_DIRECTIONAL=1"), std::string::npos);
+}
+
+// Kernels that lack a feature the frame needs refuse it instead of shading it wrong.
+TEST(SceneFeatures, KernelsRefuseFramesTheyCannotShade) {
+  Scene s = builtin("street", "few", "spot,sun");
+  SceneFeatures need = analyzeScene(s, ShadingModel::BlinnPhong);
+  PreparedFrame f = prepareFrame(s, 0, 32, 24, GBufferFormat::FP32, need);
+  TechniqueConfig config;
+  config.features = need;
+  config.features.spot = false;
+  EXPECT_THROW(renderOnly(f, *createTechnique("tiled", test::context(), config), false), Error);
+  config.features = need;
+  config.features.directional = false;
+  EXPECT_THROW(renderOnly(f, *createTechnique("brute", test::context(), config), false), Error);
+  // A trimmed G-buffer under general kernels (they would read planes that are not there).
+  Scene plain = builtin("atrium", "small", "diffuse");
+  PreparedFrame trimmed = prepareFrame(plain, 0, 32, 24, GBufferFormat::FP32,
+                                       analyzeScene(plain, ShadingModel::BlinnPhong));
+  EXPECT_THROW(renderOnly(trimmed, *createTechnique("tiled", test::context(), TechniqueConfig()),
+                          false),
+               Error);
+}
+
+// ---- trimmed layouts -------------------------------------------------------------------------
+
+TEST(GBufferLayouts, OnlyThePlanesTheFeaturesNeed) {
+  struct Expect {
+    std::string variant;
+    ShadingModel model;
+    size_t fp32, fp16, packed;
+  };
+  const ShadingModel bp = ShadingModel::BlinnPhong, mr = ShadingModel::MetallicRoughness;
+  for (const Expect& e : std::vector<Expect>{
+           {"", bp, 68, 36, 24},               // depth + normal, diffuse, specular, emissive
+           {"no-emission", bp, 52, 28, 16},    // no emissive plane
+           {"diffuse", bp, 36, 20, 12},        // depth + normal + diffuse
+           {"metallic-roughness", mr, 52, 28, 21},  // + emissive; packed: + roughness byte
+           {"metallic-roughness,no-emission", mr, 36, 20, 13}}) {
+    Scene s = builtin("atrium", "small", e.variant);
+    SceneFeatures f = analyzeScene(s, nativeShadingModel(s));
+    ASSERT_EQ(f.model, e.model) << e.variant;
+    size_t expected[3] = {e.fp32, e.fp16, e.packed};
+    int k = 0;
+    for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16, GBufferFormat::PACKED}) {
+      PreparedFrame p = prepareFrame(s, 0, 16, 8, format, f);
+      EXPECT_EQ(p.encoded.bytesPerPixel(), expected[k++]) << e.variant << " " << toString(format);
+      size_t bytes = p.encoded.depth.size() * 4 + p.encoded.normal.size() +
+                     p.encoded.diffuse.size() + p.encoded.specular.size() +
+                     p.encoded.emissive.size();
+      EXPECT_EQ(bytes, p.encoded.bytesPerPixel() * p.encoded.pixelCount()) << e.variant;
+    }
+  }
+}
+
+// ---- specialised == general --------------------------------------------------------------------
+
+// The specialised pipeline compiles less and stores less, and shades the same image: bit for bit
+// (the terms it leaves out are exactly zero in the general one) where a technique's own renders
+// are bit-for-bit repeatable; tiled and clustered fill their light lists with atomics, so the
+// order of a pixel's sum (and its last bits) changes from one render to the next: for them the
+// images must agree as closely as two renders of the same pipeline do.
+class SpecialisedPipeline : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SpecialisedPipeline, SameImageAsTheGeneralOne) {
+  const std::string& name = GetParam();
+  auto differingPixels = [](const FrameResult& a, const FrameResult& b) {
+    size_t n = 0;
+    for (size_t i = 0; i < a.image.size(); ++i) n += glm::vec3(a.image[i]) != glm::vec3(b.image[i]);
+    return n;
+  };
+  auto maxDifference = [](const FrameResult& a, const FrameResult& b) {
+    double d = 0.0;
+    for (size_t i = 0; i < a.image.size(); ++i)
+      for (int c = 0; c < 3; ++c) d = std::max(d, double(std::abs(a.image[i][c] - b.image[i][c])));
+    return d;
+  };
+  for (const char* variant : {"diffuse", "metallic-roughness,no-emission", ""}) {
+    Scene s = builtin("street", "many", variant);
+    SceneFeatures need = analyzeScene(s, nativeShadingModel(s));
+    SceneFeatures general = SceneFeatures::general(need.model);
+    // Each precision once, per pixel and in lanes.
+    for (auto [format, lanes] : {std::pair{GBufferFormat::FP32, 1}, {GBufferFormat::PACKED, 16},
+                                 {GBufferFormat::FP16, 4}}) {
+      PreparedFrame fs = prepareFrame(s, 30, 96, 64, format, need);
+      PreparedFrame fg = prepareFrame(s, 30, 96, 64, format, general);
+      if (need.specular != general.specular || need.emissive != general.emissive)
+        EXPECT_LT(fs.encoded.bytesPerPixel(), fg.encoded.bytesPerPixel()) << variant;
+      {
+        {
+          TechniqueConfig cs, cg;
+          cs.format = cg.format = format;
+          cs.lanes = cg.lanes = lanes;
+          cs.features = need;
+          cg.features = general;
+          FrameResult rs = renderOnly(fs, test::cachedTechnique(name, cs), false);
+          FrameResult rg = renderOnly(fg, test::cachedTechnique(name, cg), false);
+          FrameResult again = renderOnly(fg, test::cachedTechnique(name, cg), false);
+          std::string what = name + " '" + variant + "' " + toString(format) + " lanes " +
+                             std::to_string(lanes);
+          if (differingPixels(rg, again) == 0) {
+            EXPECT_EQ(differingPixels(rs, rg), 0u) << what;
+          } else {
+            double peak = 0.0;
+            for (const auto& p : rg.image) peak = std::max({peak, double(p.x), double(p.y), double(p.z)});
+            EXPECT_LE(maxDifference(rs, rg), 1e-6 * peak) << what;
+          }
+        }
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryTechnique, SpecialisedPipeline,
+                         ::testing::ValuesIn(techniqueNames()), [](const auto& info) {
+                           std::string n = info.param;
+                           for (char& ch : n)
+                             if (ch == '-') ch = '_';
+                           return n;
+                         });
+
+// ---- spot and directional lights, metallic-roughness: every technique ------------------------
+
+struct LightCase {
+  std::string label, scene, lights, variant;
+  int frame;
+};
+
+void PrintTo(const LightCase& c, std::ostream* os) { *os << c.label; }
+
+class EveryTechniqueWithLightTypes
+    : public ::testing::TestWithParam<std::tuple<std::string, LightCase>> {};
+
+const PreparedFrame& lightCaseFrame(const LightCase& c) {
+  static std::map<std::string, std::unique_ptr<PreparedFrame>> cache;
+  auto& p = cache[c.label];
+  if (!p) {
+    Scene s = builtin(c.scene, c.lights, c.variant);
+    p = std::make_unique<PreparedFrame>(prepareFrame(s, c.frame, 160, 96, GBufferFormat::FP32,
+                                                     analyzeScene(s, nativeShadingModel(s))));
+  }
+  return *p;
+}
+
+TEST_P(EveryTechniqueWithLightTypes, MatchesReferenceWithNoMissedLight) {
+  const auto& [name, lc] = GetParam();
+  const PreparedFrame& f = lightCaseFrame(lc);
+  for (int lanes : {1, 16}) {
+    TechniqueConfig config;
+    config.features = f.features;
+    config.lanes = lanes;
+    Checked c = renderAndCheck(f, test::cachedTechnique(name, config));
+    EXPECT_EQ(c.missed, 0u) << lanes;
+    EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << lanes;
+    EXPECT_GT(c.contributing, 0u);
+    for (const auto& px : c.result.image) ASSERT_TRUE(std::isfinite(px.x + px.y + px.z));
+  }
+}
+
+std::vector<LightCase> lightCases() {
+  return {{"street_spot", "street", "many", "spot", 40},
+          {"street_spot_sun", "street", "few", "spot,sun", 100},
+          {"atrium_spot_mr", "atrium", "mixed", "spot,metallic-roughness", 20},
+          {"atrium_sun_mr_diffuse_lights", "atrium", "big", "sun,metallic-roughness", 70},
+          {"street_diffuse_spot", "street", "many", "diffuse,spot", 0}};
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Variants, EveryTechniqueWithLightTypes,
+    ::testing::Combine(::testing::ValuesIn(techniqueNames()), ::testing::ValuesIn(lightCases())),
+    [](const auto& info) {
+      std::string n = std::get<0>(info.param) + "_" + std::get<1>(info.param).label;
+      for (char& ch : n)
+        if (ch == '-') ch = '_';
+      return n;
+    });
+
+// Spot lights placed against the camera: the camera inside a cone, cones behind it and through
+// the near plane, cones seen edge-on, narrow and wide; random cameras in both built-ins.
+TEST(SpotCulling, ConesAroundTheCameraMissNothing) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (const char* name : {"street", "atrium"}) {
+    Scene scene = builtin(name, name == std::string("street") ? "few" : "small", "");
+    Bounds b = scene.bounds();
+    for (int cam = 0; cam < 3; ++cam) {
+      glm::vec3 eye = b.min + glm::vec3(u(rng), 0.05f + 0.3f * u(rng), u(rng)) * b.extent();
+      glm::vec3 fwd = glm::normalize(glm::vec3(u(rng) - 0.5f, 0.2f * (u(rng) - 0.5f), u(rng) - 0.5f));
+      glm::vec3 side = glm::normalize(glm::cross(fwd, glm::vec3(0, 1, 0)));
+      scene.cameraPath = {Camera::lookAt(eye, eye + fwd, {0, 1, 0}, 1.0f, 0.1f, 500.0f)};
+      scene.lights.clear();
+      float range = 0.15f * glm::length(b.extent());
+      auto spot = [&](glm::vec3 p, glm::vec3 axis, float outerDeg) {
+        float outer = glm::radians(outerDeg);
+        scene.lights.push_back(
+            Light::spot(p, glm::normalize(axis), glm::vec3(range * range * 0.02f), range,
+                        0.5f * outer, outer));
+      };
+      spot(eye + glm::vec3(0, 0.5f, 0), -fwd + glm::vec3(0, -0.3f, 0), 40);  // camera inside
+      spot(eye - 2.0f * fwd, fwd, 25);                     // behind, shining past the camera
+      spot(eye + 0.05f * fwd, fwd + 0.2f * side, 60);      // apex at the near plane
+      spot(eye + 0.3f * range * fwd, side, 15);            // edge-on, narrow
+      spot(eye + 0.5f * range * fwd - 0.4f * range * side, side, 85);  // edge-on, almost flat
+      for (int k = 0; k < 20; ++k)                         // anywhere, any direction
+        spot(b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
+             glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f), 5.0f + 80.0f * u(rng));
+      SceneFeatures need = analyzeScene(scene, ShadingModel::BlinnPhong);
+      PreparedFrame f = prepareFrame(scene, 0, 128, 80, GBufferFormat::FP32, need);
+      ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+      ASSERT_GT(ref.contributing, 0u);
+      for (const auto& technique : techniqueNames()) {
+        for (const char* cull : {"cone", "bound-sphere"}) {
+          TechniqueConfig config;
+          config.features = need;
+          config.spotCulling = parseSpotCulling(cull);
+          config.tileWidth = config.tileHeight = 8;
+          Checked c = renderAndCheck(f, test::cachedTechnique(technique, config), ref);
+          EXPECT_EQ(c.missed, 0u) << name << " camera " << cam << " " << technique << " " << cull;
+          EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance)
+              << name << " camera " << cam << " " << technique << " " << cull;
+        }
+      }
+    }
+  }
+}
+
+// Cone culling lists fewer lights than culling the cone's bounding sphere, which lists fewer than
+// the range sphere (on the spot variant of the street, every other light a spot).
+TEST(SpotCulling, ConesCullMoreThanSpheres) {
+  Scene s = builtin("street", "many", "spot");
+  SceneFeatures need = analyzeScene(s, ShadingModel::BlinnPhong);
+  PreparedFrame f = prepareFrame(s, 40, 160, 96, GBufferFormat::FP32, need);
+  uint64_t previous = 0;
+  for (const char* cull : {"cone", "bound-sphere", "range-sphere"}) {
+    TechniqueConfig config;
+    config.features = need;
+    config.spotCulling = parseSpotCulling(cull);
+    Checked c = renderAndCheck(f, test::cachedTechnique("tiled", config));
+    EXPECT_EQ(c.missed, 0u) << cull;
+    EXPECT_GT(c.result.counters.lightingComputations, previous) << cull;
+    previous = c.result.counters.lightingComputations;
+  }
+}
+
+}  // namespace
+}  // namespace ts
