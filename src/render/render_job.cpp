@@ -15,7 +15,9 @@
 #include "reference/reference.h"
 #include "reference/shading_cpu.h"
 #include "render/frame_setup.h"
+#include "render/gbuffer_dump.h"
 #include "render/image_io.h"
+#include "render/render_input.h"
 #include "render/stats.h"
 #include "scene/light_range.h"
 #include "scene/scene_loader.h"
@@ -43,41 +45,6 @@ std::vector<std::string> expandTechniques(const std::vector<std::string>& names)
   return out;
 }
 
-void writeDump(ClContext& cl, DeviceFrame& frame, const TechniqueConfig& config,
-               const std::string& dir) {
-  cl::Program program = cl.build("dump.cl", config.kernelOptions());
-  cl::Kernel kernel(program, "decode_gbuffer");
-  const int channels = 17;
-  size_t pixels = size_t(frame.width()) * frame.height();
-  cl::Buffer out(cl.context(), CL_MEM_WRITE_ONLY, pixels * channels * sizeof(float));
-  kernel.setArg(0, toCl(frame.camera.kernelCamera()));
-  frame.setGBufferArgs(kernel, 1);
-  kernel.setArg(6, out);
-  cl.queue().enqueueNDRangeKernel(kernel, cl::NullRange,
-                                  cl::NDRange(roundUp(frame.width(), 8), roundUp(frame.height(), 8)),
-                                  cl::NDRange(8, 8));
-  std::vector<float> data(pixels * channels);
-  cl.queue().enqueueReadBuffer(out, CL_TRUE, 0, data.size() * sizeof(float), data.data());
-  writeExr(dir + "/gbuffer.exr", frame.width(), frame.height(),
-           {"P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "kd.R", "kd.G", "kd.B", "ks.R", "ks.G",
-            "ks.B", "shininess", "ke.R", "ke.G", "ke.B", "mask"},
-           data);
-
-  nlohmann::json lights = nlohmann::json::array();
-  for (size_t i = 0; i < frame.lights->size(); ++i) {
-    const auto& p = frame.lights->positionRange[i];
-    const auto& c = frame.lights->color[i];
-    lights.push_back({{"type", "point"},
-                      {"position", {p.x, p.y, p.z}},
-                      {"color", {c.x, c.y, c.z}},
-                      {"range", p.w}});
-  }
-  nlohmann::json j = {{"dmin", TS_DMIN},
-                      {"ambient", {frame.ambient.x, frame.ambient.y, frame.ambient.z}},
-                      {"lights", lights}};
-  std::ofstream(dir + "/lights.json") << j.dump(2) << "\n";
-}
-
 std::string kernelSummary(const FrameResult& r) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(3);
@@ -88,17 +55,15 @@ std::string kernelSummary(const FrameResult& r) {
 
 }  // namespace
 
-void runRender(const RenderOptions& o) {
-  std::vector<std::string> techniques = expandTechniques(o.techniques);
+void runRender(const RenderOptions& options) {
+  std::vector<std::string> techniques = expandTechniques(options.techniques);
   for (const auto& t : techniques) findTechnique(t);  // bad names fail before any work
-  SceneOptions sceneOptions;
-  sceneOptions.lightSet = o.lightSet;
-  sceneOptions.seed = o.seed;
-  sceneOptions.lightCount = o.lightCount;
-  sceneOptions.lightRange = o.lightRange;
-  Scene scene = loadScene(o.scene, sceneOptions);
-  if (o.lightThreshold > 0.0f) applyThresholdRanges(scene.lights, o.lightThreshold);
-  PreparedFrame prepared = prepareFrame(scene, o.frame, o.width, o.height, o.format);
+  const RenderInput input = loadRenderInput(options);
+  const PreparedFrame& prepared = input.frame;
+  RenderOptions o = options;  // an imported G-buffer decides the size and maybe the layout
+  o.width = prepared.intrinsics.width;
+  o.height = prepared.intrinsics.height;
+  o.format = prepared.encoded.format;
 
   ClContext cl(o.device);
   DeviceFrame frame = prepared.upload(cl);
@@ -130,11 +95,13 @@ void runRender(const RenderOptions& o) {
                               TS_MODEL_PHYSICAL);
   }
 
-  std::cout << "tileshade: " << scene.name << " (" << scene.triangleCount() << " triangles, "
-            << prepared.lights.size() << " lights), frame " << o.frame << ", " << o.width << "x"
-            << o.height << ", G-buffer " << toString(o.format) << ", tile " << o.tileWidth << "x"
-            << o.tileHeight << "\n"
-            << "device: " << cl.deviceName() << "\n";
+  std::cout << "tileshade: " << input.sceneName << " (" << input.triangles << " triangles, "
+            << prepared.lights.size() << " lights), frame " << prepared.frame << ", " << o.width
+            << "x" << o.height << ", G-buffer " << toString(o.format) << ", tile " << o.tileWidth
+            << "x" << o.tileHeight << "\n"
+            << "raster: " << input.rasterDetail << ", " << std::fixed << std::setprecision(1)
+            << prepared.rasterMs << " ms (setup " << input.rasterSetupMs << " ms)\n"
+            << std::defaultfloat << "device: " << cl.deviceName() << "\n";
   if (reference)
     std::cout << "reference: " << reference->contributing
               << " contributing light evaluations (the ideal), peak " << reference->peak << "\n";
@@ -190,12 +157,12 @@ void runRender(const RenderOptions& o) {
   nlohmann::json stats = {
       {"device", cl.deviceName()},
       {"device_type", cl.info().type},
-      {"scene", scene.name},
-      {"scene_spec", o.scene},
+      {"scene", input.sceneName},
+      {"scene_spec", o.gbufferIn.empty() ? o.scene : "gbuffer-in:" + o.gbufferIn},
       {"light_set", o.lightSet},
       {"lights", prepared.lights.size()},
-      {"triangles", scene.triangleCount()},
-      {"frame", o.frame},
+      {"triangles", input.triangles},
+      {"frame", prepared.frame},
       {"width", o.width},
       {"height", o.height},
       {"gbuffer", toString(o.format)},
@@ -206,14 +173,17 @@ void runRender(const RenderOptions& o) {
       {"math", o.math},
       {"lanes_requested", o.lanes},
       {"light_threshold", o.lightThreshold},
+      {"raster", input.raster},
+      {"raster_renderer", input.rasterDetail},
       {"raster_ms", prepared.rasterMs},
+      {"raster_setup_ms", input.rasterSetupMs},
       {"compile_ms", cl.compileMs()},
       {"techniques", results},
   };
   if (reference)
     stats["reference"] = {{"contributing", reference->contributing}, {"peak", reference->peak}};
   std::ofstream(o.outDir + "/stats.json") << stats.dump(2) << "\n";
-  if (o.dump) writeDump(cl, frame, config, o.outDir);
+  if (o.dump) writeGBufferDump(cl, frame, config, prepared, input.sceneName, input.raster, o.outDir);
   std::cout << "wrote " << o.outDir << "/\n";
 }
 
