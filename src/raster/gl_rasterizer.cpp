@@ -308,9 +308,11 @@ struct GlRasterizer::State {
 
   template <typename T>
   void readTarget(int target, GLenum format, GLenum type, std::vector<T>& out) {
-    glReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + target));
+    // glGetTexImage of the attachment: on llvmpipe ~8x faster than glReadPixels (which takes a
+    // generic conversion path for float formats), and the same bytes.
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, width, height, format, type, out.data());
+    glBindTexture(GL_TEXTURE_2D, targets[target]);
+    glGetTexImage(GL_TEXTURE_2D, 0, format, type, out.data());
   }
 
   void readBack(GBuffer& g, const RasterOptions& options) {
