@@ -134,7 +134,7 @@ TEST(GBufferImport, OpenGLGBufferDumpedAndImported) {
   try {
     gl.emplace(scene, RasterBackend::Gl);
   } catch (const Error& e) {
-    GTEST_SKIP() << "no OpenGL context: " << e.what();
+    GTEST_SKIP() << e.what();
   }
   for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::PACKED}) {
     PreparedFrame original = prepareFrame(*gl, 2, 101, 67, format,

@@ -33,7 +33,7 @@ namespace {
     try {                                                \
       EglContext::shared();                              \
     } catch (const Error& e) {                           \
-      GTEST_SKIP() << "no OpenGL context: " << e.what(); \
+      GTEST_SKIP() << e.what();                          \
     }                                                    \
   } while (0)
 
