@@ -46,6 +46,10 @@
 // normalized; for doubleSided materials it is negated on back-facing triangles (so it faces the
 // viewer, as glTF specifies), for single-sided materials it is kept as the vertex data says. A
 // vertex-normal interpolation of (near) zero length is replaced by the geometric normal.
+//
+// Material planes: ts_material_planes in shaders/material_planes.h, the one definition the OpenGL
+// rasterizer (src/raster/gl_rasterizer.cpp, shaders/gbuffer.frag) compiles as GLSL; these notes'
+// conventions are mirrored there, convention by convention (docs/opengl.md).
 #include <algorithm>
 #include <atomic>
 #include <cmath>
