@@ -1,10 +1,12 @@
 /*
  * Writes, per pixel, the values the shading kernels read after decoding the G-buffer
- * (kernels/gbuffer.h) in DUMP_CHANNELS floats: P.xyz N.xyz, the material's stored terms m0..m6,
- * ke.rgb, mask. The material terms are those of the shading model (TS_SHADING):
- *   Blinn-Phong          kd.rgb ks.rgb shininess
- *   metallic-roughness   base.rgb metallic roughness 0 0
- * Host side: `tileshade render --dump` (src/render/render_job.cpp) writes them to gbuffer.exr.
+ * (kernels/gbuffer.h) in DUMP_CHANNELS floats, the material terms as a rasterized G-buffer holds
+ * them (src/raster/gbuffer.h) whatever the layout stores:
+ *   0-2 P.xyz   3-5 N.xyz (renormalised)   13-15 ke.rgb   16 mask
+ *   Blinn-Phong          6-8 kd.rgb     9-11 ks.rgb      12 shininess
+ *   metallic-roughness   6-8 base.rgb   9 roughness, 10-12 0   (metallic: host side)
+ * Host side: src/render/gbuffer_dump.cpp (`tileshade render --dump`; dumpKernelChannels() names
+ * the channels).
  */
 #include "gbuffer.h"
 
@@ -26,14 +28,13 @@ __kernel void decode_gbuffer(float4 camera, TS_GBUFFER_PARAMS, __global float *o
   o[3] = normal.x; o[4] = normal.y; o[5] = normal.z;
   o[6] = diffuse.x; o[7] = diffuse.y; o[8] = diffuse.z;
 #if TS_SHADING == 1
-  o[9] = diffuse.w;
-  o[10] = ts_decode_roughness(i, normal, gb_specular);
+  o[9] = ts_decode_roughness(i, normal, gb_specular);
 #elif TS_HAS_SPECULAR
   float4 spec = ts_decode_specular(i, gb_specular);
   o[9] = spec.x; o[10] = spec.y; o[11] = spec.z;
   o[12] = spec.w;
 #else
-  o[12] = 1.0f;
+  o[12] = 1.0f; /* no specular plane: ks 0, shininess 1 */
 #endif
 #if TS_HAS_EMISSIVE
   float3 ke = ts_decode_emissive(i, gb_emissive);

@@ -53,8 +53,9 @@ int main(int argc, char** argv) {
   ts::RenderOptions render;
   std::string tile = "16", format = "fp32";
   auto* renderCmd = app.add_subcommand("render", "render one frame with one or more techniques");
-  renderCmd->add_option("--scene", render.scene, "builtin:street, builtin:atrium, or a .gltf/.glb path")
-      ->capture_default_str();
+  auto* sceneOpt =
+      renderCmd->add_option("--scene", render.scene, "builtin:street, builtin:atrium, or a .gltf/.glb path")
+          ->capture_default_str();
   renderCmd->add_option("--lights", render.lightSet,
                         "light set (street: many, few; atrium: small, big, mixed); for glTF, "
                         "the file's own lights unless given");
@@ -103,7 +104,17 @@ int main(int argc, char** argv) {
   renderCmd->add_option("--tile", tile, "tile size N or WxH (pixels)")->capture_default_str();
   renderCmd->add_option("--slices", render.clusterSlices, "depth slices of clustered shading")
       ->capture_default_str();
-  renderCmd->add_option("--gbuffer", format,
+  auto* rasterOpt = renderCmd->add_option(
+      "--raster", render.raster,
+      "rasterizer of the G-buffer: software, or gl (OpenGL through a headless EGL context: a GPU's "
+      "driver, else Mesa's llvmpipe; docs/opengl.md)")
+      ->capture_default_str();
+  auto* gbufferInOpt = renderCmd->add_option(
+      "--gbuffer-in", render.gbufferIn,
+      "shade a G-buffer read from files instead of a scene: a folder written by --dump, or a "
+      "descriptor .json naming another renderer's EXR channels (docs/output-formats.md); size, "
+      "camera and lights come from the files, the layout too unless --gbuffer is given");
+  auto* gbufferOpt = renderCmd->add_option("--gbuffer", format,
                         "G-buffer precision: fp32, fp16 or packed (octahedral normals, unorm8 "
                         "colours; see docs/accuracy.md)")
       ->capture_default_str();
@@ -122,7 +133,14 @@ int main(int argc, char** argv) {
   renderCmd->add_flag("--heatmap", render.heatmap,
                       "with --check: error.png, a log-scale heat map of the error per pixel");
   renderCmd->add_flag("--dump", render.dump,
-                      "also write gbuffer.exr (decoded shading inputs) and lights.json");
+                      "also write gbuffer.exr (decoded shading inputs), lights.json and "
+                      "gbuffer.json (the descriptor --gbuffer-in reads)");
+  // An imported G-buffer brings its own scene, size, frame and lights.
+  for (const char* name : {"--lights", "--light-count", "--light-range", "--light-threshold",
+                           "--seed", "--width", "--height", "--frame"})
+    gbufferInOpt->excludes(renderCmd->get_option(name));
+  gbufferInOpt->excludes(sceneOpt);
+  gbufferInOpt->excludes(rasterOpt);
 
   // devices
   auto* devicesCmd = app.add_subcommand("devices", "list the OpenCL devices");
@@ -156,6 +174,7 @@ int main(int argc, char** argv) {
       render.tileWidth = tw;
       render.tileHeight = th;
       render.format = ts::parseGBufferFormat(format);
+      render.keepInputLayout = gbufferOpt->count() == 0;
       ts::runRender(render);
     } else if (*bench.command) {
       bench.run();

@@ -1,6 +1,7 @@
 #pragma once
 // Shared pieces of the test suites: one OpenCL context per process (PoCL unless
 // $TILESHADE_DEVICE says otherwise), where to find third-party scenes, and the tileshade binary.
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -24,6 +25,22 @@ inline std::string sourceDir() {
 inline std::string sharedScene(const std::string& relative) {
   std::filesystem::path p = std::filesystem::path(sourceDir()) / ".." / "shared" / "scenes" / relative;
   return std::filesystem::exists(p) ? p.lexically_normal().string() : std::string();
+}
+
+// The tileshade binary run with `args` (stdout and stderr together).
+struct CliRun {
+  int status;
+  std::string output;
+};
+
+inline CliRun runTileshade(const std::string& args) {
+  std::string cmd = std::string(TILESHADE_BINARY) + " " + args + " 2>&1";
+  CliRun r{0, ""};
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (fgets(buf, sizeof buf, p)) r.output += buf;
+  r.status = pclose(p);
+  return r;
 }
 
 }  // namespace ts::test

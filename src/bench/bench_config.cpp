@@ -89,13 +89,17 @@ std::vector<BenchDimension> makeDimensions() {
         c.device = s == "default" ? "" : s;
       },
       [](const BenchConfig& c) { return c.device.empty() ? std::string("default") : c.device; });
-  add("scene", "scene(s): builtin:street, builtin:atrium, or a .gltf/.glb path", true,
+  add("scene", "scene(s): builtin:street, builtin:atrium, a .gltf/.glb path, or gbuffer:DIR (an "
+      "imported G-buffer: render --dump's folder or a descriptor .json)", true,
       [](BenchConfig& c, const std::string& v) {
         std::string s = trim(v);
         if (s.empty()) bad("--scene", v, "expected a scene");
         c.scene = s;
       },
       [](const BenchConfig& c) { return c.scene; });
+  add("raster", "rasterizer(s) of the G-buffer: software, gl (OpenGL; docs/opengl.md)", true,
+      [](BenchConfig& c, const std::string& v) { c.raster = oneOf("--raster", v, {"software", "gl"}); },
+      [](const BenchConfig& c) { return c.raster; });
   add("light_set", "light set(s) (street: many, few; atrium: small, big, mixed); default: the scene's",
       true,
       [](BenchConfig& c, const std::string& v) {

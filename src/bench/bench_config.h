@@ -33,6 +33,7 @@ struct BenchConfig {
   std::string math = "precise";
   int clusterSlices = 16;
   int lanes = 0;                    // TechniqueConfig::lanes; 0 = auto
+  std::string raster = "software";  // rasterizer of the G-buffer: software or gl
 
   TechniqueConfig techniqueConfig() const;
   SceneOptions sceneOptions() const;

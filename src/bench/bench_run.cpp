@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "bench/bench_frames.h"
 #include "bench/bench_stats.h"
 #include "bench/progress.h"
 #include "cl/cl_context.h"
@@ -52,11 +53,13 @@ std::string nowUtc() {
   return buf;
 }
 
-// The scene-defining part of a configuration (frameKey() without the resolution).
+// The scene-defining part of a configuration (frameKey() without the resolution and the
+// rasterizer: one BenchScene serves both rasterizers).
 std::string sceneKey(const BenchConfig& c) {
   std::string k;
   for (const auto& d : benchDimensions())
-    if (d.affectsFrame && d.name != "resolution") k += d.name + "=" + d.get(c) + ";";
+    if (d.affectsFrame && d.name != "resolution" && d.name != "raster")
+      k += d.name + "=" + d.get(c) + ";";
   return k;
 }
 
@@ -259,7 +262,8 @@ void printTable(const json& summaries, std::ostream& out) {
   }
   std::vector<std::vector<std::string>> table;
   std::vector<std::string> head = shown;
-  for (const char* h : {"median ms", "(min-max)", "wall ms", "% limit", "per-kernel median ms"})
+  for (const char* h :
+       {"median ms", "(min-max)", "wall ms", "raster ms", "% limit", "per-kernel median ms"})
     head.push_back(h);
   table.push_back(head);
   for (const auto& s : summaries) {
@@ -269,6 +273,7 @@ void printTable(const json& summaries, std::ostream& out) {
     row.push_back(fixed(num(t, "median"), 3));
     row.push_back("(" + fixed(num(t, "min"), 3) + "-" + fixed(num(t, "max"), 3) + ")");
     row.push_back(fixed(num(s.at("wall_ms"), "median"), 2));
+    row.push_back(fixed(num(s.at("raster_ms"), "median"), 2));
     std::string pct = fixed(num(s.at("limit_pct"), "median"), 1);
     std::string basis = str(s, "flops_basis");
     row.push_back(pct == "-" ? pct : pct + (basis == "reference" ? "" : basis == "evaluations" ? "*" : "~"));
@@ -517,21 +522,17 @@ BenchRunResult runBench(const BenchOptions& o) {
   }
 
   // Scenes (one per distinct scene definition) and the frames each configuration still needs.
-  std::map<std::string, Scene> scenes;
-  // Per scene: its lights with the scene's own ranges (before --light-threshold), for the error
-  // reference that every configuration of the scene is measured against.
-  std::map<std::string, std::vector<Light>> ownRangeLights;
+  // Per scene definition: the scene (or imported G-buffer), its rasterizers, and its lights with
+  // the scene's own ranges (before --light-threshold) for the error reference that every
+  // configuration of the scene is measured against (src/bench/bench_frames.h).
+  std::map<std::string, BenchScene> scenes;
   size_t pendingTotal = 0;
   for (auto& e : entries) {
     std::string key = sceneKey(e.config);
-    if (!scenes.count(key)) {
-      Scene scene = loadScene(e.config.scene, e.config.sceneOptions());
-      ownRangeLights.emplace(key, scene.lights);
-      if (e.config.lightThreshold > 0.0f) applyThresholdRanges(scene.lights, e.config.lightThreshold);
-      scenes.emplace(key, std::move(scene));
-    }
-    const Scene& scene = scenes.at(key);
-    e.frames = o.frames.resolve(int(scene.cameraPath.size()));
+    auto it = scenes.find(key);
+    if (it == scenes.end()) it = scenes.try_emplace(key, e.config).first;
+    else it->second.check(e.config);
+    e.frames = o.frames.resolve(it->second.pathLength());
     std::string id = e.config.id();
     for (int f : e.frames) {
       if (done.count({id, f})) ++result.skippedRows;
@@ -633,7 +634,7 @@ BenchRunResult runBench(const BenchOptions& o) {
   for (const auto& gk : groupOrder) {
     auto& group = groups[gk];
     const BenchConfig& g = group.front()->config;
-    const Scene& scene = scenes.at(sceneKey(g));
+    BenchScene& scene = scenes.at(sceneKey(g));
     for (Entry* e : group) {
       try {
         ClContext& cl = context(e->config.device);
@@ -654,7 +655,7 @@ BenchRunResult runBench(const BenchOptions& o) {
     for (Entry* e : group) frames.insert(e->pending.begin(), e->pending.end());
 
     for (int f : frames) {
-      PreparedFrame prepared = prepareFrame(scene, f, g.width, g.height, GBufferFormat::FP32);
+      PreparedFrame prepared = scene.prepare(g, f);
       std::map<GBufferFormat, EncodedGBuffer> otherFormats;  // encoded once each, when needed
       auto encoded = [&](GBufferFormat format) -> const EncodedGBuffer& {
         if (format == GBufferFormat::FP32) return prepared.encoded;
@@ -672,7 +673,7 @@ BenchRunResult runBench(const BenchOptions& o) {
         if (!sceneReference)
           sceneReference = shadeReference(
               prepared.encoded, prepared.intrinsics,
-              toViewSpace(ownRangeLights.at(sceneKey(g)), prepared.camera.viewFromWorld),
+              scene.ownRangeLights(prepared),
               prepared.ambient, TS_MODEL_WINDOWED);
         return *sceneReference;
       };

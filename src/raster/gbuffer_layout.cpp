@@ -125,11 +125,13 @@ uint32_t encodeNormal(glm::vec3 n) {
   const double l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
   if (!(l1 > 0.0) || !std::isfinite(l1)) return 0u;  // decodes to +Z
   // Exact octahedral coordinates in [-1, 1]^2; the lower hemisphere folds over the diagonals
-  // (sign(0) = +1, as the decoder's `>= 0` test).
+  // (sign(+0) = +1, as the decoder's `>= 0` test; sign(-0) = -1: where the fold maps two codes to
+  // one direction, only the sign of a zero component tells them apart, and keeping it makes
+  // re-encoding a decoded normal give back its code, which `--gbuffer-in` relies on).
   double px = d.x / l1, py = d.y / l1;
   if (d.z < 0.0) {
-    double fx = (1.0 - std::abs(py)) * (px >= 0.0 ? 1.0 : -1.0);
-    double fy = (1.0 - std::abs(px)) * (py >= 0.0 ? 1.0 : -1.0);
+    double fx = (1.0 - std::abs(py)) * (std::signbit(px) ? -1.0 : 1.0);
+    double fy = (1.0 - std::abs(px)) * (std::signbit(py) ? -1.0 : 1.0);
     px = fx;
     py = fy;
   }
@@ -267,6 +269,38 @@ EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format,
   if (e.hasSpecularPlane()) e.specular = encodePlane(gbuffer.specular, n, format);
   if (e.hasEmissive) e.emissive = encodePlane(gbuffer.emissive, n, format);
   return e;
+}
+
+glm::vec4 decodeStored(const EncodedGBuffer& gbuffer, GBufferPlane plane, size_t i) {
+  const bool mr = gbuffer.model == ShadingModel::MetallicRoughness;
+  // Metallic-roughness keeps roughness in the normal's w (fp32, fp16) or in a byte plane
+  // (packed); as a raster G-buffer holds it: (roughness, 0, 0, 0).
+  if (mr && plane == GBufferPlane::Specular) {
+    float roughness = gbuffer.format == GBufferFormat::PACKED
+                          ? packed::decodeUnorm8(gbuffer.specular[i])
+                          : load4(gbuffer.normal, i, gbuffer.format).w;
+    return glm::vec4(roughness, 0.0f, 0.0f, 0.0f);
+  }
+  // Absent planes hold what a material without the term has.
+  if (plane == GBufferPlane::Specular && !gbuffer.hasSpecularPlane())
+    return glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  if (plane == GBufferPlane::Emissive && !gbuffer.hasEmissive) return glm::vec4(0.0f);
+  const auto& bytes = plane == GBufferPlane::Normal     ? gbuffer.normal
+                      : plane == GBufferPlane::Diffuse  ? gbuffer.diffuse
+                      : plane == GBufferPlane::Specular ? gbuffer.specular
+                                                        : gbuffer.emissive;
+  if (gbuffer.format != GBufferFormat::PACKED) {
+    glm::vec4 v = load4(bytes, i, gbuffer.format);
+    if (mr && plane == GBufferPlane::Normal) v.w = 0.0f;
+    return v;
+  }
+  if (plane == GBufferPlane::Emissive) return load4(bytes, i, GBufferFormat::FP16);
+  const uint32_t v = loadPacked(bytes, i);
+  switch (plane) {
+    case GBufferPlane::Normal: return glm::vec4(packed::decodeNormalUnnormalized(v), 0.0f);
+    case GBufferPlane::Diffuse: return glm::vec4(unorm8x3(v), packed::decodeUnorm8(uint8_t(v >> 24)));
+    default: return glm::vec4(unorm8x3(v), packed::decodeShininess(uint8_t(v >> 24)));
+  }
 }
 
 bool decodeSurface(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera, int x, int y,

@@ -46,6 +46,10 @@
 // normalized; for doubleSided materials it is negated on back-facing triangles (so it faces the
 // viewer, as glTF specifies), for single-sided materials it is kept as the vertex data says. A
 // vertex-normal interpolation of (near) zero length is replaced by the geometric normal.
+//
+// Material planes: ts_material_planes in shaders/material_planes.h, the one definition the OpenGL
+// rasterizer (src/raster/gl_rasterizer.cpp, shaders/gbuffer.frag) compiles as GLSL; these notes'
+// conventions are mirrored there, convention by convention (docs/opengl.md).
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -57,6 +61,8 @@
 
 #include "raster/gbuffer.h"
 #include "raster/plane_alloc.h"
+#include "raster/scene_validation.h"
+#include "shaders/material_planes.h"
 #include "util/error.h"
 
 namespace ts {
@@ -218,7 +224,7 @@ class Rasterizer {
     workers_ = options.threads > 0 ? options.threads
                                    : int(std::max(1u, std::thread::hardware_concurrency()));
     workers_ = std::min(workers_, kMaxWorkers);
-    validate();
+    validateForRaster(scene_);
   }
 
   GBuffer run() {
@@ -248,30 +254,6 @@ class Rasterizer {
     uint32_t sub[kTileSize * kTileSize];
     uint32_t fragments[kTileSize * kTileSize];
   };
-
-  void validate() const {
-    const Scene& s = scene_;
-    if (s.indices.size() % 3 != 0)
-      throw Error("scene '" + s.name + "': index count " + std::to_string(s.indices.size()) +
-                  " is not a multiple of 3");
-    for (uint32_t i : s.indices)
-      if (i >= s.vertices.size())
-        throw Error("scene '" + s.name + "': vertex index " + std::to_string(i) +
-                    " out of range (" + std::to_string(s.vertices.size()) + " vertices)");
-    if (!s.triangleMaterial.empty() && s.triangleMaterial.size() != s.triangleCount())
-      throw Error("scene '" + s.name + "': " + std::to_string(s.triangleMaterial.size()) +
-                  " triangle materials for " + std::to_string(s.triangleCount()) + " triangles");
-    for (uint32_t m : s.triangleMaterial)
-      if (m >= s.materials.size())
-        throw Error("scene '" + s.name + "': material index " + std::to_string(m) +
-                    " out of range (" + std::to_string(s.materials.size()) + " materials)");
-    for (const Material& m : s.materials)
-      for (int t : {m.diffuseTexture, m.baseColorTexture, m.metallicRoughnessTexture,
-                    m.emissiveTexture})
-        if (t >= int(s.textures.size()))
-          throw Error("scene '" + s.name + "': material '" + m.name + "' uses texture " +
-                      std::to_string(t) + " of " + std::to_string(s.textures.size()));
-  }
 
   void transformVertices() {
     const glm::dmat4 view(camera_.viewFromWorld);
@@ -600,8 +582,10 @@ class Rasterizer {
         }
         if (m.doubleSided && t.backFacing) n = -n;
 
-        // Textures are sampled at the pixel's interpolated UV (one set per vertex).
-        auto sample = [&](int texture) {
+        // Textures are sampled at the pixel's interpolated UV (one set per vertex), only those
+        // the model reads (shaders/material_planes.h, shared with the OpenGL rasterizer).
+        auto sample = [&](int slot) {
+          const int texture = materialTexture(m, slot);
           if (texture < 0) return glm::vec4(1.0f);
           const Vertex &v0 = scene_.vertices[i0], &v1 = scene_.vertices[i1],
                        &v2 = scene_.vertices[i2];
@@ -609,19 +593,14 @@ class Rasterizer {
                           B[2] * glm::dvec2(v2.uv);
           return scene_.textures[size_t(texture)].sample(glm::vec2(uv));
         };
+        const TsMaterialPlanes planes = ts_material_planes(
+            options_.model == ShadingModel::MetallicRoughness, m, sample);
 
         g.depth[gi] = float(1.0 / sc.invDepth[p]);
         g.normal[gi] = glm::vec4(glm::vec3(n), 0.0f);
-        if (options_.model == ShadingModel::MetallicRoughness) {
-          glm::vec4 mr = sample(m.metallicRoughnessTexture);  // glTF: G roughness, B metallic
-          g.diffuse[gi] = glm::vec4(m.baseColor * glm::vec3(sample(m.baseColorTexture)),
-                                    m.metallic * mr.z);
-          g.specular[gi] = glm::vec4(m.roughness * mr.y, 0.0f, 0.0f, 0.0f);
-        } else {
-          g.diffuse[gi] = glm::vec4(m.diffuse * glm::vec3(sample(m.diffuseTexture)), 1.0f);
-          g.specular[gi] = glm::vec4(m.specular, m.shininess);
-        }
-        g.emissive[gi] = glm::vec4(m.emissive * glm::vec3(sample(m.emissiveTexture)), 0.0f);
+        g.diffuse[gi] = planes.diffuse;
+        g.specular[gi] = planes.specular;
+        g.emissive[gi] = planes.emissive;
         if (!g.triangleId.empty()) g.triangleId[gi] = int32_t(tri);
       }
   }

@@ -22,6 +22,13 @@ SceneFeatures resolveFeatures(const Scene& scene, const std::string& shadingMode
 
 PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
                            GBufferFormat format, const SceneFeatures& features) {
+  SceneRasterizer software(scene, RasterBackend::Software);
+  return prepareFrame(software, frame, width, height, format, features);
+}
+
+PreparedFrame prepareFrame(SceneRasterizer& rasterizer, int frame, int width, int height,
+                           GBufferFormat format, const SceneFeatures& features) {
+  const Scene& scene = rasterizer.scene();
   if (width < 1 || height < 1)
     throw Error("resolution must be at least 1x1, got " + std::to_string(width) + "x" +
                 std::to_string(height));
@@ -33,7 +40,8 @@ PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
   f.features = features;
   RasterOptions raster;
   raster.model = features.model;
-  f.gbuffer = rasterize(scene, f.camera, width, height, raster);
+  f.gbuffer = rasterizer.rasterize(f.camera, width, height, raster);
+  f.raster = rasterizer.backend();
   f.rasterMs =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   f.encoded = encode(f.gbuffer, format, features);

@@ -5,6 +5,7 @@
 
 #include "raster/gbuffer.h"
 #include "raster/gbuffer_layout.h"
+#include "raster/raster_backend.h"
 #include "scene/scene.h"
 #include "scene/scene_features.h"
 #include "techniques/device_frame.h"
@@ -21,6 +22,7 @@ struct PreparedFrame {
   glm::vec3 ambient{0.0f};
   SceneFeatures features;   // what the G-buffer and the kernels model
   double rasterMs = 0.0;
+  RasterBackend raster = RasterBackend::Software;  // which rasterizer made the G-buffer
 
   DeviceFrame upload(ClContext& cl) const {
     return DeviceFrame::upload(cl, encoded, intrinsics, lights, ambient);
@@ -30,6 +32,9 @@ struct PreparedFrame {
 // Rasterizes for `features.model` (the material terms the G-buffer planes hold) and stores the
 // planes `features` needs.
 PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,
+                           GBufferFormat format, const SceneFeatures& features);
+// The same through `rasterizer` (software or OpenGL; its scene).
+PreparedFrame prepareFrame(SceneRasterizer& rasterizer, int frame, int width, int height,
                            GBufferFormat format, const SceneFeatures& features);
 // The general Blinn-Phong pipeline's frame (every plane): what a default TechniqueConfig reads.
 PreparedFrame prepareFrame(const Scene& scene, int frame, int width, int height,

@@ -97,4 +97,29 @@ void writeHeatMapPng(const std::string& path, int width, int height, const std::
   write(path, PngSpec(width, height), rgb.data());
 }
 
+int FloatImage::channel(const std::string& name) const {
+  for (size_t i = 0; i < channels.size(); ++i)
+    if (channels[i] == name) return int(i);
+  return -1;
+}
+
+FloatImage readImage(const std::string& path) {
+#ifndef TILESHADE_NO_OIIO
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error("cannot read " + path + ": " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  FloatImage image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.channels = spec.channelnames;
+  image.data.resize(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data.data()))
+    throw Error("cannot read " + path + ": " + in->geterror());
+  in->close();
+  return image;
+#else
+  throw Error("cannot read " + path + ": this build has no OpenImageIO (TILESHADE_WITH_OIIO=OFF)");
+#endif
+}
+
 }  // namespace ts

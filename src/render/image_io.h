@@ -7,6 +7,19 @@
 
 namespace ts {
 
+// An image read back: every channel converted to float, interleaved, row 0 = the file's top row.
+struct FloatImage {
+  int width = 0, height = 0;
+  std::vector<std::string> channels;  // names, in the file's order
+  std::vector<float> data;            // width * height * channels.size()
+  // Index of a channel by name, -1 when absent.
+  int channel(const std::string& name) const;
+};
+
+// Reads any image OpenImageIO reads (OpenEXR with half, float or uint channels, ...); its first
+// subimage. Throws ts::Error naming the file (unreadable, or a build without OpenImageIO).
+FloatImage readImage(const std::string& path);
+
 // Writes `channels` named float channels per pixel (interleaved) to an OpenEXR file.
 void writeExr(const std::string& path, int width, int height,
               const std::vector<std::string>& channels, const std::vector<float>& data);

@@ -15,7 +15,9 @@
 #include "reference/reference.h"
 #include "reference/shading_cpu.h"
 #include "render/frame_setup.h"
+#include "render/gbuffer_dump.h"
 #include "render/image_io.h"
+#include "render/render_input.h"
 #include "render/stats.h"
 #include "scene/light_range.h"
 #include "scene/scene_loader.h"
@@ -43,80 +45,6 @@ std::vector<std::string> expandTechniques(const std::vector<std::string>& names)
   return out;
 }
 
-void writeDump(ClContext& cl, DeviceFrame& frame, const TechniqueConfig& config,
-               const std::string& dir) {
-  cl::Program program = cl.build("dump.cl", config.kernelOptions());
-  cl::Kernel kernel(program, "decode_gbuffer");
-  const int channels = 17;  // DUMP_CHANNELS of kernels/dump.cl
-  size_t pixels = size_t(frame.width()) * frame.height();
-  cl::Buffer out(cl.context(), CL_MEM_WRITE_ONLY, pixels * channels * sizeof(float));
-  kernel.setArg(0, toCl(frame.camera.kernelCamera()));
-  frame.setGBufferArgs(kernel, 1);
-  kernel.setArg(6, out);
-  cl.queue().enqueueNDRangeKernel(kernel, cl::NullRange,
-                                  cl::NDRange(roundUp(frame.width(), 8), roundUp(frame.height(), 8)),
-                                  cl::NDRange(8, 8));
-  std::vector<float> data(pixels * channels);
-  cl.queue().enqueueReadBuffer(out, CL_TRUE, 0, data.size() * sizeof(float), data.data());
-  // The material channels (6..12) are the shading model's stored terms (kernels/dump.cl).
-  const bool mr = config.features.model == ShadingModel::MetallicRoughness;
-  std::vector<std::string> names = {"P.x", "P.y", "P.z", "N.x", "N.y", "N.z"};
-  if (mr) {
-    for (const char* n : {"base.R", "base.G", "base.B", "metallic", "roughness", "unused.0",
-                          "unused.1"})
-      names.push_back(n);
-  } else {
-    for (const char* n : {"kd.R", "kd.G", "kd.B", "ks.R", "ks.G", "ks.B", "shininess"})
-      names.push_back(n);
-  }
-  for (const char* n : {"ke.R", "ke.G", "ke.B", "mask"}) names.push_back(n);
-  writeExr(dir + "/gbuffer.exr", frame.width(), frame.height(), names, data);
-
-  // Lights in view space with the kernels' own values (kernels/shading.h, "Lights").
-  nlohmann::json lights = nlohmann::json::array();
-  const ViewLights& vl = *frame.lights;
-  for (size_t i = 0; i < vl.size(); ++i) {
-    const auto& p = vl.positionRange[i];
-    const auto& c = vl.color[i];
-    const auto& sp = vl.spot[i];
-    nlohmann::json l = {{"type", sp.w > -1.0f ? "spot" : "point"},
-                        {"position", {p.x, p.y, p.z}},
-                        {"color", {c.x, c.y, c.z}},
-                        {"range", p.w}};
-    if (sp.w > -1.0f) {
-      l["direction"] = {sp.x, sp.y, sp.z};
-      l["cos_outer"] = sp.w;
-      l["angle_scale"] = c.w;
-    }
-    lights.push_back(l);
-  }
-  for (size_t i = 0; i < vl.directionalCount(); ++i) {
-    const auto& d = vl.directionalDir[i];
-    const auto& c = vl.directionalColor[i];
-    lights.push_back({{"type", "directional"},
-                      {"to_light", {d.x, d.y, d.z}},
-                      {"color", {c.x, c.y, c.z}}});
-  }
-  nlohmann::json j = {{"dmin", TS_DMIN},
-                      {"shading_model", toString(config.features.model)},
-                      {"ambient", {frame.ambient.x, frame.ambient.y, frame.ambient.z}},
-                      {"lights", lights}};
-  std::ofstream(dir + "/lights.json") << j.dump(2) << "\n";
-}
-
-// "924 lights" or "12 lights: 6 point, 5 spot, 1 directional".
-std::string lightSummary(const std::vector<Light>& lights) {
-  size_t count[3] = {0, 0, 0};
-  for (const Light& l : lights) ++count[int(l.type)];
-  std::string s = std::to_string(lights.size()) + " lights";
-  if (count[0] == lights.size()) return s;
-  const char* names[3] = {"point", "spot", "directional"};
-  std::string parts;
-  for (int t = 0; t < 3; ++t)
-    if (count[t]) parts += (parts.empty() ? "" : ", ") + std::to_string(count[t]) + " " + names[t];
-  return s + ": " + parts;
-}
-
 std::string kernelSummary(const FrameResult& r) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(3);
@@ -127,19 +55,16 @@ std::string kernelSummary(const FrameResult& r) {
 
 }  // namespace
 
-void runRender(const RenderOptions& o) {
-  std::vector<std::string> techniques = expandTechniques(o.techniques);
+void runRender(const RenderOptions& options) {
+  std::vector<std::string> techniques = expandTechniques(options.techniques);
   for (const auto& t : techniques) findTechnique(t);  // bad names fail before any work
-  SceneOptions sceneOptions;
-  sceneOptions.lightSet = o.lightSet;
-  sceneOptions.seed = o.seed;
-  sceneOptions.lightCount = o.lightCount;
-  sceneOptions.lightRange = o.lightRange;
-  sceneOptions.variant = o.variant;
-  Scene scene = loadScene(o.scene, sceneOptions);
-  if (o.lightThreshold > 0.0f) applyThresholdRanges(scene.lights, o.lightThreshold);
-  const SceneFeatures features = resolveFeatures(scene, o.shadingModel, o.features);
-  PreparedFrame prepared = prepareFrame(scene, o.frame, o.width, o.height, o.format, features);
+  const RenderInput input = loadRenderInput(options);
+  const PreparedFrame& prepared = input.frame;
+  const SceneFeatures& features = prepared.features;
+  RenderOptions o = options;  // an imported G-buffer decides the size and maybe the layout
+  o.width = prepared.intrinsics.width;
+  o.height = prepared.intrinsics.height;
+  o.format = prepared.encoded.format;
 
   ClContext cl(o.device);
   DeviceFrame frame = prepared.upload(cl);
@@ -173,13 +98,15 @@ void runRender(const RenderOptions& o) {
                               TS_MODEL_PHYSICAL);
   }
 
-  std::cout << "tileshade: " << scene.name << " (" << scene.triangleCount() << " triangles, "
-            << lightSummary(scene.lights) << "), frame " << o.frame << ", " << o.width << "x"
+  std::cout << "tileshade: " << input.sceneName << " (" << input.triangles << " triangles, "
+            << input.lightSummary << "), frame " << prepared.frame << ", " << o.width << "x"
             << o.height << ", G-buffer " << toString(o.format) << " ("
             << prepared.encoded.bytesPerPixel() << " B/pixel), tile " << o.tileWidth << "x"
             << o.tileHeight << "\n"
             << "features: " << features.describe() << "\n"
-            << "device: " << cl.deviceName() << "\n";
+            << "raster: " << input.rasterDetail << ", " << std::fixed << std::setprecision(1)
+            << prepared.rasterMs << " ms (setup " << input.rasterSetupMs << " ms)\n"
+            << std::defaultfloat << "device: " << cl.deviceName() << "\n";
   if (reference)
     std::cout << "reference: " << reference->contributing
               << " contributing light evaluations (the ideal), peak " << reference->peak << "\n";
@@ -235,13 +162,13 @@ void runRender(const RenderOptions& o) {
   nlohmann::json stats = {
       {"device", cl.deviceName()},
       {"device_type", cl.info().type},
-      {"scene", scene.name},
-      {"scene_spec", o.scene},
+      {"scene", input.sceneName},
+      {"scene_spec", o.gbufferIn.empty() ? o.scene : "gbuffer-in:" + o.gbufferIn},
       {"light_set", o.lightSet},
-      {"lights", scene.lights.size()},
+      {"lights", prepared.lights.size() + prepared.lights.directionalCount()},
       {"directional_lights", prepared.lights.directionalCount()},
-      {"triangles", scene.triangleCount()},
-      {"frame", o.frame},
+      {"triangles", input.triangles},
+      {"frame", prepared.frame},
       {"width", o.width},
       {"height", o.height},
       {"gbuffer", toString(o.format)},
@@ -257,14 +184,17 @@ void runRender(const RenderOptions& o) {
       {"math", o.math},
       {"lanes_requested", o.lanes},
       {"light_threshold", o.lightThreshold},
+      {"raster", input.raster},
+      {"raster_renderer", input.rasterDetail},
       {"raster_ms", prepared.rasterMs},
+      {"raster_setup_ms", input.rasterSetupMs},
       {"compile_ms", cl.compileMs()},
       {"techniques", results},
   };
   if (reference)
     stats["reference"] = {{"contributing", reference->contributing}, {"peak", reference->peak}};
   std::ofstream(o.outDir + "/stats.json") << stats.dump(2) << "\n";
-  if (o.dump) writeDump(cl, frame, config, o.outDir);
+  if (o.dump) writeGBufferDump(cl, frame, prepared, input.sceneName, input.raster, o.outDir);
   std::cout << "wrote " << o.outDir << "/\n";
 }
 

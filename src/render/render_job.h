@@ -34,6 +34,9 @@ struct RenderOptions {
   bool dump = false;                   // write gbuffer.exr + lights.json
   bool heatmap = false;                // with check: error.png per technique
   float exposure = 1.0f;               // PNG tone mapping
+  std::string raster = "software";     // rasterizer: software or gl (src/raster/raster_backend.h)
+  std::string gbufferIn;               // "" = rasterize the scene; else G-buffer files to import
+  bool keepInputLayout = false;        // with gbufferIn: encode in the files' layout, not `format`
 };
 
 // Runs the job, prints the table to stdout, writes the files. Throws ts::Error on bad input.

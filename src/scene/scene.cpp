@@ -43,6 +43,18 @@ std::string toString(LightType type) {
   return "?";
 }
 
+std::string describeLights(const std::vector<Light>& lights) {
+  size_t count[3] = {0, 0, 0};
+  for (const Light& l : lights) ++count[int(l.type)];
+  std::string s = std::to_string(lights.size()) + " lights";
+  if (count[0] == lights.size()) return s;
+  const char* names[3] = {"point", "spot", "directional"};
+  std::string parts;
+  for (int t = 0; t < 3; ++t)
+    if (count[t]) parts += (parts.empty() ? "" : ", ") + std::to_string(count[t]) + " " + names[t];
+  return s + ": " + parts;
+}
+
 Light Light::point(glm::vec3 position, glm::vec3 color, float range) {
   Light l;
   l.position = position;

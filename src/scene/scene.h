@@ -80,6 +80,9 @@ struct Light {
   bool hasRange() const { return type != LightType::Directional; }
 };
 
+// "924 lights", or with several types "12 lights: 6 point, 5 spot, 1 directional".
+std::string describeLights(const std::vector<Light>& lights);
+
 // A pinhole camera. Aspect ratio comes from the image being rendered, not from the camera.
 struct Camera {
   glm::mat4 viewFromWorld{1.0f};  // camera at the origin looking down -Z, +Y up

@@ -1,0 +1,64 @@
+#version 330 core
+// The OpenGL rasterizer's fragment stage (src/raster/gl_rasterizer.cpp): writes the G-buffer
+// planes of src/raster/gbuffer.h into five render targets (and the triangle id into a sixth).
+// The rules mirror the software rasterizer's resolve() (src/raster/rasterizer.cpp); the material
+// planes come from the one shared definition in material_planes.h.
+
+in vec3 v_viewPosition;  // perspective-correct ("smooth")
+in vec3 v_normal;
+in vec2 v_uv;
+
+layout(location = 0) out float o_depth;    // linear view depth -z_view
+layout(location = 1) out vec4 o_normal;    // view-space unit normal, w = 0
+layout(location = 2) out vec4 o_diffuse;
+layout(location = 3) out vec4 o_specular;
+layout(location = 4) out vec4 o_emissive;
+layout(location = 5) out int o_triangle;   // index into the scene's triangles
+
+struct TsMaterial {
+  vec3 diffuse;
+  vec3 specular;
+  float shininess;
+  vec3 baseColor;
+  float metallic;
+  float roughness;
+  vec3 emissive;
+};
+
+uniform TsMaterial u_material;
+uniform bool u_doubleSided;
+uniform bool u_metallicRoughness;            // RasterOptions::model
+uniform int u_firstTriangle;                 // of this draw: gl_PrimitiveID counts from it
+uniform sampler2D u_texture[4];              // by TS_TEXTURE_* slot
+uniform bool u_hasTexture[4];
+
+// Bilinear, REPEAT, level 0 (the sampler state set in gl_rasterizer.cpp); textureLod because the
+// call sits in non-uniform control flow.
+#define TS_SAMPLE(slot) (u_hasTexture[slot] ? textureLod(u_texture[slot], v_uv, 0.0) : vec4(1.0))
+#include "material_planes.h"
+
+void main() {
+  // Derivatives outside any branch (undefined in non-uniform control flow).
+  vec3 faceNormal = cross(dFdx(v_viewPosition), dFdy(v_viewPosition));
+  vec3 n = v_normal;
+  float len2 = dot(n, n);
+  if (len2 > 1e-24) {
+    n = n / sqrt(len2);
+  } else {
+    // The geometric normal (counter-clockwise front): the screen-space derivatives give the
+    // plane's normal up to sign; turn it towards the viewer, then away for a back face.
+    float gl2 = dot(faceNormal, faceNormal);
+    n = gl2 > 0.0 ? faceNormal / sqrt(gl2) : vec3(0.0, 0.0, 1.0);
+    if (dot(n, v_viewPosition) > 0.0) n = -n;
+    if (!gl_FrontFacing) n = -n;
+  }
+  if (u_doubleSided && !gl_FrontFacing) n = -n;
+
+  TsMaterialPlanes planes = ts_material_planes(u_metallicRoughness, u_material);
+  o_depth = -v_viewPosition.z;
+  o_normal = vec4(n, 0.0);
+  o_diffuse = planes.diffuse;
+  o_specular = planes.specular;
+  o_emissive = planes.emissive;
+  o_triangle = u_firstTriangle + gl_PrimitiveID;
+}

@@ -1,0 +1,63 @@
+#include "bench/bench_frames.h"
+
+#include "scene/light_range.h"
+#include "scene/scene_features.h"
+#include "scene/scene_loader.h"
+#include "util/error.h"
+
+namespace ts {
+
+std::string importedGBufferPath(const std::string& sceneSpec) {
+  const std::string prefix = "gbuffer:";
+  return sceneSpec.rfind(prefix, 0) == 0 ? sceneSpec.substr(prefix.size()) : std::string();
+}
+
+BenchScene::BenchScene(const BenchConfig& c) {
+  const std::string path = importedGBufferPath(c.scene);
+  if (!path.empty()) {
+    imported_ = importGBuffer(path, GBufferFormat::FP32);
+  } else {
+    scene_ = loadScene(c.scene, c.sceneOptions());
+    ownRangeLights_ = scene_.lights;
+    if (c.lightThreshold > 0.0f) applyThresholdRanges(scene_.lights, c.lightThreshold);
+  }
+  check(c);
+}
+
+void BenchScene::check(const BenchConfig& c) {
+  const RasterBackend backend = parseRasterBackend(c.raster);
+  if (imported_) {
+    const PreparedFrame& f = imported_->frame;
+    if (c.width != f.intrinsics.width || c.height != f.intrinsics.height)
+      throw Error("--scene " + c.scene + " is " + std::to_string(f.intrinsics.width) + "x" +
+                  std::to_string(f.intrinsics.height) + ": give --resolution " +
+                  std::to_string(f.intrinsics.width) + "x" + std::to_string(f.intrinsics.height));
+    if (backend != RasterBackend::Software)
+      throw Error("--scene " + c.scene + " is an imported G-buffer: it is not rasterized (leave "
+                  "--raster at software)");
+    if (!c.lightSet.empty() || c.lightCount >= 0 || c.lightRange > 0.0f || c.lightThreshold > 0.0f)
+      throw Error("--scene " + c.scene + " brings its own lights: no --lights, --light-count, "
+                  "--light-range or --light-threshold");
+    return;
+  }
+  auto& r = rasterizers_[backend];
+  if (!r) r = std::make_unique<SceneRasterizer>(scene_, backend);
+}
+
+int BenchScene::pathLength() const {
+  return imported_ ? 1 : int(scene_.cameraPath.size());
+}
+
+PreparedFrame BenchScene::prepare(const BenchConfig& c, int frame) {
+  if (imported_) return imported_->frame;  // fp32, as read
+  SceneRasterizer& r = *rasterizers_.at(parseRasterBackend(c.raster));
+  return prepareFrame(r, frame, c.width, c.height, GBufferFormat::FP32,
+                      analyzeScene(scene_, ShadingModel::BlinnPhong));
+}
+
+ViewLights BenchScene::ownRangeLights(const PreparedFrame& frame) const {
+  if (imported_) return imported_->frame.lights;
+  return toViewSpace(ownRangeLights_, frame.camera.viewFromWorld);
+}
+
+}  // namespace ts

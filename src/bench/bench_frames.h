@@ -1,0 +1,47 @@
+#pragma once
+// Where the benchmark's frames come from, per scene definition (a configuration's scene, lights
+// and seed): a scene rasterized by the configuration's rasterizer (`raster` dimension: software
+// or gl; one rasterizer per kind, the OpenGL one uploads the scene once), or a G-buffer imported
+// from files (`scene` value gbuffer:DIR, see bench/README.md).
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bench/bench_config.h"
+#include "raster/raster_backend.h"
+#include "render/frame_setup.h"
+#include "render/gbuffer_import.h"
+
+namespace ts {
+
+// "gbuffer:DIR" (a folder written by render --dump, or a descriptor .json): DIR; else "".
+std::string importedGBufferPath(const std::string& sceneSpec);
+
+class BenchScene {
+ public:
+  // Loads the scene or reads the G-buffer files, and makes the configuration's rasterizer, so
+  // that a bad scene, file or rasterizer fails before anything is timed (ts::Error). An imported
+  // G-buffer must have the configuration's resolution and takes no light options or rasterizer.
+  explicit BenchScene(const BenchConfig& config);
+  BenchScene(const BenchScene&) = delete;  // its rasterizers refer to its scene
+  BenchScene& operator=(const BenchScene&) = delete;
+  // Checks another configuration of the same scene definition (its resolution, rasterizer).
+  void check(const BenchConfig& config);
+
+  int pathLength() const;  // frames of the camera path (1 for an imported G-buffer)
+  // Frame `frame` for `config` (resolution, rasterizer), fp32-encoded; raster_ms inside.
+  PreparedFrame prepare(const BenchConfig& config, int frame);
+  // The lights with the scene's own ranges (before light_threshold), in the frame's view space:
+  // the error reference of every configuration of the scene.
+  ViewLights ownRangeLights(const PreparedFrame& frame) const;
+
+ private:
+  Scene scene_;
+  std::vector<Light> ownRangeLights_;
+  std::optional<ImportedFrame> imported_;
+  std::map<RasterBackend, std::unique_ptr<SceneRasterizer>> rasterizers_;
+};
+
+}  // namespace ts

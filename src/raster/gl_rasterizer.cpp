@@ -1,0 +1,381 @@
+// The OpenGL rasterizer behind `--raster gl` (see gl_rasterizer.h). Design notes: how each
+// convention of the software rasterizer (src/raster/rasterizer.cpp) is reproduced with OpenGL.
+//
+//  - Camera: the x, y and w rows of CameraIntrinsics::projection() (the float tangents the kernels
+//    use), so clip x = X / tanHalfFovX, clip y = Y / tanHalfFovY, clip w = -Z as in the software
+//    setup. The view transform runs in float in the vertex shader (the software one in double).
+//  - Row 0 at the top, and the fill rule: the software image has row 0 at the top and applies the
+//    top-left rule with y pointing down. OpenGL's window y points up from row 0 of the
+//    framebuffer's memory, and Mesa (llvmpipe) applies its top-left rule to the memory's rows
+//    (the edge nearer row 0 is "top"). So the projection negates clip y: framebuffer row r is image
+//    row r, no flip on read-back, and an edge through pixel centres is owned by the same side as in
+//    the software rasterizer (tested: GlRaster.FillRuleMatchesSoftware). The flip mirrors the
+//    window-space winding, so counter-clockwise front faces are declared with glFrontFace(GL_CW).
+//  - Depth: the planes store the linear view depth -z_view, interpolated perspective-correctly
+//    from the view-space position (a float render target), never the hardware depth. The hidden-
+//    surface test uses a 32-bit float depth buffer with "reversed" depth: clip z = znear, so
+//    window depth = znear / depth (with glClipControl ZERO_TO_ONE), linear in screen space and
+//    with float's relative precision at every distance; the test is GL_GREATER, so of two equal
+//    depths the triangle drawn first (the lower index: draws keep the scene's triangle order)
+//    wins, as in the software rasterizer. Near plane: clip z <= clip w is w >= znear, the software
+//    rasterizer's near clip. Far plane: not clipped; the depth buffer is cleared to znear / zfar,
+//    so fragments beyond zfar fail the test (the software rasterizer rejects them per pixel).
+//  - Pixel centres at +0.5 and single-sample rasterization: OpenGL's defaults.
+//  - Normals, facing, materials, textures: shaders/gbuffer.frag (the same rules as resolve(); the
+//    material planes from the shared shaders/material_planes.h). Textures are RGBA32F copies of
+//    ts::Texture (linear, no sRGB conversion on either side), GL_LINEAR without mipmaps and
+//    GL_REPEAT: bilinear with texel centres at half-integers, as Texture::sample.
+//  - Triangle ids: gl_PrimitiveID plus the draw's first triangle (one draw per run of triangles
+//    sharing a material, in scene order).
+// What cannot match bit for bit (float vertex transform, the snapped-triangle attribute
+// interpolation, sampler weight precision) is measured in tests/gl_raster_test.cpp and described
+// in docs/opengl.md.
+#include "raster/gl_rasterizer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstddef>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <epoxy/gl.h>
+
+#include "raster/egl_context.h"
+#include "raster/gl_program.h"
+#include "raster/scene_validation.h"
+#include "shaders/material_planes.h"
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Render targets, in the fragment shader's output locations.
+enum Target { kDepth, kNormal, kDiffuse, kSpecular, kEmissive, kTriangle, kTargets };
+
+// CameraIntrinsics::projection() with clip y negated (row 0 at the top, see above) and clip z
+// replaced by the constant znear (reversed depth: window depth = znear / linear depth).
+glm::mat4 clipFromView(const CameraIntrinsics& in) {
+  glm::mat4 p = in.projection();
+  for (int column = 0; column < 4; ++column) {
+    p[column][1] = -p[column][1];
+    p[column][2] = 0.0f;
+  }
+  p[3][2] = in.znear;
+  return p;
+}
+
+// A run of consecutive triangles with one material: one draw call.
+struct Draw {
+  uint32_t firstTriangle = 0;
+  uint32_t triangles = 0;
+  const Material* material = nullptr;
+};
+
+}  // namespace
+
+struct GlRasterizer::State {
+  const Scene& scene;
+  std::vector<Draw> draws;
+  GLuint program = 0, vao = 0, vertexBuffer = 0, indexBuffer = 0;
+  std::vector<GLuint> textures;  // per scene texture; 0 for an empty one (sampled as 1)
+  GLuint framebuffer = 0, depthBuffer = 0;
+  GLuint targets[kTargets] = {};
+  int width = 0, height = 0;  // of the framebuffer's attachments
+  GLint maxSize = 0;          // largest width/height the implementation renders
+  struct Uniforms {
+    GLint viewFromWorld, normalMatrix, clipFromView;
+    GLint diffuse, specular, shininess, baseColor, metallic, roughness, emissive;
+    GLint doubleSided, metallicRoughness, firstTriangle;
+    GLint texture[TS_TEXTURE_SLOTS], hasTexture[TS_TEXTURE_SLOTS];
+  } u{};
+
+  explicit State(const Scene& s) : scene(s) {}
+
+  ~State() {
+    // The shared context outlives every rasterizer; free what this one made.
+    try {
+      EglContext::shared().makeCurrent();
+    } catch (const Error&) {
+      return;
+    }
+    releaseFramebuffer();
+    if (!textures.empty()) glDeleteTextures(GLsizei(textures.size()), textures.data());
+    glDeleteBuffers(1, &vertexBuffer);
+    glDeleteBuffers(1, &indexBuffer);
+    glDeleteVertexArrays(1, &vao);
+    glDeleteProgram(program);
+  }
+
+  void releaseFramebuffer() {
+    if (!framebuffer) return;
+    glDeleteFramebuffers(1, &framebuffer);
+    glDeleteRenderbuffers(1, &depthBuffer);
+    glDeleteTextures(kTargets, targets);
+    framebuffer = depthBuffer = 0;
+    width = height = 0;
+  }
+
+  void buildDraws() {
+    static const Material kDefaultMaterial;
+    const size_t n = scene.triangleCount();
+    auto materialOf = [&](size_t t) -> const Material* {
+      if (scene.triangleMaterial.empty())
+        return scene.materials.empty() ? &kDefaultMaterial : &scene.materials[0];
+      return &scene.materials[scene.triangleMaterial[t]];
+    };
+    for (size_t t = 0; t < n; ++t) {
+      const Material* m = materialOf(t);
+      if (draws.empty() || draws.back().material != m) draws.push_back({uint32_t(t), 0, m});
+      ++draws.back().triangles;
+    }
+  }
+
+  void upload() {
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    glGenBuffers(1, &vertexBuffer);
+    glBindBuffer(GL_ARRAY_BUFFER, vertexBuffer);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(scene.vertices.size() * sizeof(Vertex)),
+                 scene.vertices.data(), GL_STATIC_DRAW);
+    const GLsizei stride = sizeof(Vertex);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<const void*>(offsetof(Vertex, position)));
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<const void*>(offsetof(Vertex, normal)));
+    glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<const void*>(offsetof(Vertex, uv)));
+    for (GLuint a = 0; a < 3; ++a) glEnableVertexAttribArray(a);
+    glGenBuffers(1, &indexBuffer);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(scene.indices.size() * sizeof(uint32_t)),
+                 scene.indices.data(), GL_STATIC_DRAW);
+    glBindVertexArray(0);
+    gl::checkErrors("uploading the vertices of scene '" + scene.name + "'");
+
+    GLint maxTexture = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
+    textures.assign(scene.textures.size(), 0);
+    for (size_t i = 0; i < scene.textures.size(); ++i) {
+      const Texture& t = scene.textures[i];
+      if (t.width <= 0 || t.height <= 0) continue;  // Texture::sample gives 1, as "no texture"
+      if (t.width > maxTexture || t.height > maxTexture)
+        throw Error("scene '" + scene.name + "': texture " + std::to_string(i) + " is " +
+                    std::to_string(t.width) + "x" + std::to_string(t.height) +
+                    ", larger than the OpenGL limit " + std::to_string(maxTexture));
+      glGenTextures(1, &textures[i]);
+      glBindTexture(GL_TEXTURE_2D, textures[i]);
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+      // Row 0 = v = 0 in both ts::Texture and OpenGL's t = 0: no flip.
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, t.width, t.height, 0, GL_RGBA, GL_FLOAT,
+                   t.texels.data());
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+      gl::checkErrors("uploading texture " + std::to_string(i) + " of scene '" + scene.name +
+                      "'");
+    }
+  }
+
+  void buildProgram() {
+    program = gl::buildProgram("gbuffer.vert", "gbuffer.frag");
+    auto at = [&](const std::string& name) { return glGetUniformLocation(program, name.c_str()); };
+    u.viewFromWorld = at("u_viewFromWorld");
+    u.normalMatrix = at("u_normalMatrix");
+    u.clipFromView = at("u_clipFromView");
+    u.diffuse = at("u_material.diffuse");
+    u.specular = at("u_material.specular");
+    u.shininess = at("u_material.shininess");
+    u.baseColor = at("u_material.baseColor");
+    u.metallic = at("u_material.metallic");
+    u.roughness = at("u_material.roughness");
+    u.emissive = at("u_material.emissive");
+    u.doubleSided = at("u_doubleSided");
+    u.metallicRoughness = at("u_metallicRoughness");
+    u.firstTriangle = at("u_firstTriangle");
+    glUseProgram(program);
+    for (int s = 0; s < TS_TEXTURE_SLOTS; ++s) {
+      u.texture[s] = at("u_texture[" + std::to_string(s) + "]");
+      u.hasTexture[s] = at("u_hasTexture[" + std::to_string(s) + "]");
+      glUniform1i(u.texture[s], s);  // slot s samples texture unit s
+    }
+    // Locations 0..5 of the fragment outputs are fixed in the shader (layout qualifiers).
+    gl::checkErrors("setting up the G-buffer program");
+  }
+
+  void ensureFramebuffer(int w, int h) {
+    if (framebuffer && w == width && h == height) return;
+    releaseFramebuffer();
+    glGenFramebuffers(1, &framebuffer);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glGenTextures(kTargets, targets);
+    const GLenum formats[kTargets] = {GL_R32F,    GL_RGBA32F, GL_RGBA32F,
+                                      GL_RGBA32F, GL_RGBA32F, GL_R32I};
+    for (int t = 0; t < kTargets; ++t) {
+      glBindTexture(GL_TEXTURE_2D, targets[t]);
+      glTexStorage2D(GL_TEXTURE_2D, 1, formats[t], w, h);
+      glFramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + t), GL_TEXTURE_2D,
+                             targets[t], 0);
+    }
+    glGenRenderbuffers(1, &depthBuffer);
+    glBindRenderbuffer(GL_RENDERBUFFER, depthBuffer);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depthBuffer);
+    gl::checkErrors("creating a " + std::to_string(w) + "x" + std::to_string(h) +
+                    " G-buffer framebuffer");
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+      char code[16];
+      std::snprintf(code, sizeof code, "0x%04x", unsigned(status));
+      releaseFramebuffer();
+      throw Error(std::string("OpenGL framebuffer of five float targets, an integer target and a "
+                              "float depth buffer is incomplete (status ") +
+                  code + ")");
+    }
+    width = w;
+    height = h;
+  }
+
+  void setMaterial(const Material& m, bool metallicRoughness) {
+    glUniform3fv(u.diffuse, 1, &m.diffuse.x);
+    glUniform3fv(u.specular, 1, &m.specular.x);
+    glUniform1f(u.shininess, m.shininess);
+    glUniform3fv(u.baseColor, 1, &m.baseColor.x);
+    glUniform1f(u.metallic, m.metallic);
+    glUniform1f(u.roughness, m.roughness);
+    glUniform3fv(u.emissive, 1, &m.emissive.x);
+    glUniform1i(u.doubleSided, m.doubleSided ? 1 : 0);
+    glUniform1i(u.metallicRoughness, metallicRoughness ? 1 : 0);
+    for (int s = 0; s < TS_TEXTURE_SLOTS; ++s) {
+      const int index = materialTexture(m, s);
+      const GLuint texture = index >= 0 ? textures[size_t(index)] : 0;
+      glUniform1i(u.hasTexture[s], texture != 0 ? 1 : 0);
+      glActiveTexture(GLenum(GL_TEXTURE0 + s));
+      glBindTexture(GL_TEXTURE_2D, texture);
+    }
+  }
+
+  void draw(const Camera& camera, const CameraIntrinsics& in, const RasterOptions& options) {
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    GLenum buffers[kTargets];
+    for (int t = 0; t < kTargets; ++t) buffers[t] = GLenum(GL_COLOR_ATTACHMENT0 + t);
+    if (!options.triangleIds) buffers[kTriangle] = GL_NONE;
+    glDrawBuffers(kTargets, buffers);
+    glViewport(0, 0, in.width, in.height);
+
+    // Fixed-function state, set every frame (the context is shared with other rasterizers).
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);  // nothing is culled, as in the software rasterizer
+    glFrontFace(GL_CW);       // counter-clockwise once the y flip is undone
+    glDisable(GL_BLEND);
+    glDisable(GL_DITHER);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+
+    const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    for (int t = kDepth; t <= kEmissive; ++t) glClearBufferfv(GL_COLOR, t, zero);
+    const GLint none[4] = {-1, -1, -1, -1};
+    if (options.triangleIds) glClearBufferiv(GL_COLOR, kTriangle, none);
+    const GLfloat farDepth = in.znear / in.zfar;
+    glClearBufferfv(GL_DEPTH, 0, &farDepth);
+
+    glUseProgram(program);
+    const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(camera.viewFromWorld)));
+    const glm::mat4 projection = clipFromView(in);
+    glUniformMatrix4fv(u.viewFromWorld, 1, GL_FALSE, &camera.viewFromWorld[0][0]);
+    glUniformMatrix3fv(u.normalMatrix, 1, GL_FALSE, &normalMatrix[0][0]);
+    glUniformMatrix4fv(u.clipFromView, 1, GL_FALSE, &projection[0][0]);
+    glBindVertexArray(vao);
+    const bool metallicRoughness = options.model == ShadingModel::MetallicRoughness;
+    for (const Draw& d : draws) {
+      setMaterial(*d.material, metallicRoughness);
+      glUniform1i(u.firstTriangle, GLint(d.firstTriangle));
+      glDrawElements(GL_TRIANGLES, GLsizei(d.triangles * 3), GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(size_t(d.firstTriangle) * 3 * sizeof(uint32_t)));
+    }
+    glBindVertexArray(0);
+    gl::checkErrors("drawing scene '" + scene.name + "'");
+  }
+
+  template <typename T>
+  void readTarget(int target, GLenum format, GLenum type, std::vector<T>& out) {
+    // glGetTexImage of the attachment: on llvmpipe ~8x faster than glReadPixels (which takes a
+    // generic conversion path for float formats), and the same bytes.
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glBindTexture(GL_TEXTURE_2D, targets[target]);
+    glGetTexImage(GL_TEXTURE_2D, 0, format, type, out.data());
+  }
+
+  void readBack(GBuffer& g, const RasterOptions& options) {
+    readTarget(kDepth, GL_RED, GL_FLOAT, g.depth);
+    readTarget(kNormal, GL_RGBA, GL_FLOAT, g.normal);
+    readTarget(kDiffuse, GL_RGBA, GL_FLOAT, g.diffuse);
+    readTarget(kSpecular, GL_RGBA, GL_FLOAT, g.specular);
+    readTarget(kEmissive, GL_RGBA, GL_FLOAT, g.emissive);
+    if (options.triangleIds) {
+      g.triangleId.assign(g.pixelCount(), -1);
+      readTarget(kTriangle, GL_RED_INTEGER, GL_INT, g.triangleId);
+    }
+    gl::checkErrors("reading back the G-buffer");
+  }
+};
+
+GlRasterizer::GlRasterizer(const Scene& scene) : state_(std::make_unique<State>(scene)) {
+  const auto t0 = Clock::now();
+  validateForRaster(scene);
+  EglContext& context = EglContext::shared();
+  context.makeCurrent();
+  gl::checkErrors("making the context current");  // clears errors left by anyone else
+  GLint viewport[2] = {0, 0}, renderbuffer = 0, texture = 0;
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
+  state_->maxSize = std::min({viewport[0], viewport[1], renderbuffer, texture});
+  state_->buildDraws();
+  try {
+    state_->buildProgram();
+    state_->upload();
+    // A first small frame: drivers compile shader variants on first use (llvmpipe's JIT takes
+    // ~100 ms), which belongs to setup, not to the first frame's time.
+    Camera warmup;
+    rasterize(warmup, 8, 8, RasterOptions{});
+  } catch (...) {
+    state_.reset();
+    throw;
+  }
+  setupMs_ = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+GlRasterizer::~GlRasterizer() = default;
+
+std::string GlRasterizer::renderer() const { return EglContext::shared().renderer(); }
+
+GBuffer GlRasterizer::rasterize(const Camera& camera, int width, int height,
+                                const RasterOptions& options) {
+  if (options.fragmentCounts)
+    throw Error("fragment counts (overdraw) come from the software rasterizer only");
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+  if (width > state_->maxSize || height > state_->maxSize)
+    throw Error("--raster gl: " + std::to_string(width) + "x" + std::to_string(height) +
+                " exceeds this OpenGL implementation's limit of " +
+                std::to_string(state_->maxSize) + " pixels per side");
+  EglContext::shared().makeCurrent();
+  state_->ensureFramebuffer(width, height);
+  state_->draw(camera, in, options);
+  GBuffer g;
+  g.resize(width, height);
+  g.model = options.model;
+  state_->readBack(g, options);
+  return g;
+}
+
+}  // namespace ts

@@ -1,0 +1,55 @@
+#include "raster/raster_backend.h"
+
+#include "util/error.h"
+#ifndef TILESHADE_NO_GL
+#include "raster/gl_rasterizer.h"
+#endif
+
+namespace ts {
+
+#ifdef TILESHADE_NO_GL
+// A build without OpenGL (TILESHADE_WITH_GL=OFF) has no GlRasterizer; the class stays incomplete
+// and is never made.
+class GlRasterizer {
+ public:
+  GBuffer rasterize(const Camera&, int, int, const RasterOptions&) { return {}; }
+  std::string renderer() const { return {}; }
+};
+#endif
+
+std::string toString(RasterBackend backend) {
+  return backend == RasterBackend::Gl ? "gl" : "software";
+}
+
+RasterBackend parseRasterBackend(const std::string& name) {
+  if (name == "software") return RasterBackend::Software;
+  if (name == "gl") return RasterBackend::Gl;
+  throw Error("unknown rasterizer '" + name + "' (expected software or gl)");
+}
+
+SceneRasterizer::SceneRasterizer(const Scene& scene, RasterBackend backend)
+    : scene_(scene), backend_(backend) {
+  if (backend != RasterBackend::Gl) return;
+#ifdef TILESHADE_NO_GL
+  throw Error("no OpenGL context for --raster gl: this build has none (configured with "
+              "TILESHADE_WITH_GL=OFF)");
+#else
+  gl_ = std::make_unique<GlRasterizer>(scene);
+  setupMs_ = gl_->setupMs();
+#endif
+}
+
+SceneRasterizer::~SceneRasterizer() = default;
+SceneRasterizer::SceneRasterizer(SceneRasterizer&&) noexcept = default;
+
+GBuffer SceneRasterizer::rasterize(const Camera& camera, int width, int height,
+                                   const RasterOptions& options) {
+  if (gl_) return gl_->rasterize(camera, width, height, options);
+  return ts::rasterize(scene_, camera, width, height, options);
+}
+
+std::string SceneRasterizer::description() const {
+  return gl_ ? "gl: " + gl_->renderer() : toString(backend_);
+}
+
+}  // namespace ts

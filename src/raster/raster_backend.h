@@ -1,0 +1,47 @@
+#pragma once
+// Which rasterizer makes the G-buffer (`--raster software|gl`), behind one interface: a
+// SceneRasterizer is made once per scene (the OpenGL one uploads the scene then) and rasterizes
+// any number of frames of it.
+#include <memory>
+#include <string>
+
+#include "raster/gbuffer.h"
+#include "scene/scene.h"
+
+namespace ts {
+
+enum class RasterBackend { Software, Gl };
+std::string toString(RasterBackend backend);  // "software" | "gl"
+// "software" | "gl"; throws ts::Error naming both otherwise.
+RasterBackend parseRasterBackend(const std::string& name);
+
+class GlRasterizer;
+
+class SceneRasterizer {
+ public:
+  // The scene must outlive the rasterizer. Gl: throws ts::Error when no OpenGL context can be
+  // made (one line naming what is missing) or the build has no OpenGL (TILESHADE_WITH_GL=OFF).
+  SceneRasterizer(const Scene& scene, RasterBackend backend);
+  ~SceneRasterizer();
+  SceneRasterizer(SceneRasterizer&&) noexcept;
+  SceneRasterizer& operator=(SceneRasterizer&&) = delete;
+
+  // ts::rasterize or GlRasterizer::rasterize.
+  GBuffer rasterize(const Camera& camera, int width, int height, const RasterOptions& options);
+
+  const Scene& scene() const { return scene_; }
+  RasterBackend backend() const { return backend_; }
+  // "software", or "gl: <GL_RENDERER>".
+  std::string description() const;
+  // One-time cost before the first frame: 0 for software; OpenGL context (first use in the
+  // process), scene upload and shader build for gl.
+  double setupMs() const { return setupMs_; }
+
+ private:
+  const Scene& scene_;
+  RasterBackend backend_;
+  std::unique_ptr<GlRasterizer> gl_;
+  double setupMs_ = 0.0;
+};
+
+}  // namespace ts

@@ -1,0 +1,106 @@
+#include "render/gbuffer_dump.h"
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "render/gbuffer_files.h"
+#include "render/image_io.h"
+#include "techniques/device_frame.h"
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+// dump.cl's decode_gbuffer: per pixel the values the kernels shade with (dumpKernelChannels()).
+std::vector<float> decodeOnDevice(ClContext& cl, const DeviceFrame& frame,
+                                  const PreparedFrame& prepared) {
+  TechniqueConfig config;  // only the layout and the features decide how the planes decode
+  config.format = prepared.encoded.format;
+  config.features = prepared.features;
+  cl::Program program = cl.build("dump.cl", config.kernelOptions());
+  cl::Kernel kernel(program, "decode_gbuffer");
+  const size_t channels = dumpKernelChannels().size();
+  const size_t pixels = size_t(frame.width()) * size_t(frame.height());
+  cl::Buffer out(cl.context(), CL_MEM_WRITE_ONLY, pixels * channels * sizeof(float));
+  kernel.setArg(0, toCl(frame.camera.kernelCamera()));
+  frame.setGBufferArgs(kernel, 1);
+  kernel.setArg(6, out);
+  cl.queue().enqueueNDRangeKernel(
+      kernel, cl::NullRange,
+      cl::NDRange(roundUp(size_t(frame.width()), 8), roundUp(size_t(frame.height()), 8)),
+      cl::NDRange(8, 8));
+  std::vector<float> data(pixels * channels);
+  cl.queue().enqueueReadBuffer(out, CL_TRUE, 0, data.size() * sizeof(float), data.data());
+  return data;
+}
+
+}  // namespace
+
+void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFrame& prepared,
+                      const std::string& scene, const std::string& raster, const std::string& dir) {
+  const EncodedGBuffer& encoded = prepared.encoded;
+  const ShadingModel model = prepared.gbuffer.model;
+  const size_t pixels = encoded.pixelCount();
+
+  // Host channels: those the field table names that dump.cl does not write, from decodeStored.
+  struct HostChannel {
+    std::string name;
+    GBufferPlane plane;
+    int component;
+  };
+  std::vector<HostChannel> host;
+  for (const GBufferField* f : gbufferFields(model))
+    for (int c = 0; c < f->components; ++c)
+      if (isHostDumpChannel(f->dumpChannels[c]))
+        host.push_back({f->dumpChannels[c], f->plane, f->first + c});
+
+  const std::vector<float> kernel = decodeOnDevice(cl, frame, prepared);
+  const size_t kc = dumpKernelChannels().size(), channels = kc + host.size();
+  std::vector<float> data(pixels * channels, 0.0f);
+  for (size_t i = 0; i < pixels; ++i) {
+    std::copy_n(kernel.begin() + std::ptrdiff_t(i * kc), kc, data.begin() + std::ptrdiff_t(i * channels));
+    if (encoded.depth[i] <= 0.0f) continue;  // background: zeros, as the kernel writes
+    for (size_t h = 0; h < host.size(); ++h)
+      data[i * channels + kc + h] = decodeStored(encoded, host[h].plane, i)[host[h].component];
+  }
+  std::vector<std::string> names = dumpKernelChannels();
+  for (const auto& h : host) names.push_back(h.name);
+  writeExr(dir + "/gbuffer.exr", encoded.width, encoded.height, names, data);
+
+  std::ofstream(dir + "/lights.json") << lightsJson(*frame.lights, frame.ambient).dump(2) << "\n";
+
+  const CameraIntrinsics& in = prepared.intrinsics;
+  nlohmann::json d = {
+      {"tileshade_gbuffer", kGBufferFilesVersion},
+      {"image", "gbuffer.exr"},
+      {"lights", "lights.json"},
+      {"width", encoded.width},
+      {"height", encoded.height},
+      {"origin", "top"},
+      {"camera", {{"tan_half_fov", {in.tanHalfFovX, in.tanHalfFovY}},
+                  {"znear", in.znear},
+                  {"zfar", in.zfar}}},
+      {"depth", {{"channel", "P.z"}, {"encoding", "view_z"}}},
+      {"mask", "mask"},
+      {"shading_model", toString(model)},
+      {"layout", toString(encoded.format)},
+      {"scene", scene},
+      {"frame", prepared.frame},
+      {"raster", raster},
+  };
+  for (const GBufferField* f : gbufferFields(model)) {
+    if (f->components == 1) {
+      d[f->key] = f->dumpChannels[0];
+    } else {
+      nlohmann::json list = nlohmann::json::array();
+      for (int c = 0; c < f->components; ++c) list.push_back(f->dumpChannels[c]);
+      d[f->key] = list;
+    }
+  }
+  std::ofstream out(dir + "/gbuffer.json");
+  if (!out) throw Error("cannot write " + dir + "/gbuffer.json");
+  out << d.dump(2) << "\n";
+}
+
+}  // namespace ts

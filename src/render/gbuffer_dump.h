@@ -1,0 +1,18 @@
+#pragma once
+// `render --dump`: the frame's G-buffer as the kernels decode it, its lights and a descriptor
+// (src/render/gbuffer_files.h), which `--gbuffer-in` reads back exactly.
+#include <string>
+
+#include "cl/cl_context.h"
+#include "render/frame_setup.h"
+#include "techniques/technique.h"
+
+namespace ts {
+
+// Writes DIR/gbuffer.exr (dump.cl's decoded channels, then the host channels of the field table),
+// DIR/lights.json and DIR/gbuffer.json. `frame` is `prepared` uploaded (the dump kernel decodes it
+// for prepared's layout and features); `scene` and `raster` are recorded in the descriptor.
+void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFrame& prepared,
+                      const std::string& scene, const std::string& raster, const std::string& dir);
+
+}  // namespace ts

@@ -1,0 +1,456 @@
+#include "render/gbuffer_files.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <set>
+
+#include "reference/shading_cpu.h"  // TS_DMIN
+#include "util/error.h"
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace ts {
+
+// ---- G-buffer fields ----------------------------------------------------------------------------
+
+const std::vector<GBufferField>& gbufferFields() {
+  constexpr int BP = kModelBit(ShadingModel::BlinnPhong);
+  constexpr int MR = kModelBit(ShadingModel::MetallicRoughness);
+  static const std::vector<GBufferField> fields = {
+      // The normal as stored, before the kernels renormalise it: the kernel's "N" is normalised,
+      // and re-encoding a normalised fp16 normal would not give back the stored halves.
+      {"normal", 3, GBufferPlane::Normal, 0, kAnyModel, true, 0.0f, {"Nraw.x", "Nraw.y", "Nraw.z"},
+       "view-space normal (unit, or as stored: the kernels renormalise it)"},
+      {"diffuse", 3, GBufferPlane::Diffuse, 0, BP, true, 0.0f, {"kd.R", "kd.G", "kd.B"},
+       "Blinn-Phong diffuse colour kd (linear RGB)"},
+      {"specular", 3, GBufferPlane::Specular, 0, BP, false, 0.0f, {"ks.R", "ks.G", "ks.B"},
+       "Blinn-Phong specular colour ks (linear RGB)"},
+      {"shininess", 1, GBufferPlane::Specular, 3, BP, false, 1.0f, {"shininess"},
+       "Blinn-Phong exponent s"},
+      {"base_color", 3, GBufferPlane::Diffuse, 0, MR, true, 0.0f, {"kd.R", "kd.G", "kd.B"},
+       "metallic-roughness base colour (linear RGB)"},
+      {"metallic", 1, GBufferPlane::Diffuse, 3, MR, false, 0.0f, {"metallic"}, "metallic, 0..1"},
+      {"roughness", 1, GBufferPlane::Specular, 0, MR, false, 1.0f, {"ks.R"},
+       "perceptual roughness, 0..1"},
+      {"emissive", 3, GBufferPlane::Emissive, 0, kAnyModel, false, 0.0f, {"ke.R", "ke.G", "ke.B"},
+       "emitted radiance ke (linear RGB)"},
+  };
+  return fields;
+}
+
+std::vector<const GBufferField*> gbufferFields(ShadingModel model) {
+  std::vector<const GBufferField*> out;
+  for (const auto& f : gbufferFields())
+    if (f.models & kModelBit(model)) out.push_back(&f);
+  return out;
+}
+
+glm::vec4 fixedComponents(GBufferPlane plane, ShadingModel model, glm::vec4 v) {
+  switch (plane) {
+    case GBufferPlane::Normal: v.w = 0.0f; break;
+    case GBufferPlane::Emissive: v.w = 0.0f; break;
+    case GBufferPlane::Diffuse:
+      if (model == ShadingModel::BlinnPhong) v.w = 1.0f;
+      break;
+    case GBufferPlane::Specular:
+      if (model == ShadingModel::MetallicRoughness) v.y = v.z = v.w = 0.0f;
+      break;
+  }
+  return v;
+}
+
+const std::vector<std::string>& dumpKernelChannels() {
+  static const std::vector<std::string> channels = {
+      "P.x",  "P.y",  "P.z",  "N.x",       "N.y",  "N.z",  "kd.R", "kd.G", "kd.B",
+      "ks.R", "ks.G", "ks.B", "shininess", "ke.R", "ke.G", "ke.B", "mask"};
+  return channels;
+}
+
+bool isHostDumpChannel(const std::string& channel) {
+  const auto& k = dumpKernelChannels();
+  return std::find(k.begin(), k.end(), channel) == k.end();
+}
+
+// ---- gbuffer.json -------------------------------------------------------------------------------
+
+namespace {
+
+// Reads a JSON file; throws ts::Error naming it when it is missing or not JSON.
+json readJson(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot read " + path);
+  json j = json::parse(in, nullptr, false);
+  if (j.is_discarded()) throw Error(path + " is not valid JSON");
+  return j;
+}
+
+// Field access with one-line errors "FILE: "key": expected ...".
+struct JsonFields {
+  const std::string& file;
+  const json& object;
+  std::string prefix;  // e.g. "light 3 (spot): " or "\"depth\": "
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw Error(file + ": " + prefix + "\"" + key + "\" " + what);
+  }
+  bool has(const std::string& key) const { return object.contains(key); }
+  double number(const std::string& key) const {
+    if (!has(key)) fail(key, "is missing");
+    const json& v = object.at(key);
+    if (!v.is_number()) fail(key, "must be a number, got " + v.dump());
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(key, "must be finite");
+    return d;
+  }
+  double positive(const std::string& key) const {
+    const double d = number(key);
+    if (!(d > 0.0)) fail(key, "must be > 0, got " + object.at(key).dump());
+    return d;
+  }
+  glm::vec3 vec3(const std::string& key) const {
+    if (!has(key)) fail(key, "is missing");
+    const json& v = object.at(key);
+    if (!v.is_array() || v.size() != 3) fail(key, "must be an array of 3 numbers, got " + v.dump());
+    glm::vec3 out;
+    for (int i = 0; i < 3; ++i) {
+      if (!v[size_t(i)].is_number() || !std::isfinite(v[size_t(i)].get<double>()))
+        fail(key, "must be an array of 3 finite numbers, got " + v.dump());
+      out[i] = v[size_t(i)].get<float>();
+    }
+    return out;
+  }
+  std::string string(const std::string& key) const {
+    if (!has(key)) fail(key, "is missing");
+    const json& v = object.at(key);
+    if (!v.is_string() || v.get<std::string>().empty()) fail(key, "must be a non-empty string");
+    return v.get<std::string>();
+  }
+  template <typename T>
+  T oneOf(const std::string& key, const std::vector<std::pair<std::string, T>>& choices) const {
+    const std::string s = string(key);
+    std::string names;
+    for (const auto& [name, value] : choices) {
+      if (name == s) return value;
+      names += (names.empty() ? "" : ", ") + name;
+    }
+    fail(key, "must be one of " + names + ", got \"" + s + "\"");
+  }
+  void onlyKeys(const std::set<std::string>& known) const {
+    for (auto it = object.begin(); it != object.end(); ++it)
+      if (!known.count(it.key())) {
+        std::string names;
+        for (const auto& k : known) names += (names.empty() ? "" : ", ") + k;
+        fail(it.key(), "is not a known field (known: " + names + ")");
+      }
+  }
+};
+
+std::vector<std::string> channelList(const JsonFields& f, const std::string& key, int count) {
+  const json& v = f.object.at(key);
+  std::vector<std::string> out;
+  if (count == 1 && v.is_string()) {
+    out.push_back(v.get<std::string>());
+  } else if (count > 1 && v.is_array() && int(v.size()) == count) {
+    for (const auto& c : v) {
+      if (!c.is_string()) f.fail(key, "must name " + std::to_string(count) + " channels");
+      out.push_back(c.get<std::string>());
+    }
+  } else {
+    f.fail(key, count == 1 ? "must name one channel (a string)"
+                           : "must name " + std::to_string(count) + " channels (an array)");
+  }
+  for (const auto& c : out)
+    if (c.empty()) f.fail(key, "names an empty channel");
+  return out;
+}
+
+}  // namespace
+
+GBufferDescriptor readGBufferDescriptor(const std::string& dirOrFile) {
+  std::error_code ec;
+  const fs::path given(dirOrFile);
+  const fs::path path = fs::is_directory(given, ec) ? given / "gbuffer.json" : given;
+  GBufferDescriptor d;
+  d.path = path.string();
+  if (!fs::exists(path, ec))
+    throw Error("--gbuffer-in: " + d.path + " does not exist (a folder written by render --dump, "
+                "or a descriptor: docs/output-formats.md)");
+  const json j = readJson(d.path);
+  if (!j.is_object()) throw Error(d.path + " must hold a JSON object");
+  const JsonFields top{d.path, j, ""};
+
+  std::set<std::string> known = {"tileshade_gbuffer", "image", "lights", "width", "height",
+                                 "origin", "camera", "depth", "mask", "normal_encoding",
+                                 "shading_model", "layout", "scene", "frame", "raster"};
+  for (const auto& f : gbufferFields()) known.insert(f.key);
+  top.onlyKeys(known);
+  if (top.number("tileshade_gbuffer") != kGBufferFilesVersion)
+    top.fail("tileshade_gbuffer", "must be " + std::to_string(kGBufferFilesVersion));
+
+  const fs::path folder = path.parent_path();
+  d.imagePath = (folder / top.string("image")).string();
+  d.lightsPath = (folder / (top.has("lights") ? top.string("lights") : "lights.json")).string();
+  auto size = [&](const char* key) -> std::optional<int> {
+    if (!top.has(key)) return std::nullopt;
+    const double v = top.positive(key);
+    if (v != std::floor(v) || v > 65536) top.fail(key, "must be a whole number of pixels");
+    return int(v);
+  };
+  d.width = size("width");
+  d.height = size("height");
+  if (top.has("origin"))
+    d.bottomRowFirst = top.oneOf<bool>("origin", {{"top", false}, {"bottom", true}});
+  d.model = top.has("shading_model") ? top.oneOf<ShadingModel>(
+                                           "shading_model",
+                                           {{"blinn-phong", ShadingModel::BlinnPhong},
+                                            {"metallic-roughness",
+                                             ShadingModel::MetallicRoughness}})
+                                     : ShadingModel::BlinnPhong;
+  if (top.has("layout"))
+    d.layout = top.oneOf<GBufferFormat>("layout", {{"fp32", GBufferFormat::FP32},
+                                                   {"fp16", GBufferFormat::FP16},
+                                                   {"packed", GBufferFormat::PACKED}});
+  if (top.has("scene")) d.scene = top.string("scene");
+
+  // Camera
+  if (!top.has("camera")) top.fail("camera", "is missing (the field of view is needed)");
+  const json& cj = j.at("camera");
+  if (!cj.is_object()) top.fail("camera", "must be an object");
+  const JsonFields cam{d.path, cj, "\"camera\": "};
+  cam.onlyKeys({"tan_half_fov", "yfov", "yfov_degrees", "znear", "zfar"});
+  const int fovGiven = int(cam.has("tan_half_fov")) + int(cam.has("yfov")) +
+                       int(cam.has("yfov_degrees"));
+  if (fovGiven != 1) cam.fail("yfov", "(or tan_half_fov, or yfov_degrees): give exactly one");
+  if (cam.has("tan_half_fov")) {
+    const json& t = cj.at("tan_half_fov");
+    if (!t.is_array() || t.size() != 2 || !t[0].is_number() || !t[1].is_number() ||
+        !(t[0].get<double>() > 0.0) || !(t[1].get<double>() > 0.0) ||
+        !std::isfinite(t[0].get<double>()) || !std::isfinite(t[1].get<double>()))
+      cam.fail("tan_half_fov", "must be [tan x, tan y], both > 0");
+    d.tanHalfFovX = t[0].get<float>();
+    d.tanHalfFovY = t[1].get<float>();
+  } else {
+    const bool degrees = cam.has("yfov_degrees");
+    const std::string key = degrees ? "yfov_degrees" : "yfov";
+    double yfov = cam.positive(key);
+    if (degrees) yfov *= 3.14159265358979323846 / 180.0;
+    if (!(yfov < 3.14159)) cam.fail(key, "must be below 180 degrees");
+    d.tanHalfFovY = std::tan(0.5f * float(yfov));  // as CameraIntrinsics::from
+  }
+  if (cam.has("znear")) d.znear = float(cam.positive("znear"));
+  if (cam.has("zfar")) d.zfar = float(cam.positive("zfar"));
+  if (d.znear && d.zfar && !(*d.zfar > *d.znear)) cam.fail("zfar", "must be greater than znear");
+
+  // Depth
+  if (!top.has("depth")) top.fail("depth", "is missing");
+  const json& dj = j.at("depth");
+  if (!dj.is_object()) top.fail("depth", "must be an object {\"channel\", \"encoding\", ...}");
+  const JsonFields depth{d.path, dj, "\"depth\": "};
+  depth.onlyKeys({"channel", "encoding", "near", "far", "range", "reversed"});
+  d.depthChannel = depth.string("channel");
+  d.depthEncoding = depth.oneOf<DepthEncoding>("encoding", {{"linear", DepthEncoding::Linear},
+                                                            {"view_z", DepthEncoding::ViewZ},
+                                                            {"hardware", DepthEncoding::Hardware}});
+  if (d.depthEncoding == DepthEncoding::Hardware) {
+    d.hardwareNear = depth.positive("near");
+    d.hardwareRange = depth.oneOf<DepthRange>(
+        "range", {{"zero_to_one", DepthRange::ZeroToOne},
+                  {"minus_one_to_one", DepthRange::MinusOneToOne}});
+    if (depth.has("reversed")) {
+      if (!dj.at("reversed").is_boolean()) depth.fail("reversed", "must be true or false");
+      d.hardwareReversed = dj.at("reversed").get<bool>();
+    }
+    if (d.hardwareReversed && d.hardwareRange != DepthRange::ZeroToOne)
+      depth.fail("reversed", "needs \"range\": \"zero_to_one\"");
+    if (depth.has("far") && !dj.at("far").is_null()) {
+      d.hardwareFar = depth.positive("far");
+      if (!(*d.hardwareFar > d.hardwareNear)) depth.fail("far", "must be greater than near");
+    } else if (!d.hardwareReversed) {
+      depth.fail("far", "is missing (null, an infinite far plane, needs \"reversed\": true)");
+    }
+    if (!d.znear) d.znear = float(d.hardwareNear);
+    if (!d.zfar && d.hardwareFar) d.zfar = float(*d.hardwareFar);
+  } else {
+    for (const char* k : {"near", "far", "range", "reversed"})
+      if (depth.has(k)) depth.fail(k, "applies to \"encoding\": \"hardware\" only");
+  }
+  if (top.has("mask")) d.maskChannel = top.string("mask");
+  if (top.has("normal_encoding"))
+    d.normalUnorm = top.oneOf<bool>("normal_encoding", {{"signed", false}, {"unorm", true}});
+
+  // Fields of the model
+  for (const auto& f : gbufferFields()) {
+    const bool applies = f.models & kModelBit(d.model);
+    if (!top.has(f.key)) {
+      if (applies && f.required)
+        top.fail(f.key, std::string("is missing (") + f.meaning + ", needed for " +
+                            toString(d.model) + ")");
+      continue;
+    }
+    if (!applies)
+      top.fail(f.key, "does not apply to \"shading_model\": \"" + toString(d.model) + "\"");
+    d.fields.emplace_back(&f, channelList(top, f.key, f.components));
+  }
+  return d;
+}
+
+// ---- lights.json --------------------------------------------------------------------------------
+
+namespace {
+
+// One light as lights.json holds it: the kernels' view-space values (ViewLights).
+struct LightRecord {
+  LightType type = LightType::Point;
+  glm::vec3 position{0.0f}, color{0.0f}, direction{0.0f};  // direction: where the light travels
+  float range = 0.0f;
+  float cosOuter = -1.0f;   // spot: ViewLights::spot.w
+  float coneScale = 1.0f;   // spot: ViewLights::color.w
+};
+
+constexpr int kPoint = 1 << int(LightType::Point), kSpot = 1 << int(LightType::Spot),
+              kDirectional = 1 << int(LightType::Directional);
+
+// The light fields: which types have them, how they are written and read.
+struct LightField {
+  const char* key;
+  int types;
+  std::function<json(const LightRecord&)> write;
+  std::function<void(LightRecord&, const JsonFields&)> read;  // null: read elsewhere
+};
+
+json array3(glm::vec3 v) { return {v.x, v.y, v.z}; }
+
+const std::vector<LightField>& lightFields() {
+  static const std::vector<LightField> fields = {
+      {"position", kPoint | kSpot, [](const LightRecord& l) { return array3(l.position); },
+       [](LightRecord& l, const JsonFields& f) { l.position = f.vec3("position"); }},
+      {"color", kPoint | kSpot | kDirectional,
+       [](const LightRecord& l) { return array3(l.color); },
+       [](LightRecord& l, const JsonFields& f) { l.color = f.vec3("color"); }},
+      {"range", kPoint | kSpot, [](const LightRecord& l) { return json(l.range); },
+       [](LightRecord& l, const JsonFields& f) { l.range = float(f.positive("range")); }},
+      {"direction", kSpot | kDirectional, [](const LightRecord& l) { return array3(l.direction); },
+       [](LightRecord& l, const JsonFields& f) {
+         l.direction = f.vec3("direction");
+         const double len = glm::length(glm::dvec3(l.direction));
+         if (std::abs(len - 1.0) > 1e-5)
+           f.fail("direction", "must be a unit vector, its length is " + std::to_string(len));
+       }},
+      // Spot cone: the kernels' values, or glTF's angles (read below).
+      {"cos_outer", kSpot, [](const LightRecord& l) { return json(l.cosOuter); }, nullptr},
+      {"cone_scale", kSpot, [](const LightRecord& l) { return json(l.coneScale); }, nullptr},
+  };
+  return fields;
+}
+
+// A spot light's cone from "cos_outer" + "cone_scale" (what dumps write) or from glTF's
+// "inner_cone_angle" + "outer_cone_angle" (radians), converted by toViewSpace itself.
+void readCone(LightRecord& l, const JsonFields& f) {
+  const bool kernelForm = f.has("cos_outer") || f.has("cone_scale");
+  const bool angleForm = f.has("inner_cone_angle") || f.has("outer_cone_angle");
+  if (kernelForm == angleForm)
+    f.fail("outer_cone_angle", "(with inner_cone_angle), or cos_outer with cone_scale: give one "
+                               "pair");
+  if (kernelForm) {
+    l.cosOuter = float(f.number("cos_outer"));
+    l.coneScale = float(f.positive("cone_scale"));
+    if (!(l.cosOuter >= 0.0f && l.cosOuter < 1.0f)) f.fail("cos_outer", "must be in [0, 1)");
+    return;
+  }
+  const double inner = f.number("inner_cone_angle"), outer = f.number("outer_cone_angle");
+  if (!(inner >= 0.0 && inner < outer && outer <= 1.5707963267948966))
+    f.fail("outer_cone_angle", "must satisfy 0 <= inner_cone_angle < outer_cone_angle <= pi/2");
+  const ViewLights v = toViewSpace(
+      {Light::spot(l.position, l.direction, l.color, l.range, float(inner), float(outer))},
+      glm::mat4(1.0f));
+  l.cosOuter = v.spot[0].w;
+  l.coneScale = v.color[0].w;
+}
+
+}  // namespace
+
+nlohmann::json lightsJson(const ViewLights& lights, glm::vec3 ambient) {
+  std::vector<LightRecord> records;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    LightRecord l;
+    const glm::vec4 s = lights.spot.empty() ? glm::vec4(0.0f, 0.0f, 0.0f, -1.0f) : lights.spot[i];
+    l.type = glm::vec3(s) == glm::vec3(0.0f) ? LightType::Point : LightType::Spot;
+    l.position = glm::vec3(lights.positionRange[i]);
+    l.range = lights.positionRange[i].w;
+    l.color = glm::vec3(lights.color[i]);
+    l.direction = glm::vec3(s);
+    l.cosOuter = s.w;
+    l.coneScale = lights.color[i].w;
+    records.push_back(l);
+  }
+  for (size_t i = 0; i < lights.directionalCount(); ++i) {
+    LightRecord l;
+    l.type = LightType::Directional;
+    l.direction = -glm::vec3(lights.directionalDir[i]);  // exact: ViewLights holds "towards"
+    l.color = glm::vec3(lights.directionalColor[i]);
+    records.push_back(l);
+  }
+  json list = json::array();
+  for (const auto& l : records) {
+    json o = {{"type", toString(l.type)}};
+    for (const auto& f : lightFields())
+      if (f.types & (1 << int(l.type))) o[f.key] = f.write(l);
+    list.push_back(o);
+  }
+  return {{"dmin", TS_DMIN}, {"ambient", array3(ambient)}, {"lights", list}};
+}
+
+LightsFile readLightsFile(const std::string& path) {
+  const json j = readJson(path);
+  if (!j.is_object()) throw Error(path + " must hold a JSON object");
+  const JsonFields top{path, j, ""};
+  top.onlyKeys({"dmin", "ambient", "lights"});
+  if (top.has("dmin") && top.number("dmin") != TS_DMIN)
+    top.fail("dmin", "is " + j.at("dmin").dump() + " but the kernels use " +
+                         std::to_string(TS_DMIN));
+  LightsFile out;
+  if (top.has("ambient")) out.ambient = top.vec3("ambient");
+  if (!top.has("lights") || !j.at("lights").is_array()) top.fail("lights", "must be an array");
+  size_t index = 0;
+  for (const json& lj : j.at("lights")) {
+    const std::string where = "light " + std::to_string(index++);
+    if (!lj.is_object()) throw Error(path + ": " + where + " must be an object");
+    const JsonFields type{path, lj, where + ": "};
+    LightRecord l;
+    l.type = type.oneOf<LightType>("type", {{"point", LightType::Point},
+                                            {"spot", LightType::Spot},
+                                            {"directional", LightType::Directional}});
+    const JsonFields f{path, lj, where + " (" + toString(l.type) + "): "};
+    std::set<std::string> known = {"type"};
+    for (const auto& field : lightFields()) {
+      if (!(field.types & (1 << int(l.type)))) continue;
+      known.insert(field.key);
+      if (field.read) field.read(l, f);
+    }
+    if (l.type == LightType::Spot) {
+      known.insert({"inner_cone_angle", "outer_cone_angle"});
+      readCone(l, f);
+    }
+    f.onlyKeys(known);
+    if (l.type == LightType::Directional) {
+      out.lights.directionalDir.emplace_back(-l.direction, 0.0f);
+      out.lights.directionalColor.emplace_back(l.color, 0.0f);
+      continue;
+    }
+    out.lights.positionRange.emplace_back(l.position, l.range);
+    if (l.type == LightType::Spot) {
+      out.lights.color.emplace_back(l.color, l.coneScale);
+      out.lights.spot.emplace_back(l.direction, l.cosOuter);
+    } else {
+      out.lights.color.emplace_back(l.color, 1.0f);
+      out.lights.spot.emplace_back(glm::vec3(0.0f), -1.0f);
+    }
+  }
+  return out;
+}
+
+}  // namespace ts

@@ -1,0 +1,53 @@
+#include "render/render_input.h"
+
+#include <chrono>
+#include <filesystem>
+
+#include "render/gbuffer_import.h"
+#include "scene/light_range.h"
+#include "scene/scene_loader.h"
+
+namespace ts {
+
+RenderInput loadRenderInput(const RenderOptions& o) {
+  RenderInput input;
+  if (!o.gbufferIn.empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::optional<GBufferFormat> format;
+    if (!o.keepInputLayout) format = o.format;
+    ImportedFrame imported = importGBuffer(o.gbufferIn, format);
+    input.frame = std::move(imported.frame);
+    input.frame.rasterMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    input.sceneName = imported.descriptor.scene.empty()
+                          ? std::filesystem::path(imported.descriptor.path).parent_path().string()
+                          : imported.descriptor.scene;
+    input.raster = "import";
+    input.rasterDetail = imported.descriptor.path;
+    input.frame.features = chooseFeatures(o.features, input.frame.features);
+    input.lightSummary = std::to_string(input.frame.lights.size() +
+                                        input.frame.lights.directionalCount()) + " lights";
+    return input;
+  }
+  const RasterBackend backend = parseRasterBackend(o.raster);  // a bad name fails before work
+  SceneOptions sceneOptions;
+  sceneOptions.lightSet = o.lightSet;
+  sceneOptions.seed = o.seed;
+  sceneOptions.lightCount = o.lightCount;
+  sceneOptions.lightRange = o.lightRange;
+  sceneOptions.variant = o.variant;
+  Scene scene = loadScene(o.scene, sceneOptions);
+  if (o.lightThreshold > 0.0f) applyThresholdRanges(scene.lights, o.lightThreshold);
+  const SceneFeatures features = resolveFeatures(scene, o.shadingModel, o.features);
+  SceneRasterizer rasterizer(scene, backend);
+  input.frame = prepareFrame(rasterizer, o.frame, o.width, o.height, o.format, features);
+  input.lightSummary = describeLights(scene.lights);
+  input.sceneName = scene.name;
+  input.triangles = scene.triangleCount();
+  input.raster = toString(rasterizer.backend());
+  input.rasterDetail = rasterizer.description();
+  input.rasterSetupMs = rasterizer.setupMs();
+  return input;
+}
+
+}  // namespace ts
