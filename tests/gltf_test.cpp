@@ -345,12 +345,27 @@ void expectRoundTrip(const Scene& original, const Scene& loaded) {
     expectVec(m.emissive, it->emissive, 1e-5f);
     EXPECT_NEAR(m.shininess, it->shininess, 0.01f * it->shininess);
     EXPECT_EQ(m.doubleSided, it->doubleSided);
+    EXPECT_EQ(m.model, it->model);
+    if (m.model == ts::ShadingModel::MetallicRoughness) {
+      expectVec(m.baseColor, it->baseColor, 1e-6f);
+      EXPECT_FLOAT_EQ(m.metallic, it->metallic);
+      EXPECT_FLOAT_EQ(m.roughness, it->roughness);
+    }
   }
   ASSERT_EQ(loaded.lights.size(), original.lights.size());
   for (size_t i = 0; i < original.lights.size(); ++i) {
-    expectVec(loaded.lights[i].position, original.lights[i].position, 1e-5f);
-    expectVec(loaded.lights[i].color, original.lights[i].color, 1e-5f);
-    EXPECT_EQ(loaded.lights[i].range, original.lights[i].range);
+    const ts::Light &a = original.lights[i], &b = loaded.lights[i];
+    EXPECT_EQ(b.type, a.type) << "light " << i;
+    expectVec(b.color, a.color, 1e-5f);
+    if (a.hasRange()) {
+      expectVec(b.position, a.position, 1e-5f);
+      EXPECT_EQ(b.range, a.range);
+    }
+    if (a.type != ts::LightType::Point) expectVec(b.direction, a.direction, 1e-6f);
+    if (a.type == ts::LightType::Spot) {
+      EXPECT_FLOAT_EQ(b.innerConeAngle, a.innerConeAngle) << "light " << i;
+      EXPECT_FLOAT_EQ(b.outerConeAngle, a.outerConeAngle) << "light " << i;
+    }
   }
   expectVec(loaded.ambient, original.ambient, 1e-7f);
   ASSERT_FALSE(loaded.cameraPath.empty());
@@ -402,6 +417,29 @@ TEST(GltfExport, AtriumRoundTripsThroughGlb) {
   std::string err = ::testing::internal::GetCapturedStderr();
   EXPECT_TRUE(err.empty()) << err;
   expectRoundTrip(atrium, loaded);
+}
+
+// Every light type and the metallic-roughness model keep their types and parameters through export
+// and load (glTF and GLB).
+TEST(GltfExport, SpotDirectionalAndMetallicRoughnessRoundTrip) {
+  TempDir dir;
+  ts::SceneOptions o;
+  o.lightSet = "few";
+  o.variant = "spot,sun,metallic-roughness";
+  Scene s = ts::loadScene("builtin:street", o);
+  s.lights.push_back(ts::Light::spot({1, 5, 2}, {0, 0, 1}, {3, 2, 1}, 7.0f, 0.0f, 1.5707963f));
+  s.lights.push_back(ts::Light::directional(glm::normalize(glm::vec3(0, -1, -1e-3f)), {1, 1, 1}));
+  size_t spots = 0;
+  for (const auto& l : s.lights) spots += l.type == ts::LightType::Spot;
+  ASSERT_GE(spots, 5u);
+  for (const char* name : {"typed.gltf", "typed.glb"}) {
+    ts::exportGltf(s, dir.file(name));
+    ::testing::internal::CaptureStderr();
+    Scene loaded = ts::loadGltf(dir.file(name));
+    std::string err = ::testing::internal::GetCapturedStderr();
+    EXPECT_TRUE(err.empty()) << err;
+    expectRoundTrip(s, loaded);
+  }
 }
 
 TEST(GltfExport, TexturesRoundTripAsSrgbPng) {

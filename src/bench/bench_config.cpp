@@ -68,6 +68,12 @@ std::string oneOf(const std::string& option, const std::string& value,
   bad(option, value, "expected one of " + list);
 }
 
+std::string joinedVariants() {
+  std::string s;
+  for (const auto& v : builtinVariants()) s += (s.empty() ? "" : ", ") + v;
+  return s;
+}
+
 std::vector<BenchDimension> makeDimensions() {
   std::vector<BenchDimension> d;
   auto add = [&](std::string name, std::string help, bool affectsFrame,
@@ -100,6 +106,26 @@ std::vector<BenchDimension> makeDimensions() {
   add("raster", "rasterizer(s) of the G-buffer: software, gl (OpenGL; docs/opengl.md)", true,
       [](BenchConfig& c, const std::string& v) { c.raster = oneOf("--raster", v, {"software", "gl"}); },
       [](const BenchConfig& c) { return c.raster; });
+  add("variant", "built-in scene variant(s), each a '+' list of " + joinedVariants() +
+      " (none: the scene as designed)", true,
+      [](BenchConfig& c, const std::string& v) {
+        std::string s = trim(v);
+        std::replace(s.begin(), s.end(), '+', ',');
+        if (s == "none") s.clear();
+        for (const auto& part : splitList(s, ',')) oneOf("--variant", part, builtinVariants());
+        c.variant = s;
+      },
+      [](const BenchConfig& c) {
+        std::string s = c.variant.empty() ? std::string("none") : c.variant;
+        std::replace(s.begin(), s.end(), ',', '+');
+        return s;
+      });
+  add("shading_model", "shading model(s): auto (the scene's own), blinn-phong, metallic-roughness",
+      true,
+      [](BenchConfig& c, const std::string& v) {
+        c.shadingModel = oneOf("--shading-model", v, {"auto", "blinn-phong", "metallic-roughness"});
+      },
+      [](const BenchConfig& c) { return c.shadingModel; });
   add("light_set", "light set(s) (street: many, few; atrium: small, big, mixed); default: the scene's",
       true,
       [](BenchConfig& c, const std::string& v) {
@@ -138,6 +164,19 @@ std::vector<BenchDimension> makeDimensions() {
         c.format = parseGBufferFormat(oneOf("--gbuffer", v, {"fp32", "fp16", "packed"}));
       },
       [](const BenchConfig& c) { return toString(c.format); });
+  add("features", "what the kernels and the G-buffer model: auto (the scene's needs), general, or "
+      "a '+' list of specular, emissive, textures, point, spot, directional", false,
+      [](BenchConfig& c, const std::string& v) {
+        std::string s = trim(v);
+        std::replace(s.begin(), s.end(), '+', ',');
+        if (s.empty()) bad("--features", v, "expected auto, general or a list");
+        c.features = s;
+      },
+      [](const BenchConfig& c) {
+        std::string s = c.features;
+        std::replace(s.begin(), s.end(), ',', '+');
+        return s;
+      });
   add("technique", "technique(s), or all", false,
       [](BenchConfig& c, const std::string& v) {
         c.technique = oneOf("--technique", v, techniqueNames());
@@ -152,6 +191,11 @@ std::vector<BenchDimension> makeDimensions() {
       [](const BenchConfig& c) {
         return std::to_string(c.tileWidth) + "x" + std::to_string(c.tileHeight);
       });
+  add("spot_culling", "spot lights culled as: cone, bound-sphere, range-sphere", false,
+      [](BenchConfig& c, const std::string& v) {
+        c.spotCulling = oneOf("--spot-culling", v, {"cone", "bound-sphere", "range-sphere"});
+      },
+      [](const BenchConfig& c) { return c.spotCulling; });
   add("culling", "per-tile light test(s): rect, frustum, aabb", false,
       [](BenchConfig& c, const std::string& v) { c.culling = oneOf("--culling", v, {"rect", "frustum", "aabb"}); },
       [](const BenchConfig& c) { return c.culling; });
@@ -217,6 +261,7 @@ TechniqueConfig BenchConfig::techniqueConfig() const {
   t.tileHeight = tileHeight;
   t.clusterSlices = clusterSlices;
   t.culling = parseCulling(culling);
+  t.spotCulling = parseSpotCulling(spotCulling);
   t.math = math;
   t.lanes = lanes;
   return t;
@@ -228,6 +273,7 @@ SceneOptions BenchConfig::sceneOptions() const {
   s.seed = seed;
   s.lightCount = lightCount;
   s.lightRange = lightRange;
+  s.variant = variant;
   return s;
 }
 

@@ -34,7 +34,12 @@ struct BenchConfig {
   int clusterSlices = 16;
   int lanes = 0;                    // TechniqueConfig::lanes; 0 = auto
   std::string raster = "software";  // rasterizer of the G-buffer: software or gl
+  std::string variant;              // built-in scene variants (scene_loader.h), "" = none
+  std::string shadingModel = "auto";  // auto, blinn-phong, metallic-roughness
+  std::string features = "auto";   // auto, general, or a list (chooseFeatures)
+  std::string spotCulling = "cone"; // cone, bound-sphere, range-sphere
 
+  // Everything but the features, which depend on the scene (BenchScene::features).
   TechniqueConfig techniqueConfig() const;
   SceneOptions sceneOptions() const;
   // "device=…;scene=…;…" over every dimension, canonical values: equal keys = same configuration.

@@ -38,8 +38,13 @@ void BenchScene::check(const BenchConfig& c) {
     if (!c.lightSet.empty() || c.lightCount >= 0 || c.lightRange > 0.0f || c.lightThreshold > 0.0f)
       throw Error("--scene " + c.scene + " brings its own lights: no --lights, --light-count, "
                   "--light-range or --light-threshold");
+    if (!c.variant.empty() || c.shadingModel != "auto")
+      throw Error("--scene " + c.scene + " is an imported G-buffer: its files decide the shading "
+                  "model (no --variant or --shading-model)");
+    features(c);  // a bad --features fails before anything is timed
     return;
   }
+  features(c);  // a bad --shading-model or --features fails before anything is timed
   auto& r = rasterizers_[backend];
   if (!r) r = std::make_unique<SceneRasterizer>(scene_, backend);
 }
@@ -48,11 +53,16 @@ int BenchScene::pathLength() const {
   return imported_ ? 1 : int(scene_.cameraPath.size());
 }
 
+SceneFeatures BenchScene::features(const BenchConfig& c) const {
+  if (imported_) return chooseFeatures(c.features, imported_->frame.features);
+  return resolveFeatures(scene_, c.shadingModel, c.features);
+}
+
 PreparedFrame BenchScene::prepare(const BenchConfig& c, int frame) {
   if (imported_) return imported_->frame;  // fp32, as read
   SceneRasterizer& r = *rasterizers_.at(parseRasterBackend(c.raster));
   return prepareFrame(r, frame, c.width, c.height, GBufferFormat::FP32,
-                      analyzeScene(scene_, ShadingModel::BlinnPhong));
+                      SceneFeatures::general(features(c).model));
 }
 
 ViewLights BenchScene::ownRangeLights(const PreparedFrame& frame) const {

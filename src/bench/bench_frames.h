@@ -31,7 +31,12 @@ class BenchScene {
   void check(const BenchConfig& config);
 
   int pathLength() const;  // frames of the camera path (1 for an imported G-buffer)
-  // Frame `frame` for `config` (resolution, rasterizer), fp32-encoded; raster_ms inside.
+  // The features `config` runs with: the scene's analysis for its shading model, overridden by
+  // its `features` (resolveFeatures); for an imported G-buffer, its files'. ts::Error on bad input.
+  SceneFeatures features(const BenchConfig& config) const;
+  // Frame `frame` for `config` (resolution, rasterizer, shading model), encoded in fp32 with every
+  // plane (the general layout: the error reference's input; configurations encode their own
+  // layout from its gbuffer); raster_ms inside.
   PreparedFrame prepare(const BenchConfig& config, int frame);
   // The lights with the scene's own ranges (before light_threshold), in the frame's view space:
   // the error reference of every configuration of the scene.

@@ -20,7 +20,7 @@
 #include "cl/cl_context.h"
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
-#include "reference/shading_cpu.h"  // TS_SHADE_FLOPS (kernels/shading.h)
+#include "reference/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
 #include "render/frame_setup.h"
 #include "render/stats.h"
 #include "scene/light_range.h"
@@ -42,7 +42,11 @@ double msSince(Clock::time_point t0) {
 
 // Relative tolerance (of the reference peak) for "pixels above tolerance", as in `render`.
 constexpr double kTolerance = 1e-4;
-constexpr double kShadeFlops = TS_SHADE_FLOPS;
+// Floating-point operations of one contributing light evaluation (kernels/shading.h).
+double shadeFlops(ShadingModel model) {
+  return model == ShadingModel::MetallicRoughness ? TS_SHADE_FLOPS_METALLIC_ROUGHNESS
+                                                  : TS_SHADE_FLOPS_BLINN_PHONG;
+}
 
 std::string nowUtc() {
   std::time_t t = std::time(nullptr);
@@ -125,7 +129,8 @@ const char* const kErrorFields[] = {"max_abs", "rmse", "psnr_db", "max_rel_peak"
 // bench.csv columns after the dimensions.
 const std::vector<std::string>& rowColumns() {
   static const std::vector<std::string> cols = {
-      "device_name", "lanes_used", "frame", "lights", "geometry_pixels", "total_ms", "kernels", "wall_ms",
+      "device_name", "lanes_used", "features", "gbuffer_bytes_per_pixel", "kernel_options", "frame",
+      "lights", "geometry_pixels", "total_ms", "kernels", "wall_ms",
       "upload_ms", "compile_ms", "raster_ms", "warmup", "repeat", "lighting_computations",
       "evaluations", "gbuffer_bytes_read", "list_min", "list_mean", "list_max", "min_bytes",
       "min_flops", "flops_basis", "bandwidth_gbs", "peak_gflops", "limit_ms", "limit_pct",
@@ -147,6 +152,9 @@ std::vector<std::string> csvFieldsOf(const json& row) {
     for (const auto& n : row["notes"]) notes += (notes.empty() ? "" : " | ") + n.get<std::string>();
   f.push_back(str(row, "device_name"));
   f.push_back(intText(row, "lanes_used"));
+  f.push_back(str(row, "features"));
+  f.push_back(intText(row, "gbuffer_bytes_per_pixel"));
+  f.push_back(str(row, "kernel_options"));
   f.push_back(intText(row, "frame"));
   f.push_back(intText(row, "lights"));
   f.push_back(intText(row, "geometry_pixels"));
@@ -209,6 +217,9 @@ json rowFromCsv(const std::map<std::string, std::string>& r) {
               {"config", config},
               {"device_name", get("device_name")},
               {"lanes_used", integer("lanes_used")},
+              {"features", get("features")},
+              {"gbuffer_bytes_per_pixel", integer("gbuffer_bytes_per_pixel")},
+              {"kernel_options", get("kernel_options")},
               {"frame", std::stoi(get("frame"))},
               {"lights", integer("lights")},
               {"geometry_pixels", integer("geometry_pixels")},
@@ -300,9 +311,9 @@ void printTable(const json& summaries, std::ostream& out) {
   }
   out << "% limit: device limit time / measured kernel time (median over frames); limit = max(bytes "
          "/ copy bandwidth, contributing evaluations x "
-      << TS_SHADE_FLOPS
-      << " FLOP / peak). Evaluations counted by the reference, or * by the technique itself "
-         "(~ mixed).\n";
+      << TS_SHADE_FLOPS_BLINN_PHONG << " (Blinn-Phong) or " << TS_SHADE_FLOPS_METALLIC_ROUGHNESS
+      << " (metallic-roughness) FLOP / peak). Evaluations counted by the reference, or * by the "
+         "technique itself (~ mixed).\n";
 }
 
 struct Entry {
@@ -316,6 +327,8 @@ struct Entry {
   const Calibration* calibration = nullptr;
   std::string deviceName;
   double compileMs = 0.0;
+  SceneFeatures features;      // what its kernels and layout model (BenchScene::features)
+  std::string kernelOptions;   // its kernels' build options
   bool warmed = false, failed = false;
 };
 
@@ -332,7 +345,7 @@ std::vector<std::string> summaryCsvColumns() {
   std::vector<std::string> c = {"config_id"};
   for (const auto& d : benchDimensions()) c.push_back(d.name);
   for (const char* k :
-       {"device_name", "lanes_used", "frames", "total_ms_median", "total_ms_min", "total_ms_max", "total_ms_mean",
+       {"device_name", "lanes_used", "features", "gbuffer_bytes_per_pixel", "frames", "total_ms_median", "total_ms_min", "total_ms_max", "total_ms_mean",
         "wall_ms_median", "wall_ms_min", "wall_ms_max", "upload_ms_median", "compile_ms",
         "raster_ms_median", "kernels_median", "lighting_computations_median", "evaluations_median",
         "limit_ms_median", "limit_pct_median", "flops_basis", "error_frames", "err_max_abs_max",
@@ -400,6 +413,8 @@ json summarizeRows(const json& rows) {
               {"technique", str(first, "technique")},
               {"device_name", str(first, "device_name")},
               {"lanes_used", first.value("lanes_used", json())},
+              {"features", first.value("features", json())},
+              {"gbuffer_bytes_per_pixel", first.value("gbuffer_bytes_per_pixel", json())},
               {"frames", frames.size()},
               {"frame_list", frameList},
               {"compile_ms", summarize(compile).max},
@@ -568,7 +583,8 @@ BenchRunResult runBench(const BenchOptions& o) {
               {"error", o.error},
               {"error_frames", o.errorFrames},
               {"shard", std::to_string(o.shard.index) + "/" + std::to_string(o.shard.count)},
-              {"shade_flops", TS_SHADE_FLOPS},
+              {"shade_flops", {{"blinn-phong", TS_SHADE_FLOPS_BLINN_PHONG},
+                               {"metallic-roughness", TS_SHADE_FLOPS_METALLIC_ROUGHNESS}}},
               {"devices", json::array()}};
   auto writeJson = [&](bool finished) {
     json r = run;
@@ -643,7 +659,11 @@ BenchRunResult runBench(const BenchOptions& o) {
         auto cal = calibrations.find(e->config.device);
         e->calibration = cal == calibrations.end() ? nullptr : &cal->second;
         double before = cl.compileMs();
-        e->technique = createTechnique(e->config.technique, cl, e->config.techniqueConfig());
+        TechniqueConfig tc = e->config.techniqueConfig();
+        tc.features = scene.features(e->config);
+        e->features = tc.features;
+        e->technique = createTechnique(e->config.technique, cl, tc);
+        e->kernelOptions = tc.kernelOptions();
         e->compileMs = cl.compileMs() - before;
       } catch (const Error& x) {
         fail(*e, x.what());
@@ -656,12 +676,13 @@ BenchRunResult runBench(const BenchOptions& o) {
 
     for (int f : frames) {
       PreparedFrame prepared = scene.prepare(g, f);
-      std::map<GBufferFormat, EncodedGBuffer> otherFormats;  // encoded once each, when needed
-      auto encoded = [&](GBufferFormat format) -> const EncodedGBuffer& {
-        if (format == GBufferFormat::FP32) return prepared.encoded;
-        auto it = otherFormats.find(format);
-        if (it == otherFormats.end())
-          it = otherFormats.emplace(format, encode(prepared.gbuffer, format)).first;
+      // Each configuration's layout (precision x features), encoded once each, when needed.
+      std::map<std::pair<GBufferFormat, std::string>, EncodedGBuffer> layouts;
+      auto encoded = [&](GBufferFormat format, const SceneFeatures& features) -> const EncodedGBuffer& {
+        auto key = std::make_pair(format, features.describe());
+        auto it = layouts.find(key);
+        if (it == layouts.end())
+          it = layouts.emplace(key, encode(prepared.gbuffer, format, features)).first;
         return it->second;
       };
       std::map<std::pair<int, int>, ReferenceImage> references;
@@ -691,8 +712,9 @@ BenchRunResult runBench(const BenchOptions& o) {
         }
         try {
           ClContext& cl = *e->cl;
-          const EncodedGBuffer& enc = encoded(e->config.format);
+          const EncodedGBuffer& enc = encoded(e->config.format, e->features);
           TechniqueConfig tc = e->config.techniqueConfig();
+          tc.features = e->features;
           auto upload = [&] {
             return DeviceFrame::upload(cl, enc, prepared.intrinsics, prepared.lights, prepared.ambient);
           };
@@ -725,6 +747,7 @@ BenchRunResult runBench(const BenchOptions& o) {
           std::optional<ErrorStats> error, errorStored;
           const ReferenceImage* reference = nullptr;
           if (e->errorFrames.count(f)) {
+            // The stored values decide the reference; the features' planes do not change them.
             std::pair<int, int> key{int(e->config.format), tc.shadingModel};
             auto it = references.find(key);
             if (it == references.end())
@@ -740,10 +763,11 @@ BenchRunResult runBench(const BenchOptions& o) {
           }
 
           // The limit: G-buffer read once + float4 image written once; contributing evaluations
-          // (the reference's ideal count when computed, else the technique's own) x TS_SHADE_FLOPS.
+          // (the reference's ideal count when computed, else the technique's own) x the model's
+          // flops per evaluation (shadeFlops).
           double minBytes = double(pixels) * double(enc.bytesPerPixel()) + double(pixels) * 16.0;
           double contributing = reference ? double(reference->contributing) : double(m.r.counters.evaluations);
-          double minFlops = contributing * kShadeFlops;
+          double minFlops = contributing * shadeFlops(e->features.model);
 
           json row = techniqueJson(e->config.technique, m.r, error, std::nullopt);
           row["config_id"] = e->config.id();
@@ -757,6 +781,9 @@ BenchRunResult runBench(const BenchOptions& o) {
           row["upload_ms"] = m.uploadMs;
           row["compile_ms"] = e->compileMs;
           row["raster_ms"] = prepared.rasterMs;
+          row["features"] = e->features.describe();
+          row["gbuffer_bytes_per_pixel"] = enc.bytesPerPixel();
+          row["kernel_options"] = e->kernelOptions;
           row["warmup"] = o.warmup;
           row["repeat"] = o.repeat;
           json limit = {{"min_bytes", uint64_t(minBytes)},
@@ -805,7 +832,8 @@ BenchRunResult runBench(const BenchOptions& o) {
       const json err = sm.contains("error") ? sm["error"] : json::object();
       auto e = [&](const char* k) { return err.empty() ? std::string() : numberText(num(err, k)); };
       for (const auto& v :
-           {str(sm, "device_name"), intText(sm, "lanes_used"), intText(sm, "frames"), med("total_ms"),
+           {str(sm, "device_name"), intText(sm, "lanes_used"), str(sm, "features"),
+            intText(sm, "gbuffer_bytes_per_pixel"), intText(sm, "frames"), med("total_ms"),
             numberText(num(sm.at("total_ms"), "min")), numberText(num(sm.at("total_ms"), "max")),
             numberText(num(sm.at("total_ms"), "mean")), med("wall_ms"),
             numberText(num(sm.at("wall_ms"), "min")), numberText(num(sm.at("wall_ms"), "max")),

@@ -80,9 +80,11 @@ void applyVariants(Scene& scene, const std::string& variants, uint32_t seed) {
         if (v == "diffuse") m.specular = glm::vec3(0.0f);
       }
     } else if (v == "metallic-roughness") {
+      // Now written for glTF's model: its terms are the author's, Blinn-Phong's follow from them.
       for (Material& m : scene.materials) {
-        fillMetallicRoughnessTerms(m);
+        if (m.model == ShadingModel::BlinnPhong) fillMetallicRoughnessTerms(m);
         m.model = ShadingModel::MetallicRoughness;
+        fillBlinnPhongTerms(m);
       }
     } else if (v == "spot") {
       makeSpots(scene, seed);
