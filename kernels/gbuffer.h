@@ -79,6 +79,7 @@
 /* Shading arithmetic knob: the native_ functions (implementation-defined accuracy) inside the
  * shading function only; culling below keeps the precise ones so it stays conservative. */
 #define TS_SQRT native_sqrt
+#define TS_RSQRT native_rsqrt
 #define TS_POW native_powr
 #else
 /* The specular power x^s has x = max(N.h, 0) in [0, 1] and s >= 1. OpenCL's pow also handles

@@ -170,10 +170,12 @@ static inline void ts_lanes_add_light(ts_lane_rgb *sum, const ts_lane_surface *s
                                       TS_LIGHT_PARAMS, uint light) {
   float4 pr = light_pos_range[light], color = light_color[light];
   float4 spot = ts_light_spot(light_spot, light);
+  /* Per-light constants once for all TS_LANES pixels. */
+  float inv_r2 = 1.0f / (pr.w * pr.w);
   ts_light_weights_t w = ts_punctual_weights(
-      &s->p, (TS_LANE)pr.x, (TS_LANE)pr.y, (TS_LANE)pr.z, (TS_LANE)pr.w, (TS_LANE)spot.x,
-      (TS_LANE)spot.y, (TS_LANE)spot.z, (TS_LANE)spot.w, (TS_LANE)color.w, TS_MODEL, TS_SHADING,
-      TS_HAS_SPECULAR, TS_HAS_SPOT);
+      &s->p, (TS_LANE)pr.x, (TS_LANE)pr.y, (TS_LANE)pr.z, (TS_LANE)pr.w, (TS_LANE)inv_r2,
+      (TS_LANE)spot.x, (TS_LANE)spot.y, (TS_LANE)spot.z, (TS_LANE)spot.w, (TS_LANE)color.w,
+      TS_MODEL, TS_SHADING, TS_HAS_SPECULAR, TS_HAS_SPOT);
   ts_lanes_add_weighted(sum, s, w, color);
 }
 

@@ -46,6 +46,7 @@
 /* dmin: the distance (scene units) below which the inverse-square falloff stops growing, so a
  * light touching a surface gives a finite value. One documented constant for every technique. */
 #define TS_DMIN 0.1
+#define TS_INV_DMIN2 100.0 /* 1 / TS_DMIN^2 */
 /* The smallest metallic-roughness roughness: GGX with roughness 0 is a delta (D infinite at
  * N = h, 0/0 elsewhere); 0.045 (alpha = 0.002) is the value fp32 renderers use (Filament). */
 #define TS_MIN_ROUGHNESS 0.045
@@ -54,6 +55,9 @@
  * native_ variants for the "native" arithmetic knob. */
 #ifndef TS_SQRT
 #define TS_SQRT sqrt
+#endif
+#ifndef TS_RSQRT
+#define TS_RSQRT rsqrt
 #endif
 #ifndef TS_POW
 #define TS_POW pow
@@ -139,29 +143,28 @@ typedef struct {
   TS_LANE wd, ws, wf;
 } ts_light_weights_t;
 
-/* The weights of a light from unit direction (ux, uy, uz) with `falloff` already known, for the
- * lanes `lit` says the light reaches (the others get 0). */
+/* The weights of a light from unit direction (ux, uy, uz) with `falloff` already known (finite,
+ * >= 0). A lane whose direction is NaN (the light on the point) compares false in every select
+ * below and gets 0; selects, not max(), because max() is undefined for NaN in OpenCL. */
 static inline ts_light_weights_t ts_brdf_weights(const ts_shading_point *p, TS_LANE ux, TS_LANE uy,
                                                  TS_LANE uz, TS_LANE falloff, int shading,
                                                  int specular) {
   const TS_LANE zero = (TS_LANE)TS_LIT(0.0), one = (TS_LANE)TS_LIT(1.0);
   ts_light_weights_t w = {zero, zero, zero};
-  /* Written as selects: a lane whose direction is NaN (light on the point: falloff 0) compares
-   * false and gets 0 (max() is undefined for NaN in OpenCL). */
   TS_LANE n_dot_l = p->nx * ux + p->ny * uy + p->nz * uz;
-  TS_LANE ndl = TS_SELECT(n_dot_l > zero && falloff > zero, n_dot_l, zero);
+  TS_LANE ndl = TS_SELECT(n_dot_l > zero, n_dot_l, zero);
   TS_LANE lit = falloff * ndl;
   if (!TS_ANY(lit > zero)) return w;
   w.wd = lit;
   if (!specular) return w;
-  TS_LANE hx = ux + p->vx, hy = uy + p->vy, hz = uz + p->vz; /* h = l + V, normalised below */
+  /* h = (l + V) / |l + V|, as a reciprocal square root; l = -V (no half vector) gives h = 0: no
+   * specular term (and no Fresnel weight) for that lane. */
+  TS_LANE hx = ux + p->vx, hy = uy + p->vy, hz = uz + p->vz;
   TS_LANE hlen2 = hx * hx + hy * hy + hz * hz;
-  /* l = -V: no half vector; the lane keeps its diffuse weight and gets no specular. */
-  TS_LANE has_h = TS_SELECT(hlen2 > zero, one, zero);
-  TS_LANE hlen = TS_SQRT(TS_SELECT(hlen2 > zero, hlen2, one));
-  TS_LANE ndh = max((p->nx * hx + p->ny * hy + p->nz * hz) / hlen, zero);
+  TS_LANE inv_h = TS_SELECT(hlen2 > zero, TS_RSQRT(hlen2), zero);
+  TS_LANE ndh = max((p->nx * hx + p->ny * hy + p->nz * hz) * inv_h, zero);
   if (shading == TS_SHADING_BLINN_PHONG) {
-    w.ws = lit * has_h * TS_POW(ndh, p->gloss);
+    w.ws = lit * TS_POW(ndh, p->gloss);
     return w;
   }
   /* GGX's pi*D: alpha^2 / ((N.h)^2 (alpha^2 - 1) + 1)^2 with 1 - (N.h)^2 = |N x h|^2, which keeps
@@ -169,31 +172,32 @@ static inline ts_light_weights_t ts_brdf_weights(const ts_shading_point *p, TS_L
    * microfacets facing away (N.h <= 0), where the denominator can vanish. */
   TS_LANE cx = p->ny * hz - p->nz * hy, cy = p->nz * hx - p->nx * hz, cz = p->nx * hy - p->ny * hx;
   TS_LANE a2 = p->gloss * p->gloss;
-  TS_LANE den = (cx * cx + cy * cy + cz * cz) / (hlen * hlen) + ndh * ndh * a2;
-  TS_LANE d_pi = TS_SELECT(ndh > zero && has_h > zero, a2 / (den * den), zero);
+  TS_LANE den = (cx * cx + cy * cy + cz * cz) * (inv_h * inv_h) + ndh * ndh * a2;
+  TS_LANE d_pi = TS_SELECT(ndh > zero, a2 / (den * den), zero);
   /* Separable Smith-GGX visibility with 4 N.l N.v folded in: 1 / (light term * view term). */
   TS_LANE light_term = ndl + TS_SQRT(a2 + (one - a2) * ndl * ndl);
   TS_LANE s = d_pi / (light_term * p->view_term);
-  TS_LANE vdh = clamp((p->vx * hx + p->vy * hy + p->vz * hz) / hlen, zero, one);
+  TS_LANE vdh = clamp((p->vx * hx + p->vy * hy + p->vz * hz) * inv_h, zero, one);
   TS_LANE f1 = one - vdh, f2 = f1 * f1;
-  TS_LANE fc = f2 * f2 * f1; /* Schlick: F = F0 + (1 - F0) fc */
+  TS_LANE fc = TS_SELECT(hlen2 > zero, f2 * f2 * f1, zero); /* Schlick: F = F0 + (1 - F0) fc */
   w.wd = lit * (one - fc);
   w.ws = w.wd * s;
   w.wf = lit * fc * s;
   return w;
 }
 
-/* The weights of a point or spot light at (lx, ly, lz) with range r. A spot light shines along
- * the unit axis (ax, ay, az) within the cone whose half-angle has cosine cos_outer, fading in
- * with angle_scale = 1/(cos inner - cos outer); a point light has axis 0 and cos_outer -1, which
- * makes the angular term exactly 1. Lanes outside the range or the cone, or with the light
- * exactly on the point (no direction: it lights nothing, instead of NaN), get 0. */
+/* The weights of a point or spot light at (lx, ly, lz) with range r and inv_r2 = 1/r^2 (a
+ * per-light constant: the lane kernels compute it once per light for all their lanes). A spot
+ * light shines along the unit axis (ax, ay, az) within the cone whose half-angle has cosine
+ * cos_outer, fading in with angle_scale = 1/(cos inner - cos outer); a point light has axis 0 and
+ * cos_outer -1, which makes the angular term exactly 1. Lanes outside the range or the cone, or
+ * with the light exactly on the point (no direction: it lights nothing, instead of NaN), get 0. */
 static inline ts_light_weights_t ts_punctual_weights(const ts_shading_point *p, TS_LANE lx,
                                                      TS_LANE ly, TS_LANE lz, TS_LANE r,
-                                                     TS_LANE ax, TS_LANE ay, TS_LANE az,
-                                                     TS_LANE cos_outer, TS_LANE angle_scale,
-                                                     int model, int shading, int specular,
-                                                     int spot) {
+                                                     TS_LANE inv_r2, TS_LANE ax, TS_LANE ay,
+                                                     TS_LANE az, TS_LANE cos_outer,
+                                                     TS_LANE angle_scale, int model, int shading,
+                                                     int specular, int spot) {
   const TS_LANE zero = (TS_LANE)TS_LIT(0.0), one = (TS_LANE)TS_LIT(1.0);
   ts_light_weights_t none = {zero, zero, zero};
   TS_LANE vx = lx - p->px, vy = ly - p->py, vz = lz - p->pz;
@@ -202,15 +206,16 @@ static inline ts_light_weights_t ts_punctual_weights(const ts_shading_point *p, 
   if (model == TS_MODEL_WINDOWED) {
     TS_LANE r2 = r * r;
     if (!TS_ANY(d2 < r2)) return none; /* the common exit: no lane in range */
-    TS_LANE q = d2 / r2;               /* (d/r)^2, so (d/r)^4 = q*q without a sqrt */
-    TS_LANE w = clamp(one - q * q, zero, one);
-    window = TS_SELECT(d2 < r2, w * w, zero);
+    TS_LANE q = d2 * inv_r2;           /* (d/r)^2, so (d/r)^4 = q*q without a sqrt */
+    TS_LANE w = max(one - q * q, zero);
+    window = TS_SELECT(d2 < r2, w * w, zero); /* the cut itself is exact: d2 < r*r */
   }
-  if (!TS_ANY(d2 > zero)) return none;
-  TS_LANE d = TS_SQRT(d2);
-  TS_LANE ux = vx / d, uy = vy / d, uz = vz / d; /* l = v/d; NaN where d2 = 0 */
-  TS_LANE dmin = (TS_LANE)TS_LIT(TS_DMIN);
-  TS_LANE falloff = TS_SELECT(d2 > zero, window / max(d2, dmin * dmin), zero);
+  /* One reciprocal square root gives the direction and the inverse square; where d2 = 0 it is
+   * infinite and l is NaN, which the selects below and in ts_brdf_weights turn into 0. */
+  TS_LANE inv_d = TS_RSQRT(d2);
+  TS_LANE ux = vx * inv_d, uy = vy * inv_d, uz = vz * inv_d;
+  TS_LANE inv_dmin2 = (TS_LANE)TS_LIT(TS_INV_DMIN2);
+  TS_LANE falloff = window * min(inv_d * inv_d, inv_dmin2); /* window / max(d2, dmin^2) */
   if (spot) {
     TS_LANE cd = -(ax * ux + ay * uy + az * uz); /* cosine between the axis and the light ray */
     TS_LANE t = clamp((cd - cos_outer) * angle_scale, zero, one);
@@ -250,9 +255,10 @@ static inline TS_REAL3 ts_weighted_color(ts_light_weights_t w, TS_REAL3 C, TS_RE
 static inline TS_REAL3 ts_punctual_light(const ts_shading_point *p, TS_REAL3 kd, TS_REAL3 ks,
                                          TS_REAL4 pos_range, TS_REAL4 color, TS_REAL4 spot,
                                          int model, int shading, int specular, int spot_on) {
-  ts_light_weights_t w = ts_punctual_weights(p, pos_range.x, pos_range.y, pos_range.z,
-                                             pos_range.w, spot.x, spot.y, spot.z, spot.w,
-                                             color.w, model, shading, specular, spot_on);
+  ts_light_weights_t w = ts_punctual_weights(
+      p, pos_range.x, pos_range.y, pos_range.z, pos_range.w,
+      TS_LIT(1.0) / (pos_range.w * pos_range.w), spot.x, spot.y, spot.z, spot.w, color.w, model,
+      shading, specular, spot_on);
   return ts_weighted_color(w, TS_MAKE3(color.x, color.y, color.z), kd, ks);
 }
 
@@ -269,9 +275,9 @@ static inline TS_REAL3 ts_directional_light(const ts_shading_point *p, TS_REAL3 
 static inline TS_REAL3 ts_point_light(TS_REAL3 P, TS_REAL3 N, TS_REAL3 V, TS_REAL3 kd, TS_REAL3 ks,
                                       TS_REAL s, TS_REAL3 Lp, TS_REAL3 C, TS_REAL r, int model) {
   ts_shading_point p = ts_make_shading_point(P, N, V, s, TS_SHADING_BLINN_PHONG);
-  ts_light_weights_t w = ts_punctual_weights(&p, Lp.x, Lp.y, Lp.z, r, TS_LIT(0.0), TS_LIT(0.0),
-                                             TS_LIT(0.0), TS_LIT(-1.0), TS_LIT(1.0), model,
-                                             TS_SHADING_BLINN_PHONG, 1, 0);
+  ts_light_weights_t w = ts_punctual_weights(&p, Lp.x, Lp.y, Lp.z, r, TS_LIT(1.0) / (r * r),
+                                             TS_LIT(0.0), TS_LIT(0.0), TS_LIT(0.0), TS_LIT(-1.0),
+                                             TS_LIT(1.0), model, TS_SHADING_BLINN_PHONG, 1, 0);
   return ts_weighted_color(w, C, kd, ks);
 }
 #endif

@@ -14,6 +14,7 @@ namespace ts {
 
 namespace shading_d {
 inline double sqrt(double x) { return std::sqrt(x); }
+inline double rsqrt(double x) { return 1.0 / std::sqrt(x); }
 inline double pow(double x, double y) { return std::pow(x, y); }
 inline double max(double a, double b) { return a > b ? a : b; }
 inline double clamp(double x, double lo, double hi) { return std::min(std::max(x, lo), hi); }
@@ -34,6 +35,7 @@ inline double dot(const glm::dvec3& a, const glm::dvec3& b) { return glm::dot(a,
 
 namespace shading_f {
 inline float sqrt(float x) { return std::sqrt(x); }
+inline float rsqrt(float x) { return 1.0f / std::sqrt(x); }
 inline float pow(float x, float y) { return std::pow(x, y); }
 inline float max(float a, float b) { return a > b ? a : b; }
 inline float clamp(float x, float lo, float hi) { return std::min(std::max(x, lo), hi); }
