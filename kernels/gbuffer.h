@@ -55,6 +55,9 @@
 #ifndef TS_SPOT_CULL
 #define TS_SPOT_CULL 0 /* TS_SPOT_CULL_CONE */
 #endif
+#ifndef TS_DEPTH_SPLIT
+#define TS_DEPTH_SPLIT 0 /* tiles: one depth range (kernels/tiled.cl) */
+#endif
 /* The metallic-roughness model always has its specular term (F0 >= 0.04). */
 #if TS_SHADING == 1
 #undef TS_HAS_SPECULAR
@@ -70,7 +73,41 @@
 #define TS_LANE_VECTOR(n) float##n
 #define TS_LANE_TYPE(n) TS_LANE_VECTOR(n)
 #define TS_LANE TS_LANE_TYPE(TS_LANES)
-#define TS_ANY(c) any(c)
+#define TS_MASK_VECTOR(n) int##n
+#define TS_MASK_TYPE(n) TS_MASK_VECTOR(n)
+/* "Any lane". PoCL's any() tests the components one by one with a branch each: about 40
+ * instructions for 16 lanes, several times per light evaluation. Clang's vector reduction becomes
+ * one mask test (kortest); elsewhere the halves are ORed down to one component, whose sign bit
+ * is the answer (a few shuffles, no branch). */
+#if defined(__has_builtin)
+#if __has_builtin(__builtin_reduce_or)
+#define TS_HAVE_REDUCE_OR 1
+#endif
+#endif
+#ifdef TS_HAVE_REDUCE_OR
+static inline int ts_any_lanes(TS_MASK_TYPE(TS_LANES) m) { return __builtin_reduce_or(m) != 0; }
+#else
+static inline int ts_any_lanes(TS_MASK_TYPE(TS_LANES) m) {
+#if TS_LANES == 16
+  int8 m8 = m.lo | m.hi;
+#else
+  int8 m8 = (int8)(0);
+#endif
+#if TS_LANES >= 8
+#if TS_LANES == 8
+  m8 = m;
+#endif
+  int4 m4 = m8.lo | m8.hi;
+#elif TS_LANES == 4
+  int4 m4 = m;
+#else
+  int4 m4 = (int4)(m, 0, 0);
+#endif
+  int2 m2 = m4.lo | m4.hi;
+  return (m2.x | m2.y) < 0;
+}
+#endif
+#define TS_ANY(c) ts_any_lanes(c)
 #else
 #define TS_LANE float
 #define TS_ANY(c) (c)

@@ -63,6 +63,26 @@ static inline int ts_lane_item(void) {
   return (int)(get_local_id(1) * get_local_size(0) + get_local_id(0));
 }
 
+/* Each vector of TS_LANES slots is a compact block of pixels (4x4 for 16 lanes, 4x2, 2x2, 2x1)
+ * when the work-group's shape allows it, else a run of a row: a compact block's pixels are
+ * closer together, so more vectors lie wholly outside a light's range and leave at its first
+ * test (kernels/shading.h). The slot of this work-item's pixel: */
+#if TS_LANES == 16 || TS_LANES == 8
+#define TS_LANE_BLOCK_W 4
+#elif TS_LANES == 4 || TS_LANES == 2
+#define TS_LANE_BLOCK_W 2
+#else
+#define TS_LANE_BLOCK_W 1
+#endif
+#define TS_LANE_BLOCK_H (TS_LANES / TS_LANE_BLOCK_W)
+static inline int ts_lane_pixel_slot(void) {
+  int w = (int)get_local_size(0), h = (int)get_local_size(1);
+  int x = (int)get_local_id(0), y = (int)get_local_id(1);
+  if (w % TS_LANE_BLOCK_W != 0 || h % TS_LANE_BLOCK_H != 0) return y * w + x;
+  int block = (y / TS_LANE_BLOCK_H) * (w / TS_LANE_BLOCK_W) + x / TS_LANE_BLOCK_W;
+  return (block * TS_LANE_BLOCK_H + y % TS_LANE_BLOCK_H) * TS_LANE_BLOCK_W + x % TS_LANE_BLOCK_W;
+}
+
 /* The shading terms of TS_LANES pixels. */
 typedef struct {
   ts_shading_point p;
@@ -107,7 +127,7 @@ static inline int ts_lanes_store_pixel(__local float *soa, int x, int y, int wan
   int group_size = (int)(get_local_size(0) * get_local_size(1)), item = ts_lane_item();
   int slots = ts_lane_slots();
   int lit = wanted && ts_load_surface(x, y, camera, ambient, TS_GBUFFER_ARGS, s);
-  ts_lanes_put(soa, slots, item, lit ? s : 0);
+  ts_lanes_put(soa, slots, ts_lane_pixel_slot(), lit ? s : 0);
   for (int i = group_size + item; i < slots; i += group_size) ts_lanes_put(soa, slots, i, 0);
   return lit;
 }
@@ -221,7 +241,7 @@ static inline ts_lane_rgb ts_lanes_get_rgb(__local const float *soa, int slots, 
 
 /* Step 3, every work-item: the summed contributions of its pixel (planes 0..2). */
 static inline float3 ts_lanes_pixel_sum(__local const float *soa) {
-  int slots = ts_lane_slots(), i = ts_lane_item();
+  int slots = ts_lane_slots(), i = ts_lane_pixel_slot();
   return (float3)(soa[i], soa[slots + i], soa[2 * slots + i]);
 }
 

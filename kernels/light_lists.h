@@ -20,6 +20,14 @@ static inline int ts_light_meets_bin(const ts_light_volume *v, int tx, int ty, f
                              height, camera.x, camera.y, zr.x, zr.y);
 }
 
+/* The same for a tile whose geometry depths lie in two ranges zr = (zmin, near_max, far_min,
+ * zmax) (kernels/tiled.cl, tile_depth_bounds; the second is empty when not split). */
+static inline int ts_light_meets_split_bin(const ts_light_volume *v, int tx, int ty, float4 zr,
+                                           float4 camera) {
+  return ts_light_meets_bin(v, tx, ty, zr.xy, camera) ||
+         (zr.z <= zr.w && ts_light_meets_bin(v, tx, ty, zr.zw, camera));
+}
+
 /* The tile rectangle (x0, y0)-(x1, y1) of light volume v; 0 when it misses the screen. */
 static inline int ts_light_tile_rect(const ts_light_volume *v, float4 camera, float znear,
                                      int *x0, int *y0, int *x1, int *y1) {

@@ -26,37 +26,59 @@
 
 /* Background pixels (depth 0) are left out: they would stretch the range to the far plane.
  * Depths are compared as floats in local memory, so no integer-atomic trick (which only orders
- * non-negative floats) is involved. Output: (zmin, zmax); an empty tile gets zmin > zmax. */
+ * non-negative floats) is involved.
+ * Output per tile: (zmin, near_max, far_min, zmax). With TS_DEPTH_SPLIT (the depth-split knob),
+ * the range is split at its middle and each half shrunk to the depths it holds — [zmin,
+ * near_max] and [far_min, zmax] — so a tile with a foreground edge in front of a far background
+ * (a depth discontinuity) does not take every light in between (the 2.5D culling idea of Harada
+ * et al.). Without it, the second range is empty and the first is [zmin, zmax]. An empty tile
+ * gets two empty ranges (min > max). */
 __kernel void tile_depth_bounds(__global const float *gb_depth, int width, int height,
-                                __global float2 *tile_depth) {
+                                __global float4 *tile_depth) {
   __local float lmin[256];
   __local float lmax[256];
   int tiles_x = (width + TILE_W - 1) / TILE_W;
   int tile = get_group_id(0);
   int tx = tile % tiles_x, ty = tile / tiles_x;
   int lid = get_local_id(0), lsize = get_local_size(0);
-  float zmin = FLT_MAX, zmax = 0.0f;
-  for (int i = lid; i < TILE_W * TILE_H; i += lsize) {
-    int x = tx * TILE_W + i % TILE_W, y = ty * TILE_H + i / TILE_W;
-    if (x < width && y < height) {
-      float z = gb_depth[y * width + x];
-      if (z > 0.0f) {
-        zmin = fmin(zmin, z);
-        zmax = fmax(zmax, z);
+  float4 result = (float4)(FLT_MAX, 0.0f, FLT_MAX, 0.0f);
+  float zmid = 0.0f;
+  /* Pass 0: the whole range; pass 1 (split): the near half's max and the far half's min. */
+  for (int pass = 0; pass < (TS_DEPTH_SPLIT ? 2 : 1); ++pass) {
+    float lo = FLT_MAX, hi = 0.0f;
+    for (int i = lid; i < TILE_W * TILE_H; i += lsize) {
+      int x = tx * TILE_W + i % TILE_W, y = ty * TILE_H + i / TILE_W;
+      if (x < width && y < height) {
+        float z = gb_depth[y * width + x];
+        if (pass == 0 && z > 0.0f) {
+          lo = fmin(lo, z);
+          hi = fmax(hi, z);
+        } else if (pass == 1 && z > 0.0f) {
+          if (z <= zmid) hi = fmax(hi, z); /* near half: its max */
+          else lo = fmin(lo, z);           /* far half: its min */
+        }
       }
     }
-  }
-  lmin[lid] = zmin;
-  lmax[lid] = zmax;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (int s = lsize / 2; s > 0; s >>= 1) {
-    if (lid < s) {
-      lmin[lid] = fmin(lmin[lid], lmin[lid + s]);
-      lmax[lid] = fmax(lmax[lid], lmax[lid + s]);
-    }
+    lmin[lid] = lo;
+    lmax[lid] = hi;
     barrier(CLK_LOCAL_MEM_FENCE);
+    for (int s = lsize / 2; s > 0; s >>= 1) {
+      if (lid < s) {
+        lmin[lid] = fmin(lmin[lid], lmin[lid + s]);
+        lmax[lid] = fmax(lmax[lid], lmax[lid + s]);
+      }
+      barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    float rmin = lmin[0], rmax = lmax[0];
+    barrier(CLK_LOCAL_MEM_FENCE); /* everyone has read them before the next pass writes */
+    if (pass == 0) {
+      result = (float4)(rmin, rmax, FLT_MAX, 0.0f);
+      zmid = 0.5f * (rmin + rmax);
+    } else if (rmin <= result.y) { /* the far half holds depths: split */
+      result = (float4)(result.x, rmax, rmin, result.y);
+    }
   }
-  if (lid == 0) tile_depth[tile] = (float2)(lmin[0], lmax[0]);
+  if (lid == 0) tile_depth[tile] = result;
 }
 
 /* ---- 2. light binning --------------------------------------------------------------------- */
@@ -66,7 +88,7 @@ __kernel void tile_depth_bounds(__global const float *gb_depth, int width, int h
  * fill == 0: count into tile_count; fill == 1: append to the tile lists (ts_bin_light). */
 __kernel void bin_lights(__global const float4 *light_pos_range,
                          __global const float4 *light_spot, int light_count, float4 camera,
-                         float znear, __global const float2 *tile_depth, int fill,
+                         float znear, __global const float4 *tile_depth, int fill,
                          __global uint *tile_count, __global const uint *tile_offset,
                          __global uint *tile_cursor, __global uint *tile_lights, uint capacity) {
   int light = get_group_id(0);
@@ -80,7 +102,7 @@ __kernel void bin_lights(__global const float4 *light_pos_range,
   for (int i = get_local_id(0); i < rect_tiles; i += get_local_size(0)) {
     int tx = x0 + i % rect_w, ty = y0 + i / rect_w;
     int tile = ty * tiles_x + tx;
-    if (ts_light_meets_bin(&v, tx, ty, tile_depth[tile], camera))
+    if (ts_light_meets_split_bin(&v, tx, ty, tile_depth[tile], camera))
       ts_bin_light((uint)light, tile, fill, tile_count, tile_offset, tile_cursor, tile_lights,
                    capacity);
   }

@@ -88,6 +88,9 @@ int main(int argc, char** argv) {
                         "per-tile cone test), bound-sphere (the cone's bounding sphere), "
                         "range-sphere (as a point light)")
       ->capture_default_str();
+  renderCmd->add_flag("--depth-split", render.depthSplit,
+                      "tiled: split each tile's depth range at its middle and cull against both "
+                      "halves (fewer lights at depth discontinuities; docs/techniques.md)");
   renderCmd->add_option("--math", render.math,
                         "shading arithmetic: precise, fast (-cl-fast-relaxed-math), native "
                         "(native_ functions)")

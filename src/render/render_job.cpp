@@ -76,6 +76,7 @@ void runRender(const RenderOptions& options) {
   config.clusterSlices = o.clusterSlices;
   config.culling = parseCulling(o.culling);
   config.spotCulling = parseSpotCulling(o.spotCulling);
+  config.depthSplit = o.depthSplit;
   config.math = o.math;
   config.lanes = parseLanes(o.lanes);
   config.kernelOptions();  // rejects a bad --math before any work

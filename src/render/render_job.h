@@ -23,6 +23,7 @@ struct RenderOptions {
   int clusterSlices = 16;
   std::string culling = "rect";        // per-tile test: rect, frustum, aabb
   std::string spotCulling = "cone";    // spot lights as: cone, bound-sphere, range-sphere
+  bool depthSplit = false;             // tiles: split the depth range at its middle
   std::string math = "precise";        // shading arithmetic: precise, fast, native
   std::string lanes = "auto";          // pixels per vector in the light loop (TechniqueConfig)
   GBufferFormat format = GBufferFormat::FP32;

@@ -140,6 +140,7 @@ std::string TechniqueConfig::kernelOptions() const {
   const std::string layout = gbufferKernelDefines(format);
   o << layout << (layout.empty() ? "" : " ") << features.kernelDefines()
     << " -DTS_MODEL=" << shadingModel << " -DTS_CULL=" << culling;
+  if (depthSplit) o << " -DTS_DEPTH_SPLIT=1";
   if (features.spot) o << " -DTS_SPOT_CULL=" << spotCulling;
   if (math == "fast") o << " -cl-fast-relaxed-math";
   else if (math == "native") o << " -DTS_NATIVE_MATH";

@@ -36,6 +36,7 @@ struct TechniqueConfig {
   int shadingModel = 0;    // range model: TS_MODEL_WINDOWED (0) or TS_MODEL_PHYSICAL (1),
                            // kernels/shading.h
   int culling = 0;         // per-tile test: TS_CULL_RECT (0), _FRUSTUM (1), _AABB (2), culling.h
+  bool depthSplit = false;  // tiles: split the depth range at its middle (TS_DEPTH_SPLIT, tiled.cl)
   int spotCulling = 0;     // spot lights as: TS_SPOT_CULL_CONE (0), _BOUND_SPHERE (1),
                            // _RANGE_SPHERE (2), culling.h
   std::string math = "precise";  // shading arithmetic: precise, fast (-cl-fast-relaxed-math),

@@ -66,7 +66,7 @@ class TiledTechnique : public Technique {
     grid_ = grid;
     size_t tiles = size_t(grid_.count());
     auto& ctx = cl_.context();
-    tileDepth_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(cl_float2));
+    tileDepth_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(cl_float4));
     tileCount_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(uint32_t));
     tileOffset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(uint32_t));
     tileCursor_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(uint32_t));
