@@ -121,11 +121,54 @@ static inline int ts_any_lanes(TS_MASK_TYPE(TS_LANES) m) {
 #else
 /* The specular power x^s has x = max(N.h, 0) in [0, 1] and s >= 1. OpenCL's pow also handles
  * negative bases and integer exponents, and on PoCL that generality cost ~3x the rest of a light
- * evaluation. exp2(s*log2(x)) is exact at x = 0 (log2 0 = -inf) and its relative error,
- * ~(0.7*|s*log2 x| * 3.5 + 3) ulp, stays below 4e-6 wherever x^s >= 2^-24 — the same order as
- * pow's own 16-ulp allowance (docs/accuracy.md). */
+ * evaluation, so the kernels compute exp2(s*log2(x)). And PoCL's log2 is an out-of-line call:
+ * every live vector register (the lanes' surfaces and sums, ~20 of them) was saved and restored
+ * around it, once per light evaluation. ts_log2_positive below is inline: the exponent from the
+ * bits, the mantissa m in [sqrt(1/2), sqrt(2)) and log2(m) = f*q(f), f = m - 1, with q a degree-8
+ * polynomial (weighted least-squares fit; 2.3 ulp of relative error measured over the interval,
+ * the same order as log2's own 3-ulp allowance). The result x^s is exact at x = 0 and within
+ * ~(0.7*|s*log2 x|*3.5 + 3) ulp elsewhere, below 4e-6 relative wherever x^s >= 2^-24
+ * (docs/accuracy.md); x below FLT_MIN gives 0. */
+#if TS_LANES > 1
+#define TS_AS_INT_(n) as_int##n
+#define TS_AS_INT(n) TS_AS_INT_(n)
+#define TS_AS_LANE_(n) as_float##n
+#define TS_AS_LANE(n) TS_AS_LANE_(n)
+#define TS_INT_TO_LANE_(n) convert_float##n
+#define TS_INT_TO_LANE(n) TS_INT_TO_LANE_(n)
+#define TS_LANE_AS_INT TS_AS_INT(TS_LANES)
+#define TS_INT_AS_LANE TS_AS_LANE(TS_LANES)
+#define TS_LANE_FROM_INT TS_INT_TO_LANE(TS_LANES)
+#define TS_LANE_INT TS_MASK_TYPE(TS_LANES)
+#else
+#define TS_LANE_AS_INT as_int
+#define TS_INT_AS_LANE as_float
+#define TS_LANE_FROM_INT convert_float
+#define TS_LANE_INT int
+#endif
+static inline TS_LANE ts_log2_positive(TS_LANE x) {
+  TS_LANE_INT bits = TS_LANE_AS_INT(x);
+  TS_LANE_INT e = (bits >> 23) - 127;
+  TS_LANE m = TS_INT_AS_LANE((bits & 0x007fffff) | 0x3f800000); /* [1, 2) */
+  TS_LANE_INT big = m > 1.41421356f; /* scalar: 1 or 0; vector: -1 or 0 per lane */
+  m = big ? m * 0.5f : m;
+  e += big ? (TS_LANE_INT)1 : (TS_LANE_INT)0;
+  TS_LANE f = m - 1.0f; /* exact */
+  TS_LANE q = 0.125840425f;
+  q = q * f - 0.20727697f;
+  q = q * f + 0.215717539f;
+  q = q * f - 0.238943845f;
+  q = q * f + 0.287915945f;
+  q = q * f - 0.360703707f;
+  q = q * f + 0.480910659f;
+  q = q * f - 0.721347332f;
+  q = q * f + 1.44269502f;
+  return TS_LANE_FROM_INT(e) + f * q;
+}
 static inline TS_LANE ts_pow_unit(TS_LANE x, TS_LANE s) {
-  return s == (TS_LANE)0.0f ? (TS_LANE)1.0f : exp2(s * log2(x));
+  TS_LANE p = exp2(s * ts_log2_positive(x));
+  p = x >= FLT_MIN ? p : (TS_LANE)0.0f;
+  return s == (TS_LANE)0.0f ? (TS_LANE)1.0f : p;
 }
 #define TS_POW ts_pow_unit
 #endif
