@@ -1,7 +1,7 @@
 /*
  * Light-culling geometry shared by the binning kernels and by host tests, in the common subset of
- * OpenCL C and C++ (same conventions as shading.h; the includer also defines TS_REAL4/TS_MAKE4
- * and min).
+ * OpenCL C and C++ (same conventions as shading.h, TS_LIT included; the includer also defines
+ * TS_REAL4/TS_MAKE4 and min).
  *
  * Conventions: view space, camera at the origin looking down -Z; "depth" w = -z > 0.
  * A sphere's screen bounds are returned as NDC slopes' images: (xmin, ymin, xmax, ymax) in NDC,
@@ -19,7 +19,7 @@
 static inline int ts_circle_slope_bounds(TS_REAL a, TS_REAL w, TS_REAL r, TS_REAL znear,
                                          TS_REAL *lo, TS_REAL *hi) {
   if (w + r < znear) return 0; /* wholly behind the near plane */
-  TS_REAL big = (TS_REAL)1e30;
+  TS_REAL big = TS_LIT(1e30);
   TS_REAL d2 = a * a + w * w;
   TS_REAL r2 = r * r;
   if (d2 <= r2) { /* the eye is inside the circle: every direction is covered */
@@ -67,10 +67,10 @@ static inline int ts_ndc_bounds_to_tiles(TS_REAL4 b, int width, int height, int 
                                          int tile_h, int *x0, int *y0, int *x1, int *y1) {
   if (b.x > b.z || b.y > b.w) return 0;
   if (b.z < (TS_REAL)-1 || b.x > (TS_REAL)1 || b.w < (TS_REAL)-1 || b.y > (TS_REAL)1) return 0;
-  TS_REAL px0 = (max(b.x, (TS_REAL)-1) + (TS_REAL)1) * (TS_REAL)0.5 * (TS_REAL)width;
-  TS_REAL px1 = (min(b.z, (TS_REAL)1) + (TS_REAL)1) * (TS_REAL)0.5 * (TS_REAL)width;
-  TS_REAL py0 = ((TS_REAL)1 - min(b.w, (TS_REAL)1)) * (TS_REAL)0.5 * (TS_REAL)height;
-  TS_REAL py1 = ((TS_REAL)1 - max(b.y, (TS_REAL)-1)) * (TS_REAL)0.5 * (TS_REAL)height;
+  TS_REAL px0 = (max(b.x, (TS_REAL)-1) + (TS_REAL)1) * TS_LIT(0.5) * (TS_REAL)width;
+  TS_REAL px1 = (min(b.z, (TS_REAL)1) + (TS_REAL)1) * TS_LIT(0.5) * (TS_REAL)width;
+  TS_REAL py0 = ((TS_REAL)1 - min(b.w, (TS_REAL)1)) * TS_LIT(0.5) * (TS_REAL)height;
+  TS_REAL py1 = ((TS_REAL)1 - max(b.y, (TS_REAL)-1)) * TS_LIT(0.5) * (TS_REAL)height;
   int tiles_x = (width + tile_w - 1) / tile_w, tiles_y = (height + tile_h - 1) / tile_h;
   /* Pixel centres at +0.5: a pixel is touched when its centre lies within [p0, p1]. */
   *x0 = (int)floor(px0 / (TS_REAL)tile_w);

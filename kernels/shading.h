@@ -7,7 +7,8 @@
  *   TS_REAL3         3-vector of TS_REAL    (float3; glm::dvec3)
  *   TS_MAKE3(x,y,z)  builds a TS_REAL3
  * and makes dot, sqrt, pow, max, clamp visible for those types (OpenCL has them built in;
- * src/reference/shading_cpu.h provides them for C++).
+ * src/reference/shading_cpu.h provides them for C++). Floating-point constants are written
+ * TS_LIT(0.5) (below): float in OpenCL C, TS_REAL in C++.
  *
  * Shading model (view space, camera at the origin looking down -Z):
  *   v = Lp - P;  d2 = dot(v,v);  no contribution if d2 >= r*r (windowed model)
@@ -16,8 +17,8 @@
  *   falloff = window / max(d2, dmin*dmin)
  *   ndl  = max(dot(N,l), 0)
  *   h    = normalize(l + V)    V = normalize(-P); zero-length h gives spec = 0
- *   spec = ndl > 0 ? pow(max(dot(N,h),0), s) : 0
- *   out  = C * falloff * (kd*ndl + ks*spec)
+ *   spec = pow(max(dot(N,h),0), s)
+ *   out  = C * falloff * ndl * (kd + ks*spec)     continuous at ndl = 0 (docs/shading.md)
  *   pixel = ke + a*kd + sum(out);  background = 0
  * The "physical" model drops the window and the range cut: falloff = 1 / max(d2, dmin*dmin).
  *
@@ -28,8 +29,22 @@
 #error "define TS_REAL, TS_REAL3 and TS_MAKE3 before including shading.h"
 #endif
 
+/* TS_LIT(x): the floating-point constant x (written with a decimal point or an exponent) as the
+ * shading type: x##f in OpenCL C, so no double constant reaches a device without fp64 (clang
+ * warns and some compilers refuse), and (TS_REAL)(x) in C++, so the double reference keeps the
+ * exact double value. An includer may define its own. */
+#ifndef TS_LIT
+#if defined(__OPENCL_C_VERSION__) || defined(__OPENCL_VERSION__)
+#define TS_LIT(x) TS_LIT_F_(x)
+#define TS_LIT_F_(x) x##f
+#else
+#define TS_LIT(x) ((TS_REAL)(x))
+#endif
+#endif
+
 /* dmin: the distance (scene units) below which the inverse-square falloff stops growing, so a
- * light touching a surface gives a finite value. One documented constant for every technique. */
+ * light touching a surface gives a finite value. One documented constant for every technique
+ * (a plain number for the host; shading code reads it as TS_LIT(TS_DMIN)). */
 #ifndef TS_DMIN
 #define TS_DMIN 0.1
 #endif
@@ -55,8 +70,8 @@
  * +0.5; image row 0 is the top of the screen. tan_x/tan_y: tangents of the half field of view. */
 static inline TS_REAL3 ts_view_position(int x, int y, TS_REAL depth, TS_REAL tan_x, TS_REAL tan_y,
                                         int width, int height) {
-  TS_REAL ndc_x = ((TS_REAL)2 * ((TS_REAL)x + (TS_REAL)0.5)) / (TS_REAL)width - (TS_REAL)1;
-  TS_REAL ndc_y = (TS_REAL)1 - ((TS_REAL)2 * ((TS_REAL)y + (TS_REAL)0.5)) / (TS_REAL)height;
+  TS_REAL ndc_x = ((TS_REAL)2 * ((TS_REAL)x + TS_LIT(0.5))) / (TS_REAL)width - (TS_REAL)1;
+  TS_REAL ndc_y = (TS_REAL)1 - ((TS_REAL)2 * ((TS_REAL)y + TS_LIT(0.5))) / (TS_REAL)height;
   return TS_MAKE3(ndc_x * tan_x * depth, ndc_y * tan_y * depth, -depth);
 }
 
@@ -83,9 +98,11 @@ typedef struct {
 } ts_shading_point;
 
 /* The two weights of one point light at (lx, ly, lz) with range r on surface point p: returns the
- * diffuse weight falloff*ndl and stores the specular weight falloff*spec, so the contribution is
- * C*diffuse*kd + C*specular*ks. Lanes outside the range, or with the light exactly on the point
- * (no direction: it lights nothing, instead of NaN), get 0 for both. */
+ * diffuse weight falloff*ndl and stores the specular weight falloff*ndl*spec, so the contribution
+ * is C*diffuse*kd + C*specular*ks. Lanes outside the range, or with the light exactly on the point
+ * (no direction: it lights nothing, instead of NaN), get 0 for both. The specular weight carries
+ * ndl like the diffuse one, so both fall to 0 as the light reaches the surface's plane: no jump at
+ * ndl = 0, where float and double may disagree on the sign (issue #12). */
 static inline TS_LANE ts_light_weights(const ts_shading_point *p, TS_LANE lx, TS_LANE ly,
                                        TS_LANE lz, TS_LANE r, int model, TS_LANE *specular) {
   const TS_LANE zero = (TS_LANE)0, one = (TS_LANE)1;
@@ -106,7 +123,7 @@ static inline TS_LANE ts_light_weights(const ts_shading_point *p, TS_LANE lx, TS
   if (!TS_ANY(d2 > zero)) return zero;
   TS_LANE d = TS_SQRT(d2);
   TS_LANE ux = vx / d, uy = vy / d, uz = vz / d; /* l = v/d */
-  TS_LANE dmin = (TS_LANE)TS_DMIN;
+  TS_LANE dmin = (TS_LANE)TS_LIT(TS_DMIN);
   TS_LANE falloff = window / max(d2, dmin * dmin);
   /* A lane with d2 = 0 has l = NaN (OpenCL leaves max(NaN, 0) undefined): ndl > 0 is false for
    * it and the last line returns 0 for it. */
@@ -118,7 +135,7 @@ static inline TS_LANE ts_light_weights(const ts_shading_point *p, TS_LANE lx, TS
       TS_LANE hlen = TS_SQRT(hlen2);
       TS_LANE ndh = max((p->nx * hx + p->ny * hy + p->nz * hz) / hlen, zero);
       TS_LANE spec = TS_POW(ndh, p->shininess);
-      *specular = TS_SELECT(ndl > zero && hlen2 > zero, falloff * spec, zero);
+      *specular = TS_SELECT(ndl > zero && hlen2 > zero, falloff * ndl * spec, zero);
     }
   }
   return TS_SELECT(d2 > zero, falloff * ndl, zero);
