@@ -8,3 +8,23 @@ add_test(NAME TiledSingleChunks.PoclLoopsMethod
          COMMAND tileshade_tests --gtest_filter=TiledSingleChunks.IssueFrame*)
 set_tests_properties(TiledSingleChunks.PoclLoopsMethod PROPERTIES
   ENVIRONMENT "TILESHADE_SOURCE_DIR=${CMAKE_SOURCE_DIR};POCL_WORK_GROUP_METHOD=loops;POCL_KERNEL_CACHE=0")
+
+# Every kernel compiled for a device without fp64, warnings as errors (tests/kernels_without_fp64.sh).
+# Needs a clang with the SPIR target: PoCL's own clang (Debian's pocl depends on clang-15).
+find_program(TILESHADE_OPENCL_CLANG NAMES clang-15 clang HINTS /usr/lib/llvm-15/bin)
+if(TILESHADE_OPENCL_CLANG)
+  add_test(NAME KernelsWithoutFp64
+           COMMAND bash ${CMAKE_SOURCE_DIR}/tests/kernels_without_fp64.sh ${TILESHADE_OPENCL_CLANG}
+                   ${CMAKE_SOURCE_DIR}/kernels)
+  set_tests_properties(KernelsWithoutFp64 PROPERTIES LABELS portability)
+else()
+  message(STATUS "no clang found: the KernelsWithoutFp64 test is left out")
+endif()
+
+# The work-group limit tests with PoCL itself enforcing a limit of 64 (and reporting it, so the
+# shapes come from the device's own limit): a launch that ignores it fails with
+# CL_INVALID_WORK_GROUP_SIZE, as on a stricter device (issue #12). Other implementations ignore it.
+add_test(NAME WorkGroupLimits.PoclEnforcesSixtyFour
+         COMMAND tileshade_tests --gtest_filter=WorkGroupLimits.*:TiledSingleChunks.OnePixel*)
+set_tests_properties(WorkGroupLimits.PoclEnforcesSixtyFour PROPERTIES
+  ENVIRONMENT "TILESHADE_SOURCE_DIR=${CMAKE_SOURCE_DIR};POCL_MAX_WORK_GROUP_SIZE=64")

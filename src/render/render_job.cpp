@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cl/cl_context.h"
+#include "cl/work_group.h"
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
 #include "reference/shading_cpu.h"
@@ -53,9 +54,9 @@ void writeDump(ClContext& cl, DeviceFrame& frame, const TechniqueConfig& config,
   kernel.setArg(0, toCl(frame.camera.kernelCamera()));
   frame.setGBufferArgs(kernel, 1);
   kernel.setArg(6, out);
-  cl.queue().enqueueNDRangeKernel(kernel, cl::NullRange,
-                                  cl::NDRange(roundUp(frame.width(), 8), roundUp(frame.height(), 8)),
-                                  cl::NDRange(8, 8));
+  GroupShape group = fitGroup(8, 8, groupLimit(cl, kernel));
+  cl.queue().enqueueNDRangeKernel(kernel, cl::NullRange, group.global(frame.width(), frame.height()),
+                                  group.local());
   std::vector<float> data(pixels * channels);
   cl.queue().enqueueReadBuffer(out, CL_TRUE, 0, data.size() * sizeof(float), data.data());
   writeExr(dir + "/gbuffer.exr", frame.width(), frame.height(),

@@ -2,6 +2,7 @@
 // techniques are measured against; its light "list" is all lights for every pixel.
 #include <numeric>
 
+#include "cl/work_group.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
 
@@ -34,10 +35,10 @@ class BruteTechnique : public Technique {
     kernel_.setArg(arg++, frame.lightColor);
     kernel_.setArg(arg++, frame.lightCount());
     kernel_.setArg(arg++, image_);
-    if (lanes_ > 1) kernel_.setArg(arg++, laneLocalMemory(lanes_, 16 * 16));
-    cl_.queue().enqueueNDRangeKernel(
-        kernel_, cl::NullRange, cl::NDRange(roundUp(frame.width(), 16), roundUp(frame.height(), 16)),
-        cl::NDRange(16, 16), nullptr, timer_.next("shade"));
+    GroupShape g = fitGroup(16, 16, groupLimit(cl_, kernel_));
+    if (lanes_ > 1) kernel_.setArg(arg++, laneLocalMemory(lanes_, g.size()));
+    cl_.queue().enqueueNDRangeKernel(kernel_, cl::NullRange, g.global(frame.width(), frame.height()),
+                                     g.local(), nullptr, timer_.next("shade"));
     cl_.queue().finish();
 
     FrameResult result;
