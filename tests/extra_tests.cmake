@@ -28,3 +28,12 @@ add_test(NAME WorkGroupLimits.PoclEnforcesSixtyFour
          COMMAND tileshade_tests --gtest_filter=WorkGroupLimits.*:TiledSingleChunks.OnePixel*)
 set_tests_properties(WorkGroupLimits.PoclEnforcesSixtyFour PROPERTIES
   ENVIRONMENT "TILESHADE_SOURCE_DIR=${CMAKE_SOURCE_DIR};POCL_MAX_WORK_GROUP_SIZE=64")
+
+# The hard-case suite (`tileshade check`, docs/hard-cases.md), one CTest case per hard case with
+# the label `check`: `ctest -L check` runs it alone.
+add_executable(tileshade_check_tests ${CMAKE_SOURCE_DIR}/tests/check/hard_cases_test.cpp)
+target_link_libraries(tileshade_check_tests PRIVATE tileshade_core GTest::gtest GTest::gtest_main)
+target_compile_definitions(tileshade_check_tests PRIVATE TILESHADE_BINARY="$<TARGET_FILE:tileshade>")
+add_dependencies(tileshade_check_tests tileshade)
+gtest_discover_tests(tileshade_check_tests DISCOVERY_TIMEOUT 60
+                     PROPERTIES LABELS check ENVIRONMENT "TILESHADE_SOURCE_DIR=${CMAKE_SOURCE_DIR}")

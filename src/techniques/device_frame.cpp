@@ -5,9 +5,9 @@
 
 namespace ts {
 
-ViewLights toViewSpace(const std::vector<Light>& lights, const glm::mat4& viewFromWorld) {
+ViewLights toViewSpace(const std::vector<Light>& lights, const glm::dmat4& viewFromWorld) {
   ViewLights out;
-  const glm::mat3 rotation(viewFromWorld);
+  const glm::mat3 rotation{glm::dmat3(viewFromWorld)};
   for (const auto& l : lights) {
     glm::vec3 dir = l.type == LightType::Point ? glm::vec3(0.0f)
                                                 : glm::normalize(rotation * l.direction);
@@ -16,7 +16,7 @@ ViewLights toViewSpace(const std::vector<Light>& lights, const glm::mat4& viewFr
       out.directionalColor.emplace_back(l.color, 0.0f);
       continue;
     }
-    glm::vec3 p = glm::vec3(viewFromWorld * glm::vec4(l.position, 1.0f));
+    glm::vec3 p = glm::vec3(viewFromWorld * glm::dvec4(glm::dvec3(l.position), 1.0));
     out.positionRange.emplace_back(p, l.range);
     if (l.type == LightType::Spot) {
       float cosInner = std::cos(l.innerConeAngle), cosOuter = std::cos(l.outerConeAngle);
