@@ -8,6 +8,7 @@ PACKAGES=(
   opencl-headers ocl-icd-opencl-dev opencl-clhpp-headers pocl-opencl-icd clinfo
   libglm-dev libopenimageio-dev libtinygltf-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev python3-matplotlib assimp-testmodels
+  oclgrind  # the kernels under an OpenCL checker (CTest label oclgrind, tests/extra_tests.cmake)
 )
 
 missing=()

@@ -37,3 +37,65 @@ target_compile_definitions(tileshade_check_tests PRIVATE TILESHADE_BINARY="$<TAR
 add_dependencies(tileshade_check_tests tileshade)
 gtest_discover_tests(tileshade_check_tests DISCOVERY_TIMEOUT 60
                      PROPERTIES LABELS check ENVIRONMENT "TILESHADE_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
+
+# Every kernel under Oclgrind (tests/oclgrind_run.sh), label `oclgrind`, on tiny frames: each
+# technique in each G-buffer layout with lanes 1 and 16 (clustered has no lanes path), the dump's
+# decoder, tiled-single's local list overflowing into chunks, odd tile sizes, a device limit of
+# 64 work-items, and the test binary's exit. Zero reports of out-of-bounds or uninitialised
+# accesses, data races or barrier divergence. Oclgrind 21.10's --uninitialized needs
+# -cl-opt-disable (it stops at LLVM's freeze) and reports false uses after a 4-byte
+# clEnqueueFillBuffer (tiled's and clustered's list clears) and when several techniques share a
+# process: those runs check the other reports only, one technique per process where it counts.
+set(TILESHADE_OCLGRIND_RUN ${CMAKE_SOURCE_DIR}/tests/oclgrind_run.sh)
+set(TILESHADE_OCLGRIND_FRAME --device oclgrind --width 40 --height 24 --light-count 30 --check
+    --out @OUT@)
+function(tileshade_oclgrind_test name options)
+  add_test(NAME Oclgrind.${name} COMMAND bash ${TILESHADE_OCLGRIND_RUN} "${options}" ${ARGN})
+  set_tests_properties(Oclgrind.${name} PROPERTIES LABELS oclgrind SKIP_RETURN_CODE 77
+    ENVIRONMENT "TILESHADE_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
+endfunction()
+set(TILESHADE_OCLGRIND_ALL "--data-races --uninitialized --build-options -cl-opt-disable")
+foreach(layout fp32 fp16 packed)
+  foreach(lanes 1 16)
+    foreach(technique tiled tiled-single clustered deferred deferred-stencil brute)
+      if(technique STREQUAL "clustered" AND lanes EQUAL 16)
+        continue()
+      endif()
+      set(options ${TILESHADE_OCLGRIND_ALL})
+      if(technique STREQUAL "tiled" OR technique STREQUAL "clustered")
+        set(options "--data-races")  # the fill-buffer false reports, above
+      endif()
+      set(extra)
+      if(technique STREQUAL "brute")
+        set(extra --dump)  # kernels/dump.cl's decoder, in this layout
+      endif()
+      tileshade_oclgrind_test(${technique}.${layout}.lanes${lanes} "${options}"
+        $<TARGET_FILE:tileshade> render ${TILESHADE_OCLGRIND_FRAME} --technique ${technique}
+        --gbuffer ${layout} --lanes ${lanes} ${extra})
+    endforeach()
+  endforeach()
+endforeach()
+foreach(lanes 1 16)
+  # 300 lights reaching every tile: tiled-single's 256-light local list shades in two chunks, in
+  # tiles that cross the frame's edge (issue #12's heap corruption on PoCL).
+  tileshade_oclgrind_test(tiled-single.chunks.lanes${lanes} "${TILESHADE_OCLGRIND_ALL}"
+    $<TARGET_FILE:tileshade> render --device oclgrind --width 18 --height 6 --light-count 300
+    --light-range 1000 --check --out @OUT@ --technique tiled-single --lanes ${lanes})
+endforeach()
+foreach(tile 7x5 24x8)
+  foreach(technique tiled tiled-single clustered)
+    tileshade_oclgrind_test(${technique}.tile${tile} "--data-races"
+      $<TARGET_FILE:tileshade> render ${TILESHADE_OCLGRIND_FRAME} --technique ${technique}
+      --gbuffer fp16 --lanes 16 --tile ${tile})
+  endforeach()
+endforeach()
+foreach(lanes 1 16)
+  # A device allowing 64 work-items per group: every launch's shape from the limits.
+  tileshade_oclgrind_test(all.max-wgsize-64.lanes${lanes} "--data-races --max-wgsize 64"
+    $<TARGET_FILE:tileshade> render ${TILESHADE_OCLGRIND_FRAME} --technique all --lanes ${lanes}
+    --tile 24x8)
+endforeach()
+# The test binary under Oclgrind: its kernels, and its exit (the process-wide context used to be
+# released after the OpenCL runtime's exit handlers, an abort at exit).
+tileshade_oclgrind_test(tests.exit "--data-races" $<TARGET_FILE:tileshade_tests>
+  --gtest_filter=TiledSingleChunks.OnePixel*)
