@@ -7,27 +7,29 @@
 
 /* Exclusive prefix sum of n counts by a single work-group, total[0] = sum. The bins are tiles
  * (~10^4) or clusters (tiles x slices, ~10^5): one group sweeping in chunks is enough, needs no
- * second pass for the block sums and keeps the order deterministic. */
-#define SCAN_GROUP 256
+ * second pass for the block sums and keeps the order deterministic. The group has a power of two
+ * of at most SCAN_MAX_GROUP work-items, as many as the device allows (src/cl/work_group.h). */
+#define SCAN_MAX_GROUP 256
 __kernel void exclusive_scan(__global const uint *count, int n, __global uint *offset,
                              __global uint *total) {
-  __local uint tmp[SCAN_GROUP];
+  __local uint tmp[SCAN_MAX_GROUP];
+  const int group = (int)get_local_size(0);
   int lid = get_local_id(0);
   uint carry = 0;
-  for (int base = 0; base < n; base += SCAN_GROUP) {
+  for (int base = 0; base < n; base += group) {
     int i = base + lid;
     uint v = i < n ? count[i] : 0u;
     tmp[lid] = v;
     barrier(CLK_LOCAL_MEM_FENCE);
     /* Hillis-Steele inclusive scan in local memory. */
-    for (int s = 1; s < SCAN_GROUP; s <<= 1) {
+    for (int s = 1; s < group; s <<= 1) {
       uint add = lid >= s ? tmp[lid - s] : 0u;
       barrier(CLK_LOCAL_MEM_FENCE);
       tmp[lid] += add;
       barrier(CLK_LOCAL_MEM_FENCE);
     }
     if (i < n) offset[i] = carry + tmp[lid] - v;
-    uint chunk_sum = tmp[SCAN_GROUP - 1];
+    uint chunk_sum = tmp[group - 1];
     barrier(CLK_LOCAL_MEM_FENCE);
     carry += chunk_sum;
   }

@@ -129,19 +129,6 @@ static void lanes_shade_list(__local const uint *list, uint n, __local float *so
   }
 }
 
-/* Adds one chunk of the list to the tile's sums. The first chunk (`first_chunk`, the same for the
- * whole work-group) decodes the tile into local memory first, so a tile that lists no light never
- * pays for that trip. */
-static void lanes_shade_chunk(__local const uint *list, uint n, int first_chunk,
-                              __local float *soa, int tx, int ty, float4 camera, float4 ambient,
-                              TS_GBUFFER_PARAMS, TS_LIGHT_PARAMS, TS_DIRECTIONAL_PARAMS) {
-  if (first_chunk) {
-    lanes_store_tile(soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS);
-    barrier(CLK_LOCAL_MEM_FENCE);
-  }
-  lanes_shade_list(list, n, soa, TS_LIGHT_ARGS, TS_DIRECTIONAL_ARGS);
-}
-
 /* Writes this work-item's on-screen pixels of a tile that lists no light: the base alone. */
 static void write_base_tile(int tx, int ty, float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
                             __global float4 *image) {
@@ -229,54 +216,68 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   float2 zr = (float2)(lmin[0], lmax[0]);
 
   /* 2 + 3. Test the lights a batch of GROUP_SIZE at a time; shade and empty the list whenever the
-   * next batch might not fit. */
+   * next batch might not fit.
+   *
+   * Every barrier below is reached by every work-item on every pass, outside any `if` (the
+   * conditions are the same for the whole work-group, but are only used around the work between
+   * barriers). PoCL 3.1 miscompiled the earlier form, which flushed a chunk inside
+   * `if (n + GROUP_SIZE > LIST_CAPACITY) { ...; barrier(); }` (and decoded the tile in lanes inside
+   * `if (first_chunk) { ...; barrier(); }`): LLVM computes owned_pixel's on-screen test once, before
+   * the first barrier, and after PoCL's work-group loops had replicated the barrier's branches it
+   * branched on that per-work-item value *once for the whole group*, taking the last work-item's
+   * value. In a tile that crosses the frame's edge, the last work-item's pixel is off screen: with
+   * the `loops` method no pixel of the tile was written, with `loopvec` (the default) every pixel
+   * was, off-screen ones included, past the end of the image buffer — heap corruption once a tile
+   * listed more than one chunk of lights (issue #12; tests/tiled_single_chunks_test.cpp). */
 #if TS_LANES == 1
   float3 sum[PIXELS_PER_ITEM];
   for (int k = 0; k < PIXELS_PER_ITEM; ++k) sum[k] = (float3)(0.0f);
 #endif
-  /* The conditions around the barriers below are the same for the whole work-group. */
-  uint accepted = 0; /* lights shaded so far (flushed chunks) */
+  /* list_len counts every light the tile accepted; the list holds those after the first
+   * `accepted`, which earlier chunks have shaded, so emptying the list needs no write. */
+  uint accepted = 0;
   int any_geometry = zr.x <= zr.y;
   for (int base = 0; any_geometry && base < light_count; base += GROUP_SIZE) {
-    /* Every work-item must read the same length: barriers on both sides of the read. */
-    barrier(CLK_LOCAL_MEM_FENCE);
-    uint n = list_len;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (n + GROUP_SIZE > LIST_CAPACITY) {
+    barrier(CLK_LOCAL_MEM_FENCE); /* the last batch's appends are done */
+    uint n = list_len - accepted;
+    int flush = n + GROUP_SIZE > LIST_CAPACITY;
 #if TS_LANES == 1
+    if (flush)
       shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, TS_LIGHT_ARGS,
                  TS_DIRECTIONAL_ARGS, sum, 0);
 #else
-      /* Directional lights are added once, with the last chunk (0 of them here). */
-      lanes_shade_chunk(list, n, accepted == 0, soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS,
-                        TS_LIGHT_ARGS, dir_light_dir, dir_light_color, 0);
+    /* The first chunk decodes the tile into local memory, so a tile that lists no light never
+     * pays for that trip. Directional lights are added once, with the last chunk. */
+    if (flush && accepted == 0) lanes_store_tile(soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (flush) lanes_shade_list(list, n, soa, TS_LIGHT_ARGS, dir_light_dir, dir_light_color, 0);
 #endif
+    if (flush) {
       record_chunk(list, n, accepted, tile, record_stride, tile_lights);
       accepted += n;
-      if (lid == 0) list_len = 0;
-      barrier(CLK_LOCAL_MEM_FENCE);
     }
+    barrier(CLK_LOCAL_MEM_FENCE); /* every work-item has read list_len and the list */
     int light = base + lid;
     if (light < light_count) {
       ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, (uint)light);
-      if (light_meets_tile(&v, tx, ty, zr, camera, znear)) list[atomic_inc(&list_len)] = (uint)light;
+      if (light_meets_tile(&v, tx, ty, zr, camera, znear))
+        list[atomic_inc(&list_len) - accepted] = (uint)light;
     }
   }
   barrier(CLK_LOCAL_MEM_FENCE);
-  uint n = list_len;
+  uint n = list_len - accepted;
 #if TS_LANES == 1
   shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, TS_LIGHT_ARGS, TS_DIRECTIONAL_ARGS,
              sum, image);
 #else
   int dir_count = ts_directional_count(dir_light_count);
-  if (accepted + n == 0 && dir_count == 0) {
-    write_base_tile(tx, ty, camera, ambient, TS_GBUFFER_ARGS, image);
-  } else {
-    lanes_shade_chunk(list, n, accepted == 0, soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS,
-                      TS_LIGHT_ARGS, dir_light_dir, dir_light_color, dir_count);
-    barrier(CLK_LOCAL_MEM_FENCE);
-    lanes_write_tile(soa, tx, ty, camera, image);
-  }
+  int lit_tile = accepted + n > 0 || dir_count > 0;
+  if (lit_tile && accepted == 0) lanes_store_tile(soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lit_tile) lanes_shade_list(list, n, soa, TS_LIGHT_ARGS, dir_light_dir, dir_light_color, dir_count);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lit_tile) lanes_write_tile(soa, tx, ty, camera, image);
+  else write_base_tile(tx, ty, camera, ambient, TS_GBUFFER_ARGS, image);
 #endif
   record_chunk(list, n, accepted, tile, record_stride, tile_lights);
   if (lid == 0) tile_count[tile] = accepted + n;

@@ -10,6 +10,7 @@ PACKAGES=(
   libgtest-dev python3-matplotlib assimp-testmodels
   # --raster gl: EGL + Mesa's llvmpipe (headless OpenGL without a GPU), GL loaded by libepoxy
   libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libepoxy-dev
+  oclgrind  # the kernels under an OpenCL checker (CTest label oclgrind, tests/extra_tests.cmake)
 )
 
 missing=()

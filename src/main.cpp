@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench/bench_cli.h"
+#include "check/check_cli.h"
 #include "cl/cl_context.h"
 #include "render/render_job.h"
 #include "scene/scene_loader.h"
@@ -159,6 +160,8 @@ int main(int argc, char** argv) {
 
   // bench (src/bench/)
   ts::CliCommand bench = ts::addBenchCommand(app);
+  // check (src/check/)
+  ts::CliCommand check = ts::addCheckCommand(app);
 
   try {
     app.parse(argc, argv);
@@ -181,6 +184,8 @@ int main(int argc, char** argv) {
       ts::runRender(render);
     } else if (*bench.command) {
       bench.run();
+    } else if (*check.command) {
+      check.run();
     } else if (*devicesCmd) {
       printDevices();
     } else if (*exportCmd) {

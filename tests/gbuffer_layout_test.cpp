@@ -134,7 +134,7 @@ TEST(GBufferLayout, Fp16StoresRoundToNearestEvenHalves) {
   // 1 + 2^-11 is halfway between 1 and 1 + 2^-10: ties to even -> 1.
   // 1 + 3 * 2^-11 is halfway between 1 + 2^-10 and 1 + 2^-9: ties to even -> 1 + 2^-9.
   // 0.1 is not representable: nearest half is 0x2E66 (0.0999755859375).
-  // 70000 overflows half's range (65504): infinity.
+  // 70000 is beyond half's range: clamped to its largest, 65504 (not inf; issue #12).
   g.depth = {2.0f, 3.0f};
   g.diffuse[0] = glm::vec4(1.0f + std::ldexp(1.0f, -11), 1.0f + 3.0f * std::ldexp(1.0f, -11),
                            0.1f, 70000.0f);
@@ -145,7 +145,7 @@ TEST(GBufferLayout, Fp16StoresRoundToNearestEvenHalves) {
   EXPECT_EQ(halfBits(e.diffuse, 0, 0), 0x3C00);  // 1.0
   EXPECT_EQ(halfBits(e.diffuse, 0, 1), 0x3C02);  // 1 + 2^-9
   EXPECT_EQ(halfBits(e.diffuse, 0, 2), 0x2E66);
-  EXPECT_EQ(halfBits(e.diffuse, 0, 3), 0x7C00);  // +inf
+  EXPECT_EQ(halfBits(e.diffuse, 0, 3), 0x7BFF);  // 65504
   EXPECT_EQ(halfBits(e.specular, 0, 3), 0x63D0);  // 1000 exactly
   EXPECT_EQ(halfBits(e.emissive, 1, 0), 0xC100);  // -2.5
   EXPECT_EQ(halfBits(e.emissive, 1, 1), 0x0011);  // 1e-6 -> 17 * 2^-24 (nearest subnormal)
@@ -386,7 +386,7 @@ TEST(GBufferLayout, PackedShininessByteWithinItsRelativeBound) {
 
 TEST(GBufferLayout, PackedEmissiveIsHalfAndDepthFloat) {
   GBuffer g = sampleGBuffer();
-  g.emissive[1] = glm::vec4(70000.0f, 1e-6f, -2.5f, 0.0f);  // inf, subnormal half, exact
+  g.emissive[1] = glm::vec4(70000.0f, 1e-6f, -2.5f, 0.0f);  // clamped, subnormal half, exact
   EncodedGBuffer e = ts::encode(g, GBufferFormat::PACKED);
   EncodedGBuffer e16 = ts::encode(g, GBufferFormat::FP16);
   EXPECT_EQ(e.emissive, e16.emissive);  // the same half4 plane as the fp16 layout
@@ -399,7 +399,7 @@ TEST(GBufferLayout, PackedEmissiveIsHalfAndDepthFloat) {
       if (!ts::decodeSurface(e, cam, x, y, s)) continue;
       for (int c = 0; c < 3; ++c) {
         EXPECT_EQ(s.ke[c], halfToDouble(halfBits(e.emissive, i, c)));
-        if (std::isfinite(s.ke[c]) && std::abs(g.emissive[i][c]) >= 6.2e-5f)  // normal halves
+        if (std::abs(g.emissive[i][c]) >= 6.2e-5f && std::abs(g.emissive[i][c]) <= ts::kMaxHalf)
           EXPECT_LE(std::abs(s.ke[c] - g.emissive[i][c]), std::abs(g.emissive[i][c]) * 0x1p-11);
       }
       EXPECT_NEAR(-s.P.z, double(g.depth[i]), 1e-15);
@@ -411,7 +411,7 @@ TEST(GBufferLayout, PackedEmissiveIsHalfAndDepthFloat) {
     }
   ts::SurfaceD s;
   ASSERT_TRUE(ts::decodeSurface(e, cam, 1, 0, s));
-  EXPECT_TRUE(std::isinf(s.ke.x));
+  EXPECT_EQ(s.ke.x, double(ts::kMaxHalf));  // 70000 clamped, not inf
   EXPECT_EQ(s.ke.y, 17.0 * std::ldexp(1.0, -24));
   EXPECT_EQ(s.ke.z, -2.5);
 }

@@ -170,6 +170,29 @@ TEST(GltfLoad, NodeHierarchyLightsAndCamera) {
   }
 }
 
+// Node transforms are composed in double, as the file's numbers are: 1e6 from the origin a float
+// matrix would round the camera's position by up to 1/32 and move the whole view (issue #12).
+TEST(GltfLoad, TransformsFarFromTheOriginStayInDouble) {
+  TempDir dir;
+  nlohmann::json j = nlohmann::json::parse(kHierarchyGltf);
+  j["scenes"] = {{{"nodes", {0}}}};
+  j["nodes"] = {{{"name", "far"}, {"translation", {1000000.3, 0, 0}}, {"children", {1, 2}}},
+                {{"name", "meshNode"}, {"mesh", 0}},
+                {{"name", "camera"}, {"translation", {0, 0, 10}}, {"camera", 0}}};
+  j.erase("extensionsUsed");
+  j.erase("extensions");
+  writeHierarchy(dir);
+  dir.write("far.gltf", j.dump());
+  Scene s = ts::loadGltf(dir.file("far.gltf"));
+  // The vertex at the node's origin is stored as the nearest float, 1000000.3125; the camera
+  // stays at 1000000.3, so the vertex lies 0.0125 to its right.
+  ASSERT_FALSE(s.vertices.empty());
+  EXPECT_EQ(s.vertices[0].position.x, 1000000.3125f);
+  glm::dvec4 v = s.cameraPath[0].viewFromWorld * glm::dvec4(glm::dvec3(s.vertices[0].position), 1.0);
+  EXPECT_NEAR(v.x, 0.0125, 1e-6);
+  EXPECT_NEAR(v.z, -10.0, 1e-9);
+}
+
 TEST(GltfLoad, LoadSceneAppliesLightCountAndRange) {
   TempDir dir;
   writeHierarchy(dir);

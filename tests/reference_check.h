@@ -67,9 +67,9 @@ inline Checked renderAndCheck(const PreparedFrame& f, Technique& technique) {
 }
 
 // A technique built once per process for each distinct configuration: kernel builds are the slow
-// part of these tests.
+// part of these tests. Never destroyed, like the context (test_support.h).
 inline Technique& cachedTechnique(const std::string& name, const TechniqueConfig& config) {
-  static std::map<std::string, std::unique_ptr<Technique>> cache;
+  static auto& cache = *new std::map<std::string, std::unique_ptr<Technique>>;
   std::string key = name + "|" + config.kernelOptions() + "|" + std::to_string(config.tileWidth) +
                     "x" + std::to_string(config.tileHeight) + "|" +
                     std::to_string(config.clusterSlices) + "|" +

@@ -69,6 +69,39 @@ TEST(Shading, DegenerateCasesStayFinite) {
             dvec3(0.0));
 }
 
+// A light crossing the surface's plane (N.l from -1e-3 to 1e-3, through the float rounding of
+// the positions): the contribution falls continuously to 0 as the light reaches the plane, and
+// the float build stays within rounding of the double one. With the specular term gated on
+// N.l > 0 but not weighted by it (the model before issue #12), the whole highlight switched on at
+// N.l = 0+ (here ks/(kd+ks) = 0.4 of the peak) and float and double disagreed on the side.
+TEST(Shading, ContinuousAsTheLightCrossesTheSurfacePlane) {
+  const dvec3 P(0.3, -1.0, -5.0), N(0, 1, 0), V = glm::normalize(-P);
+  const dvec3 kd(0.6), ks(0.4);
+  const double s = 2.0, r = 10.0;
+  auto shadeD = [&](dvec3 Lp) {
+    return ts_point_light(P, N, V, kd, ks, s, Lp, dvec3(1.0), r, TS_MODEL_WINDOWED);
+  };
+  auto shadeF = [&](dvec3 Lp) {
+    glm::vec3 Pf(P);
+    return glm::dvec3(ts::shading_f::ts_point_light(
+        Pf, glm::vec3(N), glm::normalize(-Pf), glm::vec3(kd), glm::vec3(ks), float(s),
+        glm::vec3(Lp), glm::vec3(1.0f), float(r), TS_MODEL_WINDOWED));
+  };
+  const double peak = shadeD(P + dvec3(0, 2, 0)).x;  // 2 units straight above
+  ASSERT_GT(peak, 0.0);
+  for (double e : {-1e-3, -1e-5, -1e-6, -1e-7, -1e-8, 0.0, 1e-8, 1e-7, 1e-6, 1e-5, 1e-3}) {
+    dvec3 Lp = P + dvec3(0.1, e, -2.0);  // 2 units away along the surface, e above it
+    dvec3 d = shadeD(Lp), f = shadeF(Lp);
+    double ndl = std::max(e / glm::length(Lp - P), 0.0);
+    for (int c = 0; c < 3; ++c) {
+      // Every term carries ndl: at most falloff * ndl * (kd + ks), falloff <= 1/4 here.
+      EXPECT_LE(d[c], 0.25 * ndl * (kd[c] + ks[c]) * (1 + 1e-12)) << "N.l offset " << e;
+      // Float positions round the light's height by ~1e-7: the error stays of that order.
+      EXPECT_NEAR(f[c], d[c], 1e-6 * peak) << "N.l offset " << e;
+    }
+  }
+}
+
 TEST(Shading, FloatBuildAgreesWithDoubleToFloatRounding) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -10,9 +10,14 @@
 
 namespace ts::test {
 
+// One context per process, never destroyed: an OpenCL runtime may tear down its own state in exit
+// handlers that run before a static object's destructor, and releasing the context after them
+// corrupted the heap at exit under Oclgrind (issue #12). The operating system reclaims it; it
+// stays reachable, so leak checkers do not report it. Process-wide caches of OpenCL objects
+// (cachedTechnique) are held the same way.
 inline ClContext& context() {
-  static ClContext cl(std::getenv("TILESHADE_DEVICE") ? "" : "cpu");
-  return cl;
+  static ClContext* cl = new ClContext(std::getenv("TILESHADE_DEVICE") ? "" : "cpu");
+  return *cl;
 }
 
 inline std::string sourceDir() {

@@ -120,6 +120,7 @@ std::vector<DeviceInfo> listDevices() {
       info.globalMemBytes = size_t(d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>());
       info.localMemBytes = size_t(d.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>());
       info.maxWorkGroupSize = d.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+      info.maxWorkItemSizes = d.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
       info.device = d;
       out.push_back(info);
     }

@@ -1,5 +1,7 @@
 #pragma once
 // OpenCL set-up: device choice, a profiling command queue, program builds from kernels/.
+#include <algorithm>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,7 @@ struct DeviceInfo {
   size_t globalMemBytes = 0;
   size_t localMemBytes = 0;
   size_t maxWorkGroupSize = 0;
+  std::vector<size_t> maxWorkItemSizes;  // per dimension
   cl::Device device;
 };
 
@@ -45,6 +48,12 @@ class ClContext {
   cl::CommandQueue& queue() { return queue_; }
   const cl::Device& device() const { return info_.device; }
 
+  // The most work-items a work-group may have: the device's CL_DEVICE_MAX_WORK_GROUP_SIZE, or
+  // less after capWorkGroupSize, which tests use to stand in for a stricter device. Launches take
+  // their shapes from it through src/cl/work_group.h.
+  size_t maxWorkGroupSize() const { return std::min(info_.maxWorkGroupSize, groupCap_); }
+  void capWorkGroupSize(size_t items) { groupCap_ = items; }
+
   // Start-to-end time of a finished, profiled command.
   static double eventMs(const cl::Event& event);
 
@@ -53,6 +62,7 @@ class ClContext {
   cl::Context context_;
   cl::CommandQueue queue_;
   double compileMs_ = 0.0;
+  size_t groupCap_ = SIZE_MAX;
 };
 
 // Rounds n up to a multiple of m (global sizes for NDRanges).

@@ -61,6 +61,13 @@ uint32_t packUnorm8x4(const glm::vec4& c) {
          uint32_t(packed::encodeUnorm8(c.z)) << 16 | uint32_t(packed::encodeUnorm8(c.w)) << 24;
 }
 
+// A float as the nearest half (round to nearest even), values beyond half's range clamped to
+// +-65504 (kMaxHalf): rounding them would give inf, and an inf in the G-buffer turns shading into
+// inf or NaN (0 * inf). Tiny values become half denormals or 0 (documented in docs/accuracy.md).
+uint16_t toHalfBits(float v) {
+  return Imath::half(std::clamp(v, -kMaxHalf, kMaxHalf)).bits();
+}
+
 std::vector<uint8_t> encodePlane(const std::vector<glm::vec4>& plane, size_t pixels,
                                  GBufferFormat format) {
   std::vector<uint8_t> out;
@@ -73,7 +80,7 @@ std::vector<uint8_t> encodePlane(const std::vector<glm::vec4>& plane, size_t pix
     uint16_t* dst = reinterpret_cast<uint16_t*>(out.data());
     for (size_t i = 0; i < pixels; ++i)
       for (int c = 0; c < 4; ++c)
-        dst[4 * i + size_t(c)] = Imath::half(plane[i][c]).bits();  // round to nearest even
+        dst[4 * i + size_t(c)] = toHalfBits(plane[i][c]);
   }
   return out;
 }

@@ -19,6 +19,10 @@ namespace ts {
 // 24 B/pixel. Table and error bounds: docs/accuracy.md.
 enum class GBufferFormat { FP32, FP16, PACKED };
 
+// Half's largest finite value: fp16 planes (and the packed emissive) clamp to +-kMaxHalf instead
+// of storing inf (docs/accuracy.md).
+constexpr float kMaxHalf = 65504.0f;
+
 std::string toString(GBufferFormat format);
 // "fp32" | "fp16" | "packed"; throws ts::Error otherwise.
 GBufferFormat parseGBufferFormat(const std::string& name);

@@ -291,7 +291,9 @@ struct GlRasterizer::State {
     glUseProgram(program);
     const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(camera.viewFromWorld)));
     const glm::mat4 projection = clipFromView(in);
-    glUniformMatrix4fv(u.viewFromWorld, 1, GL_FALSE, &camera.viewFromWorld[0][0]);
+    // GL transforms in float (the software rasterizer in double; docs/opengl.md).
+    const glm::mat4 viewFromWorld(camera.viewFromWorld);
+    glUniformMatrix4fv(u.viewFromWorld, 1, GL_FALSE, &viewFromWorld[0][0]);
     glUniformMatrix3fv(u.normalMatrix, 1, GL_FALSE, &normalMatrix[0][0]);
     glUniformMatrix4fv(u.clipFromView, 1, GL_FALSE, &projection[0][0]);
     glBindVertexArray(vao);

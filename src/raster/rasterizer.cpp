@@ -257,7 +257,7 @@ class Rasterizer {
 
   void transformVertices() {
     const glm::dmat4 view(camera_.viewFromWorld);
-    const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(camera_.viewFromWorld)));
+    const glm::mat3 normalMatrix(glm::transpose(glm::inverse(glm::dmat3(view))));
     size_t n = scene_.vertices.size();
     viewPosition_.reserve(n);
     viewNormal_.reserve(n);

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "scene/shading_range.h"
 #include "util/error.h"
 
 namespace ts {
@@ -32,6 +33,7 @@ PreparedFrame prepareFrame(SceneRasterizer& rasterizer, int frame, int width, in
   if (width < 1 || height < 1)
     throw Error("resolution must be at least 1x1, got " + std::to_string(width) + "x" +
                 std::to_string(height));
+  checkShadingRange(scene);
   PreparedFrame f;
   f.frame = frame;
   f.camera = scene.camera(frame);

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/gbuffer_files.h"
+#include "cl/work_group.h"
 #include "render/image_io.h"
 #include "techniques/device_frame.h"
 #include "util/error.h"
@@ -26,10 +27,9 @@ std::vector<float> decodeOnDevice(ClContext& cl, const DeviceFrame& frame,
   kernel.setArg(0, toCl(frame.camera.kernelCamera()));
   frame.setGBufferArgs(kernel, 1);
   kernel.setArg(6, out);
-  cl.queue().enqueueNDRangeKernel(
-      kernel, cl::NullRange,
-      cl::NDRange(roundUp(size_t(frame.width()), 8), roundUp(size_t(frame.height()), 8)),
-      cl::NDRange(8, 8));
+  GroupShape group = fitGroup(8, 8, groupLimit(cl, kernel));
+  cl.queue().enqueueNDRangeKernel(kernel, cl::NullRange, group.global(frame.width(), frame.height()),
+                                  group.local());
   std::vector<float> data(pixels * channels);
   cl.queue().enqueueReadBuffer(out, CL_TRUE, 0, data.size() * sizeof(float), data.data());
   return data;

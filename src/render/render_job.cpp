@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cl/cl_context.h"
+#include "cl/work_group.h"
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
 #include "reference/shading_cpu.h"

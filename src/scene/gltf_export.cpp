@@ -247,8 +247,8 @@ void exportGltf(const Scene& scene, const std::string& path) {
     cam.perspective.znear = c.znear;
     cam.perspective.zfar = c.zfar;
     m.cameras.push_back(cam);
-    glm::mat4 world = glm::inverse(c.viewFromWorld);
-    glm::quat q = glm::normalize(glm::quat_cast(glm::mat3(world)));
+    glm::dmat4 world = glm::inverse(c.viewFromWorld);
+    glm::dquat q = glm::normalize(glm::quat_cast(glm::dmat3(world)));
     tinygltf::Node node;
     node.name = "camera";
     node.camera = 0;

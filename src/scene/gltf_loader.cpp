@@ -167,23 +167,23 @@ class Reader {
 
 // ---- transforms ------------------------------------------------------------------------------
 
-glm::mat4 localMatrix(const tinygltf::Node& n) {
+// In double, as the file's numbers are: far from the origin the node transforms, and the camera
+// made from them, keep what float products of matrices would round away (Camera).
+glm::dmat4 localMatrix(const tinygltf::Node& n) {
   if (n.matrix.size() == 16) {
-    glm::mat4 m;
-    for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = float(n.matrix[size_t(i)]);  // column-major
+    glm::dmat4 m;
+    for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = n.matrix[size_t(i)];  // column-major
     return m;
   }
-  glm::mat4 m(1.0f);
+  glm::dmat4 m(1.0);
   if (n.translation.size() == 3)
-    m = glm::translate(m, glm::vec3(float(n.translation[0]), float(n.translation[1]),
-                                    float(n.translation[2])));
+    m = glm::translate(m, glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
   if (n.rotation.size() == 4) {
-    glm::quat q(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]),
-                float(n.rotation[2]));  // glTF stores x, y, z, w
+    glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1],
+                 n.rotation[2]);  // glTF stores x, y, z, w
     m *= glm::mat4_cast(glm::normalize(q));
   }
-  if (n.scale.size() == 3)
-    m = glm::scale(m, glm::vec3(float(n.scale[0]), float(n.scale[1]), float(n.scale[2])));
+  if (n.scale.size() == 3) m = glm::scale(m, glm::dvec3(n.scale[0], n.scale[1], n.scale[2]));
   return m;
 }
 
@@ -308,12 +308,12 @@ class GltfLoader {
   Scene load();
 
  private:
-  void visit(int node, const glm::mat4& parent, int depth);
-  void addPrimitive(const tinygltf::Primitive& p, const glm::mat4& world, const std::string& what);
+  void visit(int node, const glm::dmat4& parent, int depth);
+  void addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& world, const std::string& what);
   uint32_t material(int gltfMaterial);
   int texture(int gltfTexture, bool srgb, int texCoord, const std::string& what);
   void decodeImages();
-  void addLight(const tinygltf::Light& light, const glm::mat4& world, const std::string& what);
+  void addLight(const tinygltf::Light& light, const glm::dmat4& world, const std::string& what);
   void buildCameraPath();
 
   const tinygltf::Model& m_;
@@ -465,14 +465,14 @@ void GltfLoader::decodeImages() {
 // directional lights along the node's -Z. Colour = color x intensity (candela, lux: taken as is);
 // a point or spot light without a range (glTF: infinite) gets r = sqrt(max(C)/t) with the
 // attenuation threshold t = 5/256.
-void GltfLoader::addLight(const tinygltf::Light& light, const glm::mat4& world,
+void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
                           const std::string& what) {
   glm::vec3 color(1.0f);
   if (light.color.size() >= 3)
     color = {float(light.color[0]), float(light.color[1]), float(light.color[2])};
   color *= float(light.intensity);
-  glm::vec3 position = glm::vec3(world * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
-  glm::vec3 axis = glm::vec3(world * glm::vec4(0.0f, 0.0f, -1.0f, 0.0f));
+  glm::vec3 position = glm::vec3(world[3]);
+  glm::vec3 axis = glm::vec3(-world[2]);
   float axisLength = glm::length(axis);
   float range = light.range > 0.0 ? float(light.range) : rangeFromThreshold(color, gltf::kLightThreshold);
   if (light.type == "point") {
@@ -499,7 +499,7 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::mat4& world,
       Light::spot(position, direction, color, range, float(inner), float(outer)));
 }
 
-void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::mat4& world,
+void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& world,
                               const std::string& what) {
   int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
   if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
@@ -551,10 +551,10 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::mat4& wor
     if (i >= n) read_.fail(what + ": vertex index " + std::to_string(i) + " out of range");
 
   // A mirroring transform turns counter-clockwise faces clockwise: swap to keep them CCW.
-  bool mirror = glm::determinant(glm::mat3(world)) < 0.0f;
-  glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(world)));
+  bool mirror = glm::determinant(glm::dmat3(world)) < 0.0;
+  glm::mat3 normalMatrix(glm::transpose(glm::inverse(glm::dmat3(world))));
   auto position = [&](uint32_t i) {
-    return glm::vec3(world * glm::vec4(float(P[3 * i]), float(P[3 * i + 1]), float(P[3 * i + 2]), 1.0f));
+    return glm::vec3(world * glm::dvec4(P[3 * i], P[3 * i + 1], P[3 * i + 2], 1.0));
   };
   auto uv = [&](uint32_t i) {
     return UV.empty() ? glm::vec2(0.0f) : glm::vec2(float(UV[2 * i]), float(UV[2 * i + 1]));
@@ -599,11 +599,11 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::mat4& wor
   }
 }
 
-void GltfLoader::visit(int index, const glm::mat4& parent, int depth) {
+void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
   if (index < 0 || size_t(index) >= m_.nodes.size()) read_.fail("bad node index " + std::to_string(index));
   if (depth > 1000 || !visiting_.insert(index).second) read_.fail("node hierarchy has a cycle");
   const auto& node = m_.nodes[size_t(index)];
-  glm::mat4 world = parent * localMatrix(node);
+  glm::dmat4 world = parent * localMatrix(node);
   std::string what = "node '" + node.name + "'";
 
   if (node.mesh >= 0) {
@@ -629,11 +629,11 @@ void GltfLoader::visit(int index, const glm::mat4& parent, int depth) {
       ++extraCameras_;
     } else {
       // View = inverse of the node's world matrix, with any scale taken out (rigid).
-      glm::mat4 rigid(1.0f);
+      glm::dmat4 rigid(1.0);
       for (int c = 0; c < 3; ++c) {
-        glm::vec3 axis(world[c]);
-        float len = glm::length(axis);
-        rigid[c] = glm::vec4(len > 0.0f ? axis / len : glm::vec3(0.0f), 0.0f);
+        glm::dvec3 axis(world[c]);
+        double len = glm::length(axis);
+        rigid[c] = glm::dvec4(len > 0.0 ? axis / len : glm::dvec3(0.0), 0.0);
       }
       rigid[3] = world[3];
       camera_.viewFromWorld = glm::inverse(rigid);
@@ -716,7 +716,7 @@ Scene GltfLoader::load() {
       if (!child[i]) roots.push_back(int(i));
   }
   decodeImages();
-  for (int r : roots) visit(r, glm::mat4(1.0f), 0);
+  for (int r : roots) visit(r, glm::dmat4(1.0), 0);
 
   if (skippedPrimitives_ > 0)
     warn(path_, "skipped " + std::to_string(skippedPrimitives_) +

@@ -82,7 +82,7 @@ Light Light::directional(glm::vec3 direction, glm::vec3 color) {
   return l;
 }
 
-Camera Camera::lookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float yfov, float znear,
+Camera Camera::lookAt(glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up, float yfov, float znear,
                       float zfar) {
   Camera c;
   c.viewFromWorld = glm::lookAt(eye, target, up);

@@ -84,13 +84,17 @@ struct Light {
 std::string describeLights(const std::vector<Light>& lights);
 
 // A pinhole camera. Aspect ratio comes from the image being rendered, not from the camera.
+// The view transform is double: far from the origin (1e5..1e6 units) a float matrix's rounding
+// (its translation -R*eye, and R's entries times the eye's distance) moves view-space positions by
+// more than the scene's own float quantisation; in double, a scene far from the origin renders as
+// the same scene at the origin, up to that quantisation (docs/hard-cases.md).
 struct Camera {
-  glm::mat4 viewFromWorld{1.0f};  // camera at the origin looking down -Z, +Y up
+  glm::dmat4 viewFromWorld{1.0};  // camera at the origin looking down -Z, +Y up
   float yfov = 1.0f;              // vertical field of view, radians
   float znear = 0.1f;
   float zfar = 1000.0f;
 
-  static Camera lookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float yfov, float znear,
+  static Camera lookAt(glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up, float yfov, float znear,
                        float zfar);
 };
 

@@ -2,6 +2,7 @@
 // techniques are measured against; its light "list" is all lights for every pixel.
 #include <numeric>
 
+#include "cl/work_group.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
 
@@ -37,10 +38,10 @@ class BruteTechnique : public Technique {
     frame.setDirectionalArgs(kernel_, arg);
     arg += 3;
     kernel_.setArg(arg++, image_);
-    if (lanes_ > 1) kernel_.setArg(arg++, laneLocalMemory(config_, 16 * 16));
-    cl_.queue().enqueueNDRangeKernel(
-        kernel_, cl::NullRange, cl::NDRange(roundUp(frame.width(), 16), roundUp(frame.height(), 16)),
-        cl::NDRange(16, 16), nullptr, timer_.next("shade"));
+    GroupShape g = fitGroup(16, 16, groupLimit(cl_, kernel_));
+    if (lanes_ > 1) kernel_.setArg(arg++, laneLocalMemory(config_, g.size()));
+    cl_.queue().enqueueNDRangeKernel(kernel_, cl::NullRange, g.global(frame.width(), frame.height()),
+                                     g.local(), nullptr, timer_.next("shade"));
     cl_.queue().finish();
 
     FrameResult result;

@@ -17,6 +17,7 @@
 // assigns slices), so host and kernels agree on every pixel's cluster.
 #include <algorithm>
 
+#include "cl/work_group.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
 #include "util/error.h"
@@ -168,14 +169,15 @@ class ClusteredTechnique : public Technique {
     q.enqueueFillBuffer(clusterCursor_, zero, 0, clusters * 4, nullptr, timer_.next("clear"));
 
     // 1. The frame's geometry depth range (slicing), then per-cluster bounds: a work-group per tile.
-    const size_t rangeGroup = 256;
+    const size_t rangeGroup = powerOfTwoGroup(256, groupLimit(cl_, frameRange_));
     size_t rangeGroups = std::clamp<size_t>(pixels / (rangeGroup * 32), 1, 1024);
     frameRange_.setArg(0, frame.depth);
     frameRange_.setArg(1, int(pixels));
     frameRange_.setArg(2, depthRange_);
     q.enqueueNDRangeKernel(frameRange_, cl::NullRange, cl::NDRange(rangeGroups * rangeGroup),
                            cl::NDRange(rangeGroup), nullptr, timer_.next("depth_range"));
-    size_t group = pow2AtLeast(size_t(grid_.tileW) * grid_.tileH, 256);
+    size_t group = powerOfTwoGroup(pow2AtLeast(size_t(grid_.tileW) * grid_.tileH, 256),
+                                   groupLimit(cl_, clusterBounds_));
     clusterBounds_.setArg(0, frame.depth);
     clusterBounds_.setArg(1, frame.width());
     clusterBounds_.setArg(2, frame.height());
@@ -199,7 +201,7 @@ class ClusteredTechnique : public Technique {
     binLights_.setArg(10, clusterCursor_);
     binLights_.setArg(11, clusterLights_);
     binLights_.setArg(12, cl_uint(capacity_));
-    enqueueBinning(q, binLights_, 7, frame.lightCount(), scan_, clusterCount_, int(clusters),
+    enqueueBinning(cl_, binLights_, 7, frame.lightCount(), scan_, clusterCount_, int(clusters),
                    clusterOffset_, total_, timer_);
 
     // 3. Shading: one work-item per pixel.
@@ -218,10 +220,10 @@ class ClusteredTechnique : public Technique {
     shade_.setArg(arg++, clusterLights_);
     shade_.setArg(arg++, cl_uint(capacity_));
     shade_.setArg(arg++, image_);
-    size_t lx = std::min(grid_.tileW, 16), ly = std::min(grid_.tileH, 16);
-    q.enqueueNDRangeKernel(shade_, cl::NullRange,
-                           cl::NDRange(roundUp(frame.width(), lx), roundUp(frame.height(), ly)),
-                           cl::NDRange(lx, ly), nullptr, timer_.next("shade"));
+    GroupShape g = fitGroup(std::min(grid_.tileW, 16), std::min(grid_.tileH, 16),
+                            groupLimit(cl_, shade_));
+    q.enqueueNDRangeKernel(shade_, cl::NullRange, g.global(frame.width(), frame.height()),
+                           g.local(), nullptr, timer_.next("shade"));
   }
 
   ClContext& cl_;

@@ -24,6 +24,7 @@
 #include <algorithm>
 
 #include "reference/shading_cpu.h"
+#include "cl/work_group.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
 #include "util/error.h"
@@ -130,7 +131,8 @@ class DeferredTechnique : public Technique {
   void enqueueFrame(DeviceFrame& frame, const std::vector<glm::ivec4>& rects) {
     auto& q = cl_.queue();
     cl_float4 camera = toCl(frame.camera.kernelCamera());
-    cl::NDRange local(kGroup, kGroup);
+    GroupShape baseGroup = fitGroup(kGroup, kGroup, groupLimit(cl_, base_));
+    GroupShape lightGroup = fitGroup(kGroup, kGroup, groupLimit(cl_, light_));
 
     // 1. Base: every pixel, so the accumulation buffer needs no separate clear.
     base_.setArg(0, camera);
@@ -138,11 +140,9 @@ class DeferredTechnique : public Technique {
     frame.setGBufferArgs(base_, 2);
     frame.setDirectionalArgs(base_, 7);
     base_.setArg(10, accum_);
-    if (lanes_ > 1) base_.setArg(11, laneLocalMemory(config_, kGroup * kGroup));
-    q.enqueueNDRangeKernel(base_, cl::NullRange,
-                           cl::NDRange(roundUp(frame.width(), kGroup),
-                                       roundUp(frame.height(), kGroup)),
-                           local, nullptr, timer_.next("base"));
+    if (lanes_ > 1) base_.setArg(11, laneLocalMemory(config_, baseGroup.size()));
+    q.enqueueNDRangeKernel(base_, cl::NullRange, baseGroup.global(frame.width(), frame.height()),
+                           baseGroup.local(), nullptr, timer_.next("base"));
 
     // 2. One launch per light, all enqueued before waiting: arguments are captured at enqueue
     // time, and the in-order queue serialises the read-modify-writes of successive lights.
@@ -151,15 +151,14 @@ class DeferredTechnique : public Technique {
     frame.setGBufferArgs(light_, 2);
     frame.setLightArgs(light_, 7);
     light_.setArg(12, accum_);
-    if (lanes_ > 1) light_.setArg(13, laneLocalMemory(config_, kGroup * kGroup));
+    if (lanes_ > 1) light_.setArg(13, laneLocalMemory(config_, lightGroup.size()));
     for (size_t i = 0; i < rects.size(); ++i) {
       const glm::ivec4& r = rects[i];
       if (isEmpty(r)) continue;
       light_.setArg(10, cl_int(i));
       light_.setArg(11, cl_int4{{r.x, r.y, r.z, r.w}});
-      q.enqueueNDRangeKernel(light_, cl::NullRange,
-                             cl::NDRange(roundUp(r.z - r.x, kGroup), roundUp(r.w - r.y, kGroup)),
-                             local, nullptr, timer_.next("light"));
+      q.enqueueNDRangeKernel(light_, cl::NullRange, lightGroup.global(r.z - r.x, r.w - r.y),
+                             lightGroup.local(), nullptr, timer_.next("light"));
     }
   }
 

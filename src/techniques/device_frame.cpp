@@ -25,15 +25,15 @@ void ViewLights::addDirectional(glm::vec3 towardsLight, glm::vec3 color) {
   directionalColor.emplace_back(color, 0.0f);
 }
 
-ViewLights toViewSpace(const std::vector<Light>& lights, const glm::mat4& viewFromWorld) {
+ViewLights toViewSpace(const std::vector<Light>& lights, const glm::dmat4& viewFromWorld) {
   ViewLights out;
-  const glm::mat3 rotation(viewFromWorld);
+  const glm::mat3 rotation{glm::dmat3(viewFromWorld)};
   for (const auto& l : lights) {
     if (l.type == LightType::Directional) {
       out.addDirectional(-(rotation * l.direction), l.color);
       continue;
     }
-    glm::vec3 p = glm::vec3(viewFromWorld * glm::vec4(l.position, 1.0f));
+    glm::vec3 p = glm::vec3(viewFromWorld * glm::dvec4(glm::dvec3(l.position), 1.0));
     if (l.type == LightType::Spot)
       out.addSpot(p, l.range, l.color, rotation * l.direction, l.innerConeAngle,
                   l.outerConeAngle);

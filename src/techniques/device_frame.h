@@ -34,7 +34,8 @@ struct ViewLights {
 
 inline cl_float4 toCl(glm::vec4 v) { return {{v.x, v.y, v.z, v.w}}; }
 
-ViewLights toViewSpace(const std::vector<Light>& lights, const glm::mat4& viewFromWorld);
+// In double (Camera): a light far from the origin keeps its position relative to the camera.
+ViewLights toViewSpace(const std::vector<Light>& lights, const glm::dmat4& viewFromWorld);
 
 struct DeviceFrame {
   const EncodedGBuffer* gbuffer = nullptr;  // host copy of what was uploaded

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "cl/work_group.h"
 #include "reference/shading_cpu.h"
 
 namespace ts {
@@ -75,10 +76,12 @@ void addDirectionalWork(WorkCounters& c, uint64_t geometryPixels, const DeviceFr
   c.evaluations += work;
 }
 
-void enqueueBinning(cl::CommandQueue& queue, cl::Kernel& bin, cl_uint fillArg, int lightCount,
+void enqueueBinning(ClContext& cl, cl::Kernel& bin, cl_uint fillArg, int lightCount,
                     cl::Kernel& scan, const cl::Buffer& counts, int bins,
                     const cl::Buffer& offsets, const cl::Buffer& total, FrameTimer& timer) {
-  const size_t group = 64;  // work-items sharing one light's bins
+  cl::CommandQueue& queue = cl.queue();
+  const size_t group = fitGroup(64, 1, groupLimit(cl, bin)).x;  // work-items sharing a light's bins
+  const size_t scanGroup = powerOfTwoGroup(256, groupLimit(cl, scan));
   auto binPass = [&](int fill, const char* name) {
     if (lightCount == 0) return;  // OpenCL refuses an empty NDRange
     bin.setArg(fillArg, fill);
@@ -90,8 +93,8 @@ void enqueueBinning(cl::CommandQueue& queue, cl::Kernel& bin, cl_uint fillArg, i
   scan.setArg(1, bins);
   scan.setArg(2, offsets);
   scan.setArg(3, total);
-  queue.enqueueNDRangeKernel(scan, cl::NullRange, cl::NDRange(256), cl::NDRange(256), nullptr,
-                             timer.next("scan"));
+  queue.enqueueNDRangeKernel(scan, cl::NullRange, cl::NDRange(scanGroup), cl::NDRange(scanGroup),
+                             nullptr, timer.next("scan"));
   binPass(1, "bin_fill");
 }
 

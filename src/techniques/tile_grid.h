@@ -52,10 +52,10 @@ glm::vec4 lightNdcBounds(const ViewLights& lights, size_t i, const CameraIntrins
 
 // The passes that build a binned light list (tiled, clustered), the paper's grid: count each
 // light into its bins, exclusive scan of the counts into offsets (and the total), fill the list.
-// `bin` is launched with one work-group of 64 per light; its argument `fillArg` selects count
-// (0) or fill (1), its other arguments are set by the caller. `scan` gets (counts, bins, offsets,
-// total). Profiled as bin_count, scan, bin_fill.
-void enqueueBinning(cl::CommandQueue& queue, cl::Kernel& bin, cl_uint fillArg, int lightCount,
+// `bin` is launched with one work-group of (up to) 64 per light; its argument `fillArg` selects
+// count (0) or fill (1), its other arguments are set by the caller. `scan` gets (counts, bins,
+// offsets, total) and one work-group of up to 256. Profiled as bin_count, scan, bin_fill.
+void enqueueBinning(ClContext& cl, cl::Kernel& bin, cl_uint fillArg, int lightCount,
                     cl::Kernel& scan, const cl::Buffer& counts, int bins,
                     const cl::Buffer& offsets, const cl::Buffer& total, FrameTimer& timer);
 

@@ -1,6 +1,7 @@
 // Multi-kernel tiled deferred shading; the kernels, in launch order, are in kernels/tiled.cl.
 #include <algorithm>
 
+#include "cl/work_group.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
 #include "util/error.h"
@@ -87,7 +88,8 @@ class TiledTechnique : public Technique {
     // 1. Depth bounds: one work-group per tile, at most 64 work-items each reading several
     // pixels: fewer tree-reduction steps (on PoCL 256-item groups spent more time reducing than
     // reading: 10 -> 3-5 ms at 1280x720 with 16x16 tiles).
-    size_t group = pow2AtLeast(size_t(grid_.tileW) * grid_.tileH, 64);
+    size_t group = powerOfTwoGroup(pow2AtLeast(size_t(grid_.tileW) * grid_.tileH, 64),
+                                   groupLimit(cl_, depthBounds_));
     depthBounds_.setArg(0, frame.depth);
     depthBounds_.setArg(1, frame.width());
     depthBounds_.setArg(2, frame.height());
@@ -107,7 +109,7 @@ class TiledTechnique : public Technique {
     binLights_.setArg(9, tileCursor_);
     binLights_.setArg(10, tileLights_);
     binLights_.setArg(11, cl_uint(capacity_));
-    enqueueBinning(q, binLights_, 6, frame.lightCount(), scan_, tileCount_, int(tiles), tileOffset_,
+    enqueueBinning(cl_, binLights_, 6, frame.lightCount(), scan_, tileCount_, int(tiles), tileOffset_,
                    total_, timer_);
 
     // 3. Shading: one work-item per pixel.
@@ -126,11 +128,10 @@ class TiledTechnique : public Technique {
     shade_.setArg(arg++, cl_uint(capacity_));
     shade_.setArg(arg++, image_);
     // Work-groups inside one tile: shade_tiled takes the tile from the group id.
-    size_t lx = groupEdgeFor(grid_.tileW), ly = groupEdgeFor(grid_.tileH);
-    if (config_.lanes > 1) shade_.setArg(arg++, laneLocalMemory(config_, lx * ly));
-    q.enqueueNDRangeKernel(shade_, cl::NullRange,
-                           cl::NDRange(roundUp(frame.width(), lx), roundUp(frame.height(), ly)),
-                           cl::NDRange(lx, ly), nullptr, timer_.next("shade"));
+    GroupShape g = tileDividingGroup(grid_.tileW, grid_.tileH, groupLimit(cl_, shade_));
+    if (config_.lanes > 1) shade_.setArg(arg++, laneLocalMemory(config_, g.size()));
+    q.enqueueNDRangeKernel(shade_, cl::NullRange, g.global(frame.width(), frame.height()),
+                           g.local(), nullptr, timer_.next("shade"));
   }
 
   ClContext& cl_;

@@ -4,6 +4,7 @@
 // conservativeness checks; they are the same quantities the multi-kernel `tiled` reports.
 #include <algorithm>
 
+#include "cl/work_group.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
 #include "util/error.h"
@@ -15,23 +16,13 @@ class TiledSingleTechnique : public Technique {
  public:
   TiledSingleTechnique(ClContext& cl, const TechniqueConfig& config) : cl_(cl), config_(config) {
     if (config.tileWidth < 1 || config.tileHeight < 1) throw Error("tile size must be positive");
-    groupW_ = std::min(config.tileWidth, 16);
-    groupH_ = std::min(config.tileHeight, 16);
-    capacity_ = std::max(config.localListCapacity, groupW_ * groupH_);
-    // In lanes the whole tile's shading terms and sums live in local memory; a tile too large for
-    // the device's local memory is shaded one pixel per work-item (lanes() then says 1).
-    if (config_.lanes > 1 &&
-        laneTileBytes() + size_t(capacity_) * 4 + size_t(groupW_) * groupH_ * 8 + 64 >
-            cl.device().getInfo<CL_DEVICE_LOCAL_MEM_SIZE>())
-      config_.lanes = 1;
-    std::string options = config_.kernelOptions() + config_.lanesOption() +
-                          " -DTILE_W=" + std::to_string(config.tileWidth) +
-                          " -DTILE_H=" + std::to_string(config.tileHeight) +
-                          " -DGROUP_W=" + std::to_string(groupW_) +
-                          " -DGROUP_H=" + std::to_string(groupH_) +
-                          " -DLIST_CAPACITY=" + std::to_string(capacity_);
-    program_ = cl.build("tiled_single.cl", options);
-    kernel_ = cl::Kernel(program_, "shade_tiled_single");
+    // The work-group shape is built into the kernel (reqd_work_group_size; a tile larger than the
+    // group gives each work-item several pixels): up to 16x16 within the device's limit, then
+    // within the built kernel's own limit, rebuilding once if that is smaller.
+    build(fitGroup(std::min(config.tileWidth, 16), std::min(config.tileHeight, 16),
+                   deviceGroupLimit(cl)));
+    GroupLimit kernelLimit = groupLimit(cl, kernel_);
+    if (size_t(groupW_) * groupH_ > kernelLimit.size) build(fitGroup(groupW_, groupH_, kernelLimit));
   }
 
   std::string name() const override { return "tiled-single"; }
@@ -87,6 +78,26 @@ class TiledSingleTechnique : public Technique {
   }
 
  private:
+  void build(GroupShape group) {
+    groupW_ = int(group.x);
+    groupH_ = int(group.y);
+    capacity_ = std::max(config_.localListCapacity, groupW_ * groupH_);
+    // In lanes the whole tile's shading terms and sums live in local memory; a tile too large for
+    // the device's local memory is shaded one pixel per work-item (lanes() then says 1).
+    if (config_.lanes > 1 &&
+        laneTileBytes() + size_t(capacity_) * 4 + size_t(groupW_) * groupH_ * 8 + 64 >
+            cl_.device().getInfo<CL_DEVICE_LOCAL_MEM_SIZE>())
+      config_.lanes = 1;
+    std::string options = config_.kernelOptions() + config_.lanesOption() +
+                          " -DTILE_W=" + std::to_string(config_.tileWidth) +
+                          " -DTILE_H=" + std::to_string(config_.tileHeight) +
+                          " -DGROUP_W=" + std::to_string(groupW_) +
+                          " -DGROUP_H=" + std::to_string(groupH_) +
+                          " -DLIST_CAPACITY=" + std::to_string(capacity_);
+    program_ = cl_.build("tiled_single.cl", options);
+    kernel_ = cl::Kernel(program_, "shade_tiled_single");
+  }
+
   // The kernel's `soa` in lanes: TILE_PLANES (the shading terms + 3 sums) floats per pixel slot,
   // the tile's pixels rounded up to whole vectors (kernels/tiled_single.cl).
   size_t laneTileBytes() const {

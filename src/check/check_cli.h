@@ -1,0 +1,12 @@
+#pragma once
+// `tileshade check`: registers the subcommand; run() prints the hard-case table and throws
+// ts::Error (exit status 1) when any run fails.
+#include <CLI/CLI.hpp>
+
+#include "bench/bench_cli.h"
+
+namespace ts {
+
+CliCommand addCheckCommand(CLI::App& app);
+
+}  // namespace ts
