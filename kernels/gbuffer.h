@@ -76,10 +76,11 @@
 #define TS_MASK_VECTOR(n) int##n
 #define TS_MASK_TYPE(n) TS_MASK_VECTOR(n)
 /* "Any lane". PoCL's any() tests the components one by one with a branch each: about 40
- * instructions for 16 lanes, several times per light evaluation. Clang's vector reduction becomes
- * one mask test (kortest); elsewhere the halves are ORed down to one component, whose sign bit
- * is the answer (a few shuffles, no branch). */
-#if defined(__has_builtin)
+ * instructions for 16 lanes, several times per light evaluation. On PoCL (the host defines
+ * TS_POCL) clang's vector reduction becomes one mask test (kortest); elsewhere (Oclgrind cannot
+ * execute LLVM's vector reductions) the halves are ORed down to one component, whose sign bit is
+ * the answer (a few shuffles, no branch). */
+#if defined(TS_POCL) && defined(__has_builtin)
 #if __has_builtin(__builtin_reduce_or)
 #define TS_HAVE_REDUCE_OR 1
 #endif

@@ -97,9 +97,8 @@ TEST(GBufferImport, DumpRoundTripsExactlyInEveryLayoutForEveryTechnique) {
     for (const auto& name : techniqueNames()) {
       Technique& t = test::cachedTechnique(name, config);
       const FrameResult a = test::renderOnly(original, t, false);
-      const FrameResult again = test::renderOnly(original, t, false);
       const FrameResult b = test::renderOnly(imported.frame, t, false);
-      if (sameBits(a.image, again.image)) {
+      if (t.repeatable()) {
         EXPECT_TRUE(sameBits(a.image, b.image)) << name << " " << layout;
         continue;
       }

@@ -129,7 +129,7 @@ const char* const kErrorFields[] = {"max_abs", "rmse", "psnr_db", "max_rel_peak"
 // bench.csv columns after the dimensions.
 const std::vector<std::string>& rowColumns() {
   static const std::vector<std::string> cols = {
-      "device_name", "lanes_used", "features", "gbuffer_bytes_per_pixel", "kernel_options", "frame",
+      "device_name", "lanes_used", "features_used", "gbuffer_bytes_per_pixel", "kernel_options", "frame",
       "lights", "geometry_pixels", "total_ms", "kernels", "wall_ms",
       "upload_ms", "compile_ms", "raster_ms", "warmup", "repeat", "lighting_computations",
       "evaluations", "gbuffer_bytes_read", "list_min", "list_mean", "list_max", "min_bytes",
@@ -152,7 +152,7 @@ std::vector<std::string> csvFieldsOf(const json& row) {
     for (const auto& n : row["notes"]) notes += (notes.empty() ? "" : " | ") + n.get<std::string>();
   f.push_back(str(row, "device_name"));
   f.push_back(intText(row, "lanes_used"));
-  f.push_back(str(row, "features"));
+  f.push_back(str(row, "features_used"));
   f.push_back(intText(row, "gbuffer_bytes_per_pixel"));
   f.push_back(str(row, "kernel_options"));
   f.push_back(intText(row, "frame"));
@@ -217,7 +217,7 @@ json rowFromCsv(const std::map<std::string, std::string>& r) {
               {"config", config},
               {"device_name", get("device_name")},
               {"lanes_used", integer("lanes_used")},
-              {"features", get("features")},
+              {"features_used", get("features_used")},
               {"gbuffer_bytes_per_pixel", integer("gbuffer_bytes_per_pixel")},
               {"kernel_options", get("kernel_options")},
               {"frame", std::stoi(get("frame"))},
@@ -345,7 +345,7 @@ std::vector<std::string> summaryCsvColumns() {
   std::vector<std::string> c = {"config_id"};
   for (const auto& d : benchDimensions()) c.push_back(d.name);
   for (const char* k :
-       {"device_name", "lanes_used", "features", "gbuffer_bytes_per_pixel", "frames", "total_ms_median", "total_ms_min", "total_ms_max", "total_ms_mean",
+       {"device_name", "lanes_used", "features_used", "gbuffer_bytes_per_pixel", "frames", "total_ms_median", "total_ms_min", "total_ms_max", "total_ms_mean",
         "wall_ms_median", "wall_ms_min", "wall_ms_max", "upload_ms_median", "compile_ms",
         "raster_ms_median", "kernels_median", "lighting_computations_median", "evaluations_median",
         "limit_ms_median", "limit_pct_median", "flops_basis", "error_frames", "err_max_abs_max",
@@ -413,7 +413,7 @@ json summarizeRows(const json& rows) {
               {"technique", str(first, "technique")},
               {"device_name", str(first, "device_name")},
               {"lanes_used", first.value("lanes_used", json())},
-              {"features", first.value("features", json())},
+              {"features_used", first.value("features_used", json())},
               {"gbuffer_bytes_per_pixel", first.value("gbuffer_bytes_per_pixel", json())},
               {"frames", frames.size()},
               {"frame_list", frameList},
@@ -781,7 +781,7 @@ BenchRunResult runBench(const BenchOptions& o) {
           row["upload_ms"] = m.uploadMs;
           row["compile_ms"] = e->compileMs;
           row["raster_ms"] = prepared.rasterMs;
-          row["features"] = e->features.describe();
+          row["features_used"] = e->features.describe();
           row["gbuffer_bytes_per_pixel"] = enc.bytesPerPixel();
           row["kernel_options"] = e->kernelOptions;
           row["warmup"] = o.warmup;
@@ -832,7 +832,7 @@ BenchRunResult runBench(const BenchOptions& o) {
       const json err = sm.contains("error") ? sm["error"] : json::object();
       auto e = [&](const char* k) { return err.empty() ? std::string() : numberText(num(err, k)); };
       for (const auto& v :
-           {str(sm, "device_name"), intText(sm, "lanes_used"), str(sm, "features"),
+           {str(sm, "device_name"), intText(sm, "lanes_used"), str(sm, "features_used"),
             intText(sm, "gbuffer_bytes_per_pixel"), intText(sm, "frames"), med("total_ms"),
             numberText(num(sm.at("total_ms"), "min")), numberText(num(sm.at("total_ms"), "max")),
             numberText(num(sm.at("total_ms"), "mean")), med("wall_ms"),

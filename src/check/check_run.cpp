@@ -97,11 +97,14 @@ std::vector<CheckRow> runHardCases(const CheckOptions& o, std::ostream& out) {
   std::vector<CheckRow> rows;
   for (const HardCase* hc : cases) {
     HardCaseFrame hf = hc->build();
+    // The case's own features (its shading model, material terms, light types).
+    const SceneFeatures features = analyzeScene(hf.scene, nativeShadingModel(hf.scene));
     for (GBufferFormat format : o.formats) {
-      PreparedFrame frame = prepareFrame(hf.scene, 0, hf.width, hf.height, format);
+      PreparedFrame frame = prepareFrame(hf.scene, 0, hf.width, hf.height, format, features);
       PreparedFrame referenceFrame =
-          hf.referenceScene ? prepareFrame(*hf.referenceScene, 0, hf.width, hf.height, format)
-                            : PreparedFrame();
+          hf.referenceScene
+              ? prepareFrame(*hf.referenceScene, 0, hf.width, hf.height, format, features)
+              : PreparedFrame();
       const PreparedFrame& r = hf.referenceScene ? referenceFrame : frame;
       ReferenceImage ref = shadeReference(r.encoded, r.intrinsics, r.lights, r.ambient, 0);
       std::vector<double> bound = fp32ErrorBound(r.encoded, r.intrinsics, r.lights, r.ambient, 0);
@@ -111,6 +114,7 @@ std::vector<CheckRow> runHardCases(const CheckOptions& o, std::ostream& out) {
         for (int lanes : hf.lanes.empty() ? o.lanes : hf.lanes) {
           TechniqueConfig config = hf.config;
           config.format = format;
+          config.features = features;
           config.lanes = lanes;
           Technique& t = cache.get(name, config);
           if (std::find(ran.begin(), ran.end(), t.lanes()) != ran.end()) continue;  // no lanes path

@@ -18,16 +18,78 @@ constexpr double kTermRelative = 1e-5;
 
 double maxOf(const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); }
 
+// The surface as the reference shades it: its shading point for `shading`, recomputed from the
+// (possibly perturbed) position and normal.
+shading_d::ts_shading_point pointOf(const SurfaceD& s, glm::dvec3 P, glm::dvec3 N, int shading) {
+  shading_d::ts_shading_point p =
+      shading_d::ts_make_shading_point(P, N, glm::normalize(-P), s.gloss, shading);
+  return p;
+}
+
+// Spot, directional and metallic-roughness terms: the first-order bound measured instead of
+// derived. The term is evaluated in double at the surface and light as the kernel holds them and
+// with each input coordinate moved by its fp32 rounding (position ~4 ulp of |P|, normal ~2 ulp,
+// light position 1 ulp of |L|); the sum of the largest moves per input, twice, plus the term's
+// own arithmetic (kTermRelative, 3x for the longer metallic-roughness evaluation) bounds it.
+double numericTermBound(const SurfaceD& s, const ViewLights& lights, size_t i, bool directional,
+                        int model, int shading, double positionError, double* magnitude) {
+  auto term = [&](glm::dvec3 P, glm::dvec3 N, glm::dvec3 L) {
+    shading_d::ts_shading_point p = pointOf(s, P, N, shading);
+    if (directional)
+      return shading_d::ts_directional_light(&p, s.kd, s.ks, glm::normalize(L),
+                                             glm::dvec3(glm::vec3(lights.directionalColor[i])),
+                                             shading, 1);
+    glm::dvec4 pr(glm::vec4(lights.positionRange[i]));
+    return shading_d::ts_punctual_light(&p, s.kd, s.ks, glm::dvec4(L, pr.w),
+                                        glm::dvec4(glm::vec4(lights.color[i])),
+                                        glm::dvec4(glm::vec4(lights.spot[i])), model, shading, 1,
+                                        1);
+  };
+  const glm::dvec3 L = directional ? glm::dvec3(glm::vec3(lights.directionalDir[i]))
+                                   : glm::dvec3(glm::vec3(lights.positionRange[i]));
+  const glm::dvec3 f0 = term(s.P, s.N, L);
+  double moved = 0.0, largest = maxOf(glm::abs(f0));
+  auto probe = [&](glm::dvec3 P, glm::dvec3 N, glm::dvec3 L2) {
+    glm::dvec3 f = term(P, N, L2);
+    largest = std::max(largest, maxOf(glm::abs(f)));
+    return maxOf(glm::abs(f - f0));
+  };
+  const double lightError = directional ? 2.0 * kEps : kEps * glm::length(L);
+  for (int k = 0; k < 3; ++k) {
+    glm::dvec3 e(0.0);
+    e[k] = 1.0;
+    double dP = 0.0, dN = 0.0, dL = 0.0;
+    for (double sign : {-1.0, 1.0}) {
+      dP = std::max(dP, probe(s.P + sign * positionError * e, s.N, L));
+      dN = std::max(dN, probe(s.P, glm::normalize(s.N + sign * 2.0 * kEps * e), L));
+      dL = std::max(dL, probe(s.P, s.N, L + sign * lightError * e));
+    }
+    moved += dP + dN + dL;
+  }
+  const double arithmetic = kTermRelative * (shading == TS_SHADING_METALLIC_ROUGHNESS ? 3.0 : 1.0);
+  *magnitude += largest;
+  return 2.0 * moved + arithmetic * largest;
+}
+
 // The bound of one pixel's light terms and their sum.
-double pixelBound(const SurfaceD& s, const ViewLights& lights, glm::dvec3 base, int model) {
+double pixelBound(const SurfaceD& s, const ViewLights& lights, glm::dvec3 base, int model,
+                  int shading) {
   const double dmin2 = TS_DMIN * TS_DMIN;
   const double kdks = maxOf(s.kd) + maxOf(s.ks);
-  if (!(kdks > 0.0)) return 2.0 * kEps * maxOf(glm::abs(base));  // no light term at all
+  const bool mr = shading == TS_SHADING_METALLIC_ROUGHNESS;
+  if (!(kdks > 0.0) && !mr) return 2.0 * kEps * maxOf(glm::abs(base));  // no light term at all
   // The kernel reconstructs P in float: each coordinate within ~4 ulp of |P|.
   const double positionError = 4.0 * kEps * glm::length(s.P);
   double bound = 0.0, magnitude = maxOf(glm::abs(base));
   size_t terms = 0;
+  for (size_t i = 0; i < lights.directionalCount(); ++i, ++terms)
+    bound += numericTermBound(s, lights, i, true, model, shading, positionError, &magnitude);
   for (size_t i = 0; i < lights.size(); ++i) {
+    if (mr || lights.spot[i].w > -1.0f) {  // not a Blinn-Phong point light: measured
+      ++terms;
+      bound += numericTermBound(s, lights, i, false, model, shading, positionError, &magnitude);
+      continue;
+    }
     glm::dvec3 L(glm::vec3(lights.positionRange[i]));
     double r = double(lights.positionRange[i].w);
     double c = maxOf(glm::abs(glm::dvec3(glm::vec3(lights.color[i]))));
@@ -89,7 +151,8 @@ std::vector<double> fp32ErrorBound(const EncodedGBuffer& gbuffer, const CameraIn
           SurfaceD s;
           if (!decodeSurface(gbuffer, camera, x, y, s)) continue;
           glm::dvec3 base = shading_d::ts_surface_base(s.ke, s.cDiff, glm::dvec3(ambient));
-          bound[size_t(y) * gbuffer.width + x] = pixelBound(s, lights, base, model);
+          bound[size_t(y) * gbuffer.width + x] =
+              pixelBound(s, lights, base, model, int(gbuffer.model));
         }
     });
   for (auto& th : pool) th.join();

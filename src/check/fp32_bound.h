@@ -5,6 +5,9 @@
 // within it. The bound grows where the model itself is ill-conditioned in fp32 (a light closer to
 // a surface point than the rounding of that point's position, a half vector near zero length),
 // so those pixels are held to what fp32 can resolve rather than to a fixed fraction of the peak.
+// Blinn-Phong point lights have the analytic bound of docs/hard-cases.md; spot and directional
+// lights and the metallic-roughness model a measured one (the term's largest change when each
+// input moves by its fp32 rounding).
 #include <vector>
 
 #include <glm/glm.hpp>

@@ -333,6 +333,82 @@ HardCaseFrame extremeValues(const std::string& name, float color, float material
   return frameOf(std::move(s));
 }
 
+// Spot lights against the camera: the eye inside cones, cones behind it and with their apex on
+// the near plane, cones seen edge-on, from 1 degree to 89 degrees wide, and cones lying in the
+// floor's plane (the cone's edge grazing the floor).
+HardCaseFrame spotLights() {
+  Scene s = room("spot-lights");
+  Camera c = roomCamera();
+  Placer p(30);
+  const glm::vec3 eye(kEye), ahead = glm::normalize(glm::vec3(kTarget - kEye));
+  const glm::vec3 side = glm::normalize(glm::cross(ahead, glm::vec3(0, 1, 0)));
+  constexpr float kDeg = 0.01745329252f;
+  auto spot = [&](glm::vec3 at, glm::vec3 axis, float outerDeg, float range) {
+    float outer = outerDeg * kDeg;
+    s.lights.push_back(Light::spot(at, glm::normalize(axis), p.color(), range, 0.7f * outer, outer));
+  };
+  spot(eye + glm::vec3(0, 1, 0), -ahead - glm::vec3(0, 0.5f, 0), 40, 12);  // the eye inside
+  spot(eye - 3.0f * ahead, ahead, 20, 20);                                 // behind, past the eye
+  spot(glm::vec3(fromView(c, {0.05, -0.02, -0.1})), ahead, 60, 15);        // apex on the near plane
+  spot(eye + 4.0f * ahead, side, 10, 10);                                  // edge-on, narrow
+  spot(eye + 6.0f * ahead - 3.0f * side, side, 89, 10);                    // edge-on, almost flat
+  spot({0, 1e-6f, -2}, {0, 0, -1}, 30, 12);                                // its axis in the floor
+  for (int i = 0; i < 40; ++i)                                             // anywhere, any width
+    spot(p.in({-8, 0.1f, -14}, {8, 5, 4}), p.in(glm::vec3(-1.0f), glm::vec3(1.0f)) + 1e-3f,
+         p.logIn(1.0f, 89.0f), p.in(2.0f, 15.0f));
+  return frameOf(std::move(s));
+}
+
+// Directional lights: a sun from above, suns grazing the floor (in its plane, 1e-6 above and
+// below it), one from below, and point lights among them.
+HardCaseFrame directionalLights() {
+  Scene s = room("directional-lights");
+  Placer p(31);
+  s.lights.push_back(Light::directional(glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f)), p.color()));
+  for (float lift : {0.0f, 1e-6f, -1e-6f})
+    s.lights.push_back(Light::directional(glm::normalize(glm::vec3(1.0f, lift, -0.5f)), p.color()));
+  s.lights.push_back(Light::directional({0.0f, 1.0f, 0.0f}, p.color()));
+  for (int i = 0; i < 20; ++i)
+    s.lights.push_back(Light::point(p.in({-8, 0.2f, -14}, {8, 5, 4}), p.color(), p.in(1.0f, 10.0f)));
+  return frameOf(std::move(s));
+}
+
+// glTF's metallic-roughness model at its ends: roughness 0 (clamped to 0.045) and 1, metallic 0
+// and 1, lights at the floor's mirror directions (the GGX peak), grazing the floor, in its plane
+// and on it.
+HardCaseFrame metallicRoughness() {
+  Scene s = room("metallic-roughness");
+  const float roughness[] = {0.0f, 1.0f, 0.0f, 1.0f};
+  const float metallic[] = {0.0f, 0.0f, 1.0f, 1.0f};
+  std::vector<Material> ends;
+  for (int k = 0; k < 4; ++k) {
+    Material m;
+    m.name = "mr" + std::to_string(k);
+    m.model = ShadingModel::MetallicRoughness;
+    m.baseColor = {0.9f, 0.6f, 0.3f};
+    m.roughness = roughness[k];
+    m.metallic = metallic[k];
+    ends.push_back(m);
+  }
+  s.materials = ends;  // the floor and wall get ends 0, the box and sphere 1-3 by triangle
+  for (size_t t = 0; t < s.triangleMaterial.size(); ++t)
+    s.triangleMaterial[t] = uint32_t(t < 4 ? 0 : 1 + t % 3);
+  Camera c = roomCamera();
+  Placer p(32);
+  for (int i = 0; i < 48; ++i) {
+    double x = std::floor(p.in(0.0f, 64.0f)), y = std::floor(p.in(30.0f, 48.0f));
+    glm::dvec3 at = pixelOnPlane(c, 64, 48, x, y, {0, 0, 0}, {0, 1, 0});
+    glm::dvec3 toEye = glm::normalize(kEye - at);
+    glm::dvec3 mirror(-toEye.x, toEye.y, -toEye.z);  // the eye's direction mirrored in the floor
+    glm::dvec3 where = i % 4 == 0 ? at + 2.0 * mirror                               // GGX peak
+                       : i % 4 == 1 ? at + glm::dvec3(2.0, 1e-6 * (i % 3), 0.5)     // grazing
+                       : i % 4 == 2 ? at                                             // on it
+                                    : at + glm::dvec3(p.in(-2.0f, 2.0f), p.in(0.2f, 3.0f), 1.0);
+    s.lights.push_back(Light::point(glm::vec3(where), p.color(), p.in(3.0f, 10.0f)));
+  }
+  return frameOf(std::move(s));
+}
+
 }  // namespace
 
 const std::vector<HardCase>& hardCases() {
@@ -390,6 +466,18 @@ const std::vector<HardCase>& hardCases() {
        [] { return extremeValues("values-near-fp32-max", 2e28f, 1e5f); }},
       {"values-near-fp32-min", "light colours 1e-25, materials x1e-10 (products ~1e-36)",
        [] { return extremeValues("values-near-fp32-min", 1e-25f, 1e-10f); }},
+      {"spot-lights",
+       "46 spot lights, 1-89 degrees: the eye inside cones, cones behind it, on the near plane, "
+       "edge-on, in the floor's plane",
+       spotLights},
+      {"directional-lights",
+       "suns from above, from below and grazing the floor (in its plane, 1e-6 off), with 20 "
+       "point lights",
+       directionalLights},
+      {"metallic-roughness",
+       "glTF's model at roughness 0 and 1, metallic 0 and 1: lights at the floor's mirror "
+       "directions, grazing it, on it",
+       metallicRoughness},
   };
   return cases;
 }

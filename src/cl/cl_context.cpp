@@ -147,7 +147,9 @@ cl::Program ClContext::build(const std::string& file, const std::string& options
   std::vector<std::string> seen;
   std::string source = inlineIncludes(dir, readFile(dir + "/" + file), seen);
   cl::Program program(context_, source);
+  // Kernels may use what only PoCL's compiler and runtime handle (kernels/gbuffer.h, TS_POCL).
   std::string opts = "-cl-std=CL1.2 " + options;
+  if (info_.platform.find("Portable Computing Language") != std::string::npos) opts += " -DTS_POCL";
   auto t0 = std::chrono::steady_clock::now();
   try {
     program.build({info_.device}, opts.c_str());

@@ -50,6 +50,7 @@ class ClusteredTechnique : public Technique {
     shade_ = cl::Kernel(program_, "shade_clustered");
   }
 
+  bool repeatable() const override { return false; }  // lists filled with atomics
   std::string name() const override { return "clustered"; }
 
   FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {

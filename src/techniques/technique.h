@@ -106,6 +106,10 @@ class Technique {
   FrameResult render(DeviceFrame& frame, const FrameRequest& request);
   // Pixels its shading kernel evaluates together per light (TechniqueConfig::lanes as it ran).
   virtual int lanes() const { return 1; }
+  // Whether two renders of one frame give the same bits. Not so where light lists are filled with
+  // atomics (tiled, clustered): a pixel sums its lights in an order that changes from run to run,
+  // so the last bits do.
+  virtual bool repeatable() const { return true; }
   // What its kernels were built for (TechniqueConfig::features).
   const SceneFeatures& features() const { return features_; }
 

@@ -23,6 +23,7 @@ class TiledTechnique : public Technique {
     shade_ = cl::Kernel(program_, "shade_tiled");
   }
 
+  bool repeatable() const override { return false; }  // lists filled with atomics
   std::string name() const override { return "tiled"; }
   int lanes() const override { return config_.lanes; }
 
