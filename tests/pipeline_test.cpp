@@ -205,20 +205,8 @@ TEST(RealContent, CylinderEngineFromAssimpTestModels) {
 }
 
 // The command line: bad input gives one line on stderr and a non-zero exit.
-struct CliRun {
-  int status;
-  std::string output;
-};
-
-CliRun runTileshade(const std::string& args) {
-  std::string cmd = std::string(TILESHADE_BINARY) + " " + args + " 2>&1";
-  CliRun r{0, ""};
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  while (fgets(buf, sizeof buf, p)) r.output += buf;
-  r.status = pclose(p);
-  return r;
-}
+using test::CliRun;
+using test::runTileshade;
 
 TEST(CommandLine, BadInputFailsWithOneLine) {
   if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";

@@ -20,7 +20,10 @@
 #include "scene/light_range.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
+#include "bench/progress.h"
 #include "util/error.h"
+#include "util/file_write.h"
+#include "util/option_values.h"
 
 namespace fs = std::filesystem;
 
@@ -75,8 +78,55 @@ void writeDump(ClContext& cl, DeviceFrame& frame, const TechniqueConfig& config,
   nlohmann::json j = {{"dmin", TS_DMIN},
                       {"ambient", {frame.ambient.x, frame.ambient.y, frame.ambient.z}},
                       {"lights", lights}};
-  std::ofstream(dir + "/lights.json") << j.dump(2) << "\n";
+  writeFile(dir + "/lights.json", j.dump(2) + "\n");
 }
+
+// Progress of the double-precision reference on stderr when it is long (1e5-1e6 lights: minutes
+// per pass); nothing for the usual few-second ones.
+class ReferenceProgress {
+ public:
+  ReferenceProgress(size_t pixels, size_t lights, int passes, int rows)
+      : progress_(size_t(passes) * size_t(rows),
+                  double(pixels) * double(lights) * passes >= kLongReferenceEvaluations,
+                  "tileshade: reference") {}
+  // The RowProgress of one pass called `label`.
+  RowProgress pass(const std::string& label) {
+    return [this, label](int, int) { progress_.step(label); };
+  }
+
+ private:
+  // About 5-10 s of reference shading on two cores.
+  static constexpr double kLongReferenceEvaluations = 2e9;
+  Progress progress_;
+};
+
+std::string frameText(const RenderOptions& o) {
+  return std::to_string(o.width) + "x" + std::to_string(o.height);
+}
+
+}  // namespace
+
+void validateRenderOptions(const RenderOptions& o) {
+  checkInteger("--light-count", o.lightCount, -1, kMaxLightCount);
+  checkNumber("--light-range", o.lightRange, NumberRule::AtLeastZero);
+  checkNumber("--light-threshold", o.lightThreshold, NumberRule::AtLeastZero);
+  checkInteger("--width", o.width, 1, kMaxImageSide);
+  checkInteger("--height", o.height, 1, kMaxImageSide);
+  checkInteger("--frame", o.frame, 0, INT32_MAX);
+  checkInteger("--tile", o.tileWidth, 1, kMaxTileSide);
+  checkInteger("--tile", o.tileHeight, 1, kMaxTileSide);
+  checkInteger("--slices", o.clusterSlices, 1, kMaxClusterSlices);
+  checkNumber("--exposure", o.exposure, NumberRule::AboveZero);
+  if (o.heatmap && !o.check) throw Error("--heatmap needs --check (it maps the error)");
+  parseCulling(o.culling);
+  parseLanes(o.lanes);
+  TechniqueConfig math;
+  math.math = o.math;
+  math.kernelOptions();  // rejects a bad --math
+  for (const auto& t : expandTechniques(o.techniques)) findTechnique(t);
+}
+
+namespace {
 
 std::string kernelSummary(const FrameResult& r) {
   std::ostringstream s;
@@ -89,16 +139,20 @@ std::string kernelSummary(const FrameResult& r) {
 }  // namespace
 
 void runRender(const RenderOptions& o) {
+  // Every option is checked before any work, so a bad one never follows written images.
+  validateRenderOptions(o);
   std::vector<std::string> techniques = expandTechniques(o.techniques);
-  for (const auto& t : techniques) findTechnique(t);  // bad names fail before any work
   SceneOptions sceneOptions;
   sceneOptions.lightSet = o.lightSet;
   sceneOptions.seed = o.seed;
   sceneOptions.lightCount = o.lightCount;
   sceneOptions.lightRange = o.lightRange;
-  Scene scene = loadScene(o.scene, sceneOptions);
+  Scene scene = outOfMemoryAs("loading scene " + o.scene, [&] { return loadScene(o.scene, sceneOptions); });
   if (o.lightThreshold > 0.0f) applyThresholdRanges(scene.lights, o.lightThreshold);
-  PreparedFrame prepared = prepareFrame(scene, o.frame, o.width, o.height, o.format);
+  PreparedFrame prepared =
+      outOfMemoryAs("preparing a " + frameText(o) + " frame with " +
+                        std::to_string(scene.lights.size()) + " lights",
+                    [&] { return prepareFrame(scene, o.frame, o.width, o.height, o.format); });
 
   ClContext cl(o.device);
   DeviceFrame frame = prepared.upload(cl);
@@ -110,7 +164,11 @@ void runRender(const RenderOptions& o) {
   config.culling = parseCulling(o.culling);
   config.math = o.math;
   config.lanes = parseLanes(o.lanes);
-  config.kernelOptions();  // rejects a bad --math before any work
+  // Every technique is created (its configuration checked, its kernels built) before the first
+  // one renders: one that refuses the configuration (e.g. slices beyond the device's local
+  // memory) fails before any file is written.
+  std::vector<std::unique_ptr<Technique>> created;
+  for (const auto& name : techniques) created.push_back(createTechnique(name, cl, config));
 
   std::error_code ec;
   fs::create_directories(o.outDir, ec);
@@ -120,14 +178,19 @@ void runRender(const RenderOptions& o) {
   // and arithmetic), and the physical model (no range cut) from the fp32 G-buffer (adds the bias
   // of the range cut and of the storage precision).
   std::optional<ReferenceImage> reference, physical;
+  ReferenceProgress progress(prepared.encoded.pixelCount(), prepared.lights.size(),
+                             2 + int(techniques.size()), o.height);
   if (o.check) {
-    reference = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
-                               prepared.ambient, config.shadingModel);
-    const EncodedGBuffer fp32 = o.format == GBufferFormat::FP32
-                                    ? prepared.encoded
-                                    : encode(prepared.gbuffer, GBufferFormat::FP32);
-    physical = shadeReference(fp32, prepared.intrinsics, prepared.lights, prepared.ambient,
-                              TS_MODEL_PHYSICAL);
+    outOfMemoryAs("computing the double-precision reference of a " + frameText(o) + " frame", [&] {
+      reference = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
+                                 prepared.ambient, config.shadingModel, 0,
+                                 progress.pass("windowed model"));
+      const EncodedGBuffer fp32 = o.format == GBufferFormat::FP32
+                                      ? prepared.encoded
+                                      : encode(prepared.gbuffer, GBufferFormat::FP32);
+      physical = shadeReference(fp32, prepared.intrinsics, prepared.lights, prepared.ambient,
+                                TS_MODEL_PHYSICAL, 0, progress.pass("physical model"));
+    });
   }
 
   std::cout << "tileshade: " << scene.name << " (" << scene.triangleCount() << " triangles, "
@@ -146,14 +209,16 @@ void runRender(const RenderOptions& o) {
         << std::setw(16) << "lighting comp." << std::setw(15) << "evaluations" << std::setw(13)
         << "max err/peak" << std::setw(8) << "missed" << std::setw(12) << "G-buf MB"
         << "  per-kernel ms\n";
-  for (const auto& name : techniques) {
-    auto technique = createTechnique(name, cl, config);
+  for (size_t t = 0; t < techniques.size(); ++t) {
+    const std::string& name = techniques[t];
+    Technique* technique = created[t].get();
     FrameRequest request;
     request.wantAssignment = o.check;
     FrameResult r = technique->render(frame, request);
 
     std::string dir = techniques.size() == 1 ? o.outDir : o.outDir + "/" + name;
     fs::create_directories(dir, ec);
+    if (ec) throw Error("cannot create output folder " + dir + ": " + ec.message());
     writeExrRgb(dir + "/image.exr", o.width, o.height, r.image);
     writePngToneMapped(dir + "/image.png", o.width, o.height, r.image, o.exposure);
 
@@ -167,7 +232,8 @@ void runRender(const RenderOptions& o) {
                         float(1e-7 * reference->peak), float(1e-2 * reference->peak));
       if (r.assignment)
         missed = countMissedContributions(*r.assignment, prepared.encoded, prepared.intrinsics,
-                                          prepared.lights, config.shadingModel);
+                                          prepared.lights, config.shadingModel,
+                                          progress.pass("missed lights of " + name));
     }
     results.push_back(techniqueJson(name, r, error, missed));
     results.back()["lanes"] = technique->lanes();
@@ -184,6 +250,8 @@ void runRender(const RenderOptions& o) {
           << kernelSummary(r)
           << "\n";
     for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
+    if (uint64_t bad = countNonFinitePixels(r.image))
+      table << "    note: " << bad << " pixel(s) NaN or inf (nonfinite_pixels in stats.json)\n";
   }
   std::cout << table.str();
 
@@ -212,7 +280,7 @@ void runRender(const RenderOptions& o) {
   };
   if (reference)
     stats["reference"] = {{"contributing", reference->contributing}, {"peak", reference->peak}};
-  std::ofstream(o.outDir + "/stats.json") << stats.dump(2) << "\n";
+  writeFile(o.outDir + "/stats.json", stats.dump(2) + "\n");
   if (o.dump) writeDump(cl, frame, config, o.outDir);
   std::cout << "wrote " << o.outDir << "/\n";
 }

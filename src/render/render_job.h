@@ -31,7 +31,12 @@ struct RenderOptions {
   float exposure = 1.0f;               // PNG tone mapping
 };
 
-// Runs the job, prints the table to stdout, writes the files. Throws ts::Error on bad input.
+// Throws ts::Error (one line naming the option) for any option that makes no sense: NaN, inf or
+// negative numbers, zero or absurd sizes, --heatmap without --check, unknown names.
+void validateRenderOptions(const RenderOptions& options);
+
+// Runs the job, prints the table to stdout, writes the files. Throws ts::Error on bad input (every
+// option is checked before any work) and when a file cannot be written.
 void runRender(const RenderOptions& options);
 
 }  // namespace ts
