@@ -50,11 +50,12 @@ int main(int argc, char** argv) {
                         "the file's own lights unless given");
   renderCmd->add_option("--light-count", render.lightCount, "number of lights (-1: the set's own)")
       ->capture_default_str();
-  renderCmd->add_option("--light-range", render.lightRange, "override every light's range (0: keep)")
+  renderCmd->add_option("--light-range", render.lightRange,
+                        "override every light's range (0: keep; finite, >= 0)")
       ->capture_default_str();
   renderCmd->add_option("--light-threshold", render.lightThreshold,
                         "ranges from the attenuation threshold t: r = sqrt(max(C)/t), e.g. "
-                        "0.01953125 (5/256); 0 keeps the scene's ranges")
+                        "0.01953125 (5/256); 0 keeps the scene's ranges (finite, >= 0)")
       ->capture_default_str();
   renderCmd->add_option("--culling", render.culling,
                         "per-tile light test: rect (projected sphere + depth range), frustum "
@@ -91,9 +92,11 @@ int main(int argc, char** argv) {
   renderCmd->add_option("--exposure", render.exposure, "exposure of the tone-mapped PNG (> 0)")
       ->capture_default_str();
   renderCmd->add_flag("--check", render.check,
-                      "compare with the double-precision reference (error, missed lights)");
+                      "compare with the double-precision reference (error, missed lights; "
+                      "progress on stderr when it is long)");
   renderCmd->add_flag("--heatmap", render.heatmap,
-                      "with --check: error.png, a log-scale heat map of the error per pixel");
+                      "with --check (needs it): error.png, a log-scale heat map of the error per "
+                      "pixel");
   renderCmd->add_flag("--dump", render.dump,
                       "also write gbuffer.exr (decoded shading inputs) and lights.json");
 

@@ -304,6 +304,27 @@ TEST(HostileBenchConfig, AbsurdValuesAreOneLineErrors) {
   EXPECT_EQ(ts::expandSweep(o.sweep).size(), 1u);
 }
 
+// Bench configs the fuzzer found slow or crashing (tests/data/fuzz/*.json): each is applied and
+// expanded, ending in success or one line.
+TEST(HostileBenchConfig, FuzzerFindingsParseOrFailCleanly) {
+  fs::path dir = fs::path(ts::test::sourceDir()) / "tests" / "data" / "fuzz";
+  size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() != ".json") continue;
+    ++files;
+    std::ifstream in(e.path());
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ts::BenchOptions o;
+    try {
+      ts::applyBenchConfig(text, e.path().string(), o, [](const std::string&) { return false; });
+      ts::expandSweep(o.sweep);
+    } catch (const ts::Error& x) {
+      EXPECT_EQ(std::string(x.what()).find('\n'), std::string::npos) << x.what();
+    }
+  }
+  EXPECT_GT(files, 0u);
+}
+
 TEST(HostileBenchConfig, ResumeFromACorruptedCsvIsOneLine) {
   if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
   fs::path out = freshDir("resume");

@@ -103,10 +103,21 @@ TEST(HostileGltf, OffsetsNear2To64AreErrorsNotReadsBeforeTheBuffer) {
   expectError(doc, "runs past bufferView 0");
   doc = triangle();
   doc["bufferViews"][0]["byteOffset"] = std::numeric_limits<uint64_t>::max() - 7;
-  expectError(doc, "runs past its buffer");
+  expectError(doc, "runs past buffer 0");
   doc = triangle();
   doc["bufferViews"][0]["byteLength"] = std::numeric_limits<uint64_t>::max();
-  expectError(doc, "runs past its buffer");
+  expectError(doc, "runs past buffer 0");
+}
+
+// tinygltf 2.7 passes an image's bufferView to the image decoder without checking it against the
+// buffer (found by gltf_fuzzer): the JSON check refuses such a bufferView before tinygltf runs.
+TEST(HostileGltf, BufferViewsMustLieInsideTheirBuffer) {
+  json doc = triangle();
+  doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 40}, {"byteLength", 5}});  // 45 > 44
+  doc["images"] = {{{"bufferView", 2}, {"mimeType", "image/png"}}};
+  expectError(doc, "bufferViews[2]: byteOffset + byteLength (45) runs past buffer 0's 44 bytes");
+  doc["bufferViews"][2]["byteOffset"] = std::numeric_limits<uint64_t>::max();
+  expectError(doc, "more than 2^64");
 }
 
 TEST(HostileGltf, SparseAccessorsAreBoundsChecked) {

@@ -225,39 +225,45 @@ std::vector<std::string> splitList(const std::string& s, char sep) {
 
 std::vector<BenchConfig> expandSweep(const BenchSweep& sweep) {
   for (const auto& [name, list] : sweep.values) findDimension(name);
-  std::vector<BenchConfig> configs{BenchConfig{}};
+  // Each dimension's values, each once (" 16" and "16x16" are one tile size), validated; then the
+  // size of the product, before any of it is built.
+  std::vector<std::pair<const BenchDimension*, std::vector<std::string>>> lists;
+  CheckedSize total(1);
   for (const auto& dim : benchDimensions()) {
     auto it = sweep.values.find(dim.name);
     if (it == sweep.values.end()) continue;
-    std::vector<std::string> list;
-    for (const auto& v : it->second)
-      for (const auto& item : splitList(v)) {
-        if (dim.name == "technique" && item == "all") {
-          for (const auto& t : techniqueNames()) list.push_back(t);
-        } else {
-          list.push_back(item);
-        }
-      }
-    if (list.empty()) throw Error(dim.optionName() + ": empty list");
-    // Each value once (" 16" and "16x16" are one tile size): repeated values would multiply the
-    // product before the duplicates are removed below.
     std::vector<std::string> values;
     std::set<std::string> canonical;
-    for (const auto& v : list) {
+    auto add = [&](const std::string& v) {
       BenchConfig probe;
       dim.set(probe, v);
       if (canonical.insert(dim.get(probe)).second) values.push_back(v);
-    }
-    if (!(CheckedSize(configs.size()) * values.size()).fitsWithin(kMaxBenchConfigurations))
+    };
+    for (const auto& v : it->second)
+      for (const auto& item : splitList(v)) {
+        if (dim.name == "technique" && item == "all") {
+          for (const auto& t : techniqueNames()) add(t);
+        } else {
+          add(item);
+        }
+      }
+    if (values.empty()) throw Error(dim.optionName() + ": empty list");
+    total = total * values.size();
+    if (!total.fitsWithin(kMaxBenchConfigurations))
       throw Error("the sweep has more than " + std::to_string(kMaxBenchConfigurations) +
                   " configurations (the product of the lists, up to " + dim.optionName() +
                   "): split it into several runs");
+    lists.emplace_back(&dim, std::move(values));
+  }
+  std::vector<BenchConfig> configs{BenchConfig{}};
+  configs.reserve(total.value());
+  for (const auto& [dim, values] : lists) {
     std::vector<BenchConfig> next;
     next.reserve(configs.size() * values.size());
     for (const auto& c : configs)
       for (const auto& v : values) {
         BenchConfig x = c;
-        dim.set(x, v);
+        dim->set(x, v);
         next.push_back(x);
       }
     configs = std::move(next);
@@ -276,18 +282,20 @@ std::vector<int> FrameSpec::resolve(int pathLength) const {
   std::smatch m;
   std::vector<int> frames;
   const int kMaxFrame = 1 << 20;
+  static const std::regex rangeForm(R"((\d{1,7}):(\d{1,7})(?::(\d{1,7}))?)"),
+      countForm(R"(\d{1,7})"), listForm(R"(\d{1,7}(\s*;\s*\d{1,7})+)");
   auto badFrames = [&](const std::string& what) {
     badOptionValue("--frames", text, what + " (forms: A:B[:S], N, all, a;b;c)");
   };
   if (s == "all") {
     for (int k = 0; k < std::max(pathLength, 1); ++k) frames.push_back(k);
-  } else if (std::regex_match(s, m, std::regex(R"((\d{1,7}):(\d{1,7})(?::(\d{1,7}))?)"))) {
+  } else if (std::regex_match(s, m, rangeForm)) {
     int a = std::stoi(m[1]), b = std::stoi(m[2]), step = m[3].matched ? std::stoi(m[3]) : 1;
     if (step < 1) badFrames("the step must be at least 1");
     if (b <= a) badFrames("the range A:B must have B > A");
     if (b > kMaxFrame) badFrames("frames must be below 2^20");
     for (int k = a; k < b; k += step) frames.push_back(k);
-  } else if (std::regex_match(s, std::regex(R"(\d{1,7})"))) {
+  } else if (std::regex_match(s, countForm)) {
     int n = std::stoi(s);
     if (n < 1) badFrames("the frame count must be at least 1");
     if (n > 100000) badFrames("at most 100000 frames");
@@ -296,7 +304,7 @@ std::vector<int> FrameSpec::resolve(int pathLength) const {
     } else {
       for (int k = 0; k < n; ++k) frames.push_back(int((long long)k * pathLength / n));
     }
-  } else if (std::regex_match(s, std::regex(R"(\d{1,7}(\s*;\s*\d{1,7})+)"))) {
+  } else if (std::regex_match(s, listForm)) {
     for (const auto& item : splitList(s, ';')) frames.push_back(std::stoi(item));
   } else {
     badFrames("unrecognised frame list");

@@ -142,6 +142,7 @@ void runRender(const RenderOptions& o) {
   // Every option is checked before any work, so a bad one never follows written images.
   validateRenderOptions(o);
   std::vector<std::string> techniques = expandTechniques(o.techniques);
+  ClContext cl(o.device);  // a bad --device fails before the scene is loaded
   SceneOptions sceneOptions;
   sceneOptions.lightSet = o.lightSet;
   sceneOptions.seed = o.seed;
@@ -154,7 +155,6 @@ void runRender(const RenderOptions& o) {
                         std::to_string(scene.lights.size()) + " lights",
                     [&] { return prepareFrame(scene, o.frame, o.width, o.height, o.format); });
 
-  ClContext cl(o.device);
   DeviceFrame frame = prepared.upload(cl);
   TechniqueConfig config;
   config.format = o.format;

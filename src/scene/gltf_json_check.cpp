@@ -7,6 +7,7 @@
 #include <limits>
 #include <vector>
 
+#include "util/checked_size.h"
 #include "util/error.h"
 
 namespace ts::gltf {
@@ -50,6 +51,7 @@ class Checker {
       size(v, "byteOffset", at, 0);
       size(v, "byteLength", at, 1);
       integer(v, "byteStride", at, 4, 252);
+      insideItsBuffer(v, at);
     });
     objects(doc_, "buffers", "", [&](const json& b, const std::string& at) {
       string(b, "uri", at);
@@ -97,6 +99,25 @@ class Checker {
         index(k, "light", kat, lightCount());
       });
     });
+  }
+
+  // byteOffset + byteLength within the buffer's declared byteLength (which tinygltf makes the size
+  // of the data it loads): tinygltf 2.7 hands an image's bufferView to the image decoder without
+  // this check (a heap read past the buffer, found by tests/fuzz/gltf_fuzzer).
+  void insideItsBuffer(const json& v, const std::string& at) {
+    const json* buffer = get(v, "buffer");
+    const json* length = get(v, "byteLength");
+    if (!buffer || !length) return;  // tinygltf requires both
+    const json& b = doc_.at("buffers").at(buffer->get<size_t>());
+    const json* declared = get(b, "byteLength");
+    if (!declared || !declared->is_number_unsigned()) return;  // tinygltf requires it
+    const json* offset = get(v, "byteOffset");
+    CheckedSize end = CheckedSize(offset ? offset->get<uint64_t>() : 0) + length->get<uint64_t>();
+    if (!end.fitsWithin(declared->get<uint64_t>()))
+      throw Error("invalid glTF file " + name_ + ": " + at + ": byteOffset + byteLength (" +
+                  (end.overflowed() ? std::string("more than 2^64") : std::to_string(end.value())) +
+                  ") runs past buffer " + std::to_string(buffer->get<size_t>()) + "'s " +
+                  std::to_string(declared->get<uint64_t>()) + " bytes");
   }
 
   void primitive(const json& p, const std::string& at) {

@@ -432,13 +432,21 @@ DecodedImage decodeImageOrThrow(const tinygltf::Image& image, int index, bool sr
   result.why = oneLine(err.empty() ? std::string("built without OpenImageIO") : err);
   return result;
 #else
+  // A PNG that stb_image cannot decode is not retried with OpenImageIO: its PNG reader leaks when
+  // libpng longjmps out of a corrupt file (found by tests/fuzz/gltf_fuzzer), and stb_image reads
+  // every valid PNG.
+  if (image.image.size() >= 8 && std::memcmp(image.image.data(), "\x89PNG\r\n\x1a\n", 8) == 0) {
+    result.why = oneLine(err.empty() ? std::string("not a valid PNG") : err);
+    return result;
+  }
   // Then OpenImageIO from memory (whatever formats it was built with).
   std::string ext = image.mimeType == "image/jpeg" ? "jpg" : "png";
   if (auto dot = image.uri.rfind('.'); !image.uri.empty() && dot != std::string::npos)
     ext = image.uri.substr(dot + 1);
   OIIO::Filesystem::IOMemReader mem(const_cast<unsigned char*>(image.image.data()),
                                     image.image.size());
-  // libpng prints its own "libpng error: ..." lines: they become part of the reason instead.
+  // Image libraries print their own lines (libjpeg's "Corrupt JPEG data: ...", libpng's
+  // "libpng error: ..."): they become part of the reason instead of raw stderr lines.
   StderrCapture libraryMessages;
   auto in = OIIO::ImageInput::open("image." + ext, nullptr, &mem);
   auto failed = [&](const std::string& why) {

@@ -67,7 +67,8 @@ float parseNumber(const std::string& option, const std::string& text, NumberRule
 long long parseInteger(const std::string& option, const std::string& text, long long lo,
                        long long hi) {
   std::string s = trimmed(text);
-  if (!std::regex_match(s, std::regex(R"([-+]?\d{1,18})"))) badOptionValue(option, text, "expected an integer");
+  static const std::regex form(R"([-+]?\d{1,18})");
+  if (!std::regex_match(s, form)) badOptionValue(option, text, "expected an integer");
   long long v = std::strtoll(s.c_str(), nullptr, 10);
   if (v < lo || v > hi)
     badOptionValue(option, text, "expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
@@ -77,7 +78,8 @@ long long parseInteger(const std::string& option, const std::string& text, long 
 std::pair<int, int> parseTileSize(const std::string& text) {
   std::smatch m;
   std::string s = trimmed(text);
-  if (!std::regex_match(s, m, std::regex(R"((\d{1,6})(?:[xX](\d{1,6}))?)")))
+  static const std::regex form(R"((\d{1,6})(?:[xX](\d{1,6}))?)");
+  if (!std::regex_match(s, m, form))
     badOptionValue("--tile", text, "expected N or WxH (e.g. 16 or 32x16)");
   int w = std::atoi(m[1].str().c_str()), h = m[2].matched ? std::atoi(m[2].str().c_str()) : w;
   if (w < 1 || h < 1 || w > kMaxTileSide || h > kMaxTileSide)
@@ -88,7 +90,8 @@ std::pair<int, int> parseTileSize(const std::string& text) {
 std::pair<int, int> parseResolution(const std::string& text) {
   std::smatch m;
   std::string s = trimmed(text);
-  if (!std::regex_match(s, m, std::regex(R"((\d{1,6})[xX](\d{1,6}))")))
+  static const std::regex form(R"((\d{1,6})[xX](\d{1,6}))");
+  if (!std::regex_match(s, m, form))
     badOptionValue("--resolution", text, "expected WxH (e.g. 1280x720)");
   int w = std::atoi(m[1].str().c_str()), h = std::atoi(m[2].str().c_str());
   if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
