@@ -8,6 +8,9 @@ PACKAGES=(
   opencl-headers ocl-icd-opencl-dev opencl-clhpp-headers pocl-opencl-icd clinfo
   libglm-dev libopenimageio-dev libtinygltf-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev python3-matplotlib assimp-testmodels
+  # the sanitizer build and the fuzzers of scripts/test.sh (clang's ASan/UBSan/libFuzzer runtimes,
+  # llvm-symbolizer for readable reports)
+  clang libclang-rt-14-dev llvm
 )
 
 missing=()
