@@ -4,8 +4,8 @@
 #                 unless TILESHADE_DEVICE says otherwise); extra arguments go to this ctest
 #   2. sanitize   an AddressSanitizer + UndefinedBehaviorSanitizer build with clang (./build-asan,
 #                 also holding the fuzz targets) and the whole CTest suite in it, PoCL kernels
-#                 included (TILESHADE_SANITIZE_CTEST_ARGS, default "-LE oclgrind": not the tests
-#                 run under Oclgrind, whose wrapper preloads its library before ASan's runtime)
+#                 included (TILESHADE_SANITIZE_CTEST_ARGS, default "-LE oclgrind": not the slow
+#                 Oclgrind-simulated kernel tests, which the release stage runs)
 #   3. fuzz       each libFuzzer target for TILESHADE_FUZZ_SECONDS (default 60) over its seeds
 # ./scripts/test.sh --quick (or TILESHADE_QUICK=1) runs stage 1 only.
 set -euo pipefail
@@ -73,5 +73,5 @@ run_fuzzer() {  # run_fuzzer NAME DICT SEED_DIR...
 run_fuzzer gltf_fuzzer "$PWD/tests/fuzz/gltf.dict" "$PWD/tests/fuzz/seeds/gltf" "$PWD/tests/data/fuzz" \
   "$work/assimp"
 run_fuzzer bench_config_fuzzer "$PWD/tests/fuzz/bench_config.dict" "$PWD/tests/fuzz/seeds/bench_config" \
-  "$PWD/bench/configs"
+  "$PWD/bench/configs" "$PWD/tests/data/fuzz"
 stage ""

@@ -70,6 +70,8 @@ TEST(HostileOptions, NumbersThatMakeNoSenseAreRefusedWithOneLine) {
       {"--width 0", "--width"},                      {"--height 100000", "--height"},
   };
   for (const auto& [args, needle] : cases) expectOneErrorLine("render " + args + common, {needle});
+  // Once "stoul" was the whole message.
+  expectOneErrorLine("render --device 99999999999999999999 --out " + out.string(), {"device index"});
   // Nothing was written: every option is checked before any work.
   EXPECT_TRUE(fs::is_empty(out)) << out;
   fs::remove_all(out);
