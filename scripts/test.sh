@@ -56,7 +56,8 @@ mkdir -p "$work/builtins" "$work/assimp"
 # The exporter's own files: run once each (at ~1 MB they are too large to fuzz efficiently).
 ./build/tileshade scene export builtin:street "$work/builtins/street.glb" --lights few >/dev/null
 ./build/tileshade scene export builtin:atrium "$work/builtins/atrium.gltf" --lights small >/dev/null
-"$fuzzers/gltf_fuzzer" "$work/builtins/street.glb" "$work/builtins/atrium.gltf" 2>&1 | tail -n 1
+"$fuzzers/gltf_fuzzer" "$work/builtins/street.glb" "$work/builtins/atrium.gltf" >/dev/null 2>&1
+echo "test.sh: the exported built-in scenes load under the sanitizers"
 # Debian's assimp-testmodels: small valid and deliberately broken glTF files, as more seeds.
 find /usr/share/assimp/models/glTF2 \( -name '*.gltf' -o -name '*.glb' \) -size -64k \
   -exec cp {} "$work/assimp/" \; 2>/dev/null || true
@@ -68,7 +69,7 @@ run_fuzzer() {  # run_fuzzer NAME DICT SEED_DIR...
   echo "test.sh: $name for ${fuzz_seconds} s"
   (cd "$work/$name" && "$fuzzers/$name" -max_total_time="$fuzz_seconds" -timeout=25 \
      -rss_limit_mb=4096 -malloc_limit_mb=3072 -max_len=65536 -dict="$dict" -print_final_stats=1 \
-     corpus "$@" 2>&1 | grep -v -E '^#[0-9]+ +(NEW|REDUCE|pulse)' | tail -n 30)
+     corpus "$@" 2>&1 | grep -v -E '^(#[0-9]+[[:space:]]+(NEW|REDUCE|pulse|INITED)|"|###### |[[:space:]]+NEW_FUNC)' | tail -n 40)
 }
 run_fuzzer gltf_fuzzer "$PWD/tests/fuzz/gltf.dict" "$PWD/tests/fuzz/seeds/gltf" "$PWD/tests/data/fuzz" \
   "$work/assimp"
