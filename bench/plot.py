@@ -39,7 +39,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 NUMERIC = {
     "frame", "lights", "geometry_pixels", "total_ms", "wall_ms", "upload_ms", "compile_ms",
     "raster_ms", "warmup", "repeat", "lighting_computations", "evaluations", "gbuffer_bytes_read",
-    "list_min", "list_mean", "list_max", "min_bytes", "min_flops", "bandwidth_gbs", "peak_gflops",
+    "nonfinite_pixels", "list_min", "list_mean", "list_max", "min_bytes", "min_flops", "bandwidth_gbs", "peak_gflops",
     "limit_ms", "limit_pct", "reference_contributing", "err_max_abs", "err_rmse", "err_psnr_db",
     "err_max_rel_peak", "err_p50", "err_p99", "err_p999",
 }
@@ -377,7 +377,9 @@ KNOBS = ["technique", "tile", "slices", "culling", "gbuffer", "math", "light_thr
 
 def error_of(s, prefix):
     """Worst max-error/peak and PSNR over a configuration's error frames, missed contributions."""
-    rel = finite([number(str(r.get(prefix + "max_rel_peak", ""))) for r in s["rows"]])
+    # Infinite errors (frames with NaN/inf pixels) are kept: the worst frame decides.
+    rel = [number(str(r.get(prefix + "max_rel_peak", ""))) for r in s["rows"]]
+    rel = [x for x in rel if not math.isnan(x)]
     psnr = [number(str(r.get(prefix + "psnr_db", ""))) for r in s["rows"]]
     psnr = [p for p in psnr if not math.isnan(p)]
     missed = finite([number(str(r.get("missed_contributions", ""))) for r in s["rows"]])
@@ -419,6 +421,10 @@ def speed_error_groups(summaries, dims, prefix):
     for s in summaries:
         rel, psnr, missed = error_of(s, prefix)
         if math.isnan(rel) or not math.isfinite(s["median"]):
+            continue
+        if math.isinf(rel):  # NaN/inf pixels: no place on an error axis
+            print("plot.py: %s left out of the speed-error plots: its images have NaN/inf pixels"
+                  % s["config_id"], file=sys.stderr)
             continue
         s["_rel"], s["_psnr"], s["_missed"] = rel, psnr, missed
         s["_exact"] = rel <= EXACT_REL and (missed is None or missed == 0)

@@ -78,8 +78,8 @@
 /* "Any lane". PoCL's any() tests the components one by one with a branch each: about 40
  * instructions for 16 lanes, several times per light evaluation. On PoCL (the host defines
  * TS_POCL) clang's vector reduction becomes one mask test (kortest); elsewhere (Oclgrind cannot
- * execute LLVM's vector reductions) the halves are ORed down to one component, whose sign bit is
- * the answer (a few shuffles, no branch). */
+ * execute LLVM's vector reductions) the components are ORed, no branch, and the sign bit of the
+ * result is the answer. */
 #if defined(TS_POCL) && defined(__has_builtin)
 #if __has_builtin(__builtin_reduce_or)
 #define TS_HAVE_REDUCE_OR 1
@@ -89,23 +89,17 @@
 static inline int ts_any_lanes(TS_MASK_TYPE(TS_LANES) m) { return __builtin_reduce_or(m) != 0; }
 #else
 static inline int ts_any_lanes(TS_MASK_TYPE(TS_LANES) m) {
-#if TS_LANES == 16
-  int8 m8 = m.lo | m.hi;
-#else
-  int8 m8 = (int8)(0);
+  int any = m.s0 | m.s1;
+#if TS_LANES >= 4
+  any |= m.s2 | m.s3;
 #endif
 #if TS_LANES >= 8
-#if TS_LANES == 8
-  m8 = m;
+  any |= m.s4 | m.s5 | m.s6 | m.s7;
 #endif
-  int4 m4 = m8.lo | m8.hi;
-#elif TS_LANES == 4
-  int4 m4 = m;
-#else
-  int4 m4 = (int4)(m, 0, 0);
+#if TS_LANES == 16
+  any |= m.s8 | m.s9 | m.sa | m.sb | m.sc | m.sd | m.se | m.sf;
 #endif
-  int2 m2 = m4.lo | m4.hi;
-  return (m2.x | m2.y) < 0;
+  return any < 0;
 }
 #endif
 #define TS_ANY(c) ts_any_lanes(c)

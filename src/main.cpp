@@ -1,6 +1,6 @@
 // tileshade command line: render, devices, scene export (and the benchmark, see src/bench/).
 #include <iostream>
-#include <regex>
+#include <new>
 
 #include <CLI/CLI.hpp>
 
@@ -11,19 +11,9 @@
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
 #include "util/error.h"
+#include "util/option_values.h"
 
 namespace {
-
-// "16" or "16x8" -> (w, h); the tile sizes the techniques accept.
-std::pair<int, int> parseTile(const std::string& s) {
-  std::smatch m;
-  if (!std::regex_match(s, m, std::regex(R"((\d+)(?:x(\d+))?)")))
-    throw ts::Error("--tile expects N or WxH (e.g. 16 or 32x16), got '" + s + "'");
-  int w = std::stoi(m[1]), h = m[2].matched ? std::stoi(m[2]) : w;
-  if (w < 1 || h < 1 || w > 256 || h > 256)
-    throw ts::Error("--tile sides must be within 1..256, got '" + s + "'");
-  return {w, h};
-}
 
 void printDevices() {
   auto devices = ts::listDevices();
@@ -62,7 +52,8 @@ int main(int argc, char** argv) {
                         "the file's own lights unless given");
   renderCmd->add_option("--light-count", render.lightCount, "number of lights (-1: the set's own)")
       ->capture_default_str();
-  renderCmd->add_option("--light-range", render.lightRange, "override every light's range (0: keep)")
+  renderCmd->add_option("--light-range", render.lightRange,
+                        "override every light's range (0: keep; finite, >= 0)")
       ->capture_default_str();
   renderCmd->add_option("--variant", render.variant,
                         "built-in scene variants, a comma list of: " +
@@ -78,7 +69,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   renderCmd->add_option("--light-threshold", render.lightThreshold,
                         "ranges from the attenuation threshold t: r = sqrt(max(C)/t), e.g. "
-                        "0.01953125 (5/256); 0 keeps the scene's ranges")
+                        "0.01953125 (5/256); 0 keeps the scene's ranges (finite, >= 0)")
       ->capture_default_str();
   renderCmd->add_option("--culling", render.culling,
                         "per-tile light test: rect (projected sphere + depth range), frustum "
@@ -130,12 +121,14 @@ int main(int argc, char** argv) {
                         "OpenCL device: cpu, gpu, an index or a name substring (see `devices`); "
                         "default: first GPU, else CPU, or $TILESHADE_DEVICE");
   renderCmd->add_option("--out", render.outDir, "output folder")->capture_default_str();
-  renderCmd->add_option("--exposure", render.exposure, "exposure of the tone-mapped PNG")
+  renderCmd->add_option("--exposure", render.exposure, "exposure of the tone-mapped PNG (> 0)")
       ->capture_default_str();
   renderCmd->add_flag("--check", render.check,
-                      "compare with the double-precision reference (error, missed lights)");
+                      "compare with the double-precision reference (error, missed lights; "
+                      "progress on stderr when it is long)");
   renderCmd->add_flag("--heatmap", render.heatmap,
-                      "with --check: error.png, a log-scale heat map of the error per pixel");
+                      "with --check (needs it): error.png, a log-scale heat map of the error per "
+                      "pixel");
   renderCmd->add_flag("--dump", render.dump,
                       "also write gbuffer.exr (decoded shading inputs), lights.json and "
                       "gbuffer.json (the descriptor --gbuffer-in reads)");
@@ -155,7 +148,7 @@ int main(int argc, char** argv) {
   std::string exportSpec, exportPath, exportLights;
   auto* exportCmd = sceneCmd->add_subcommand("export", "write a scene (with its lights) as glTF");
   exportCmd->add_option("scene", exportSpec, "scene spec, e.g. builtin:street")->required();
-  exportCmd->add_option("path", exportPath, "output .gltf or .glb")->required();
+  exportCmd->add_option("path", exportPath, "output .gltf (buffers embedded) or .glb")->required();
   exportCmd->add_option("--lights", exportLights, "light set");
 
   // bench (src/bench/)
@@ -176,7 +169,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*renderCmd) {
-      auto [tw, th] = parseTile(tile);
+      auto [tw, th] = ts::parseTileSize(tile);
       render.tileWidth = tw;
       render.tileHeight = th;
       render.format = ts::parseGBufferFormat(format);
@@ -189,9 +182,11 @@ int main(int argc, char** argv) {
     } else if (*devicesCmd) {
       printDevices();
     } else if (*exportCmd) {
+      ts::checkExportPath(exportPath);  // before the scene is built
       ts::SceneOptions so;
       so.lightSet = exportLights;
-      ts::Scene scene = ts::loadScene(exportSpec, so);
+      ts::Scene scene = ts::outOfMemoryAs("loading scene " + exportSpec,
+                                          [&] { return ts::loadScene(exportSpec, so); });
       ts::exportGltf(scene, exportPath);
       std::cout << "wrote " << exportPath << " (" << scene.triangleCount() << " triangles, "
                 << scene.lights.size() << " lights)\n";
@@ -202,8 +197,18 @@ int main(int argc, char** argv) {
   } catch (const cl::Error& e) {
     std::cerr << "tileshade: OpenCL error: " << e.what() << " (" << e.err() << ")\n";
     return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "tileshade: error: out of memory (try a smaller image, fewer lights or a smaller "
+                 "scene)\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "tileshade: error: " << e.what() << "\n";
+    return 1;
+  }
+  // The table and "wrote ..." lines: a failed stdout (a full disk behind a redirection) fails too.
+  std::cout.flush();
+  if (!std::cout) {
+    std::cerr << "tileshade: error: cannot write to standard output\n";
     return 1;
   }
   return 0;

@@ -54,7 +54,10 @@ function(tileshade_oclgrind_test name options)
   set_tests_properties(Oclgrind.${name} PROPERTIES LABELS oclgrind SKIP_RETURN_CODE 77
     ENVIRONMENT "TILESHADE_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
 endfunction()
-set(TILESHADE_OCLGRIND_ALL "--data-races --uninitialized --build-options -cl-opt-disable")
+# Every run unoptimised: Oclgrind 21.10 cannot run the llvm.experimental.noalias.scope.decl that
+# LLVM's inliner leaves behind.
+set(TILESHADE_OCLGRIND_NOOPT "--build-options -cl-opt-disable")
+set(TILESHADE_OCLGRIND_ALL "--data-races --uninitialized ${TILESHADE_OCLGRIND_NOOPT}")
 foreach(layout fp32 fp16 packed)
   foreach(lanes 1 16)
     foreach(technique tiled tiled-single clustered deferred deferred-stencil brute)
@@ -63,9 +66,8 @@ foreach(layout fp32 fp16 packed)
       endif()
       set(options ${TILESHADE_OCLGRIND_ALL})
       if(technique STREQUAL "tiled" OR technique STREQUAL "clustered")
-        # the fill-buffer false reports, above; unoptimised like the rest, because Oclgrind 21.10
-        # cannot run the llvm.experimental.noalias.scope.decl that LLVM's inliner leaves
-        set(options "--data-races --build-options -cl-opt-disable")
+        # the fill-buffer false reports, above
+        set(options "--data-races ${TILESHADE_OCLGRIND_NOOPT}")
       endif()
       set(extra)
       if(technique STREQUAL "brute")
@@ -86,18 +88,18 @@ foreach(lanes 1 16)
 endforeach()
 foreach(tile 7x5 24x8)
   foreach(technique tiled tiled-single clustered)
-    tileshade_oclgrind_test(${technique}.tile${tile} "--data-races"
+    tileshade_oclgrind_test(${technique}.tile${tile} "--data-races ${TILESHADE_OCLGRIND_NOOPT}"
       $<TARGET_FILE:tileshade> render ${TILESHADE_OCLGRIND_FRAME} --technique ${technique}
       --gbuffer fp16 --lanes 16 --tile ${tile})
   endforeach()
 endforeach()
 foreach(lanes 1 16)
   # A device allowing 64 work-items per group: every launch's shape from the limits.
-  tileshade_oclgrind_test(all.max-wgsize-64.lanes${lanes} "--data-races --max-wgsize 64"
+  tileshade_oclgrind_test(all.max-wgsize-64.lanes${lanes} "--data-races --max-wgsize 64 ${TILESHADE_OCLGRIND_NOOPT}"
     $<TARGET_FILE:tileshade> render ${TILESHADE_OCLGRIND_FRAME} --technique all --lanes ${lanes}
     --tile 24x8)
 endforeach()
 # The test binary under Oclgrind: its kernels, and its exit (the process-wide context used to be
 # released after the OpenCL runtime's exit handlers, an abort at exit).
-tileshade_oclgrind_test(tests.exit "--data-races" $<TARGET_FILE:tileshade_tests>
+tileshade_oclgrind_test(tests.exit "--data-races ${TILESHADE_OCLGRIND_NOOPT}" $<TARGET_FILE:tileshade_tests>
   --gtest_filter=TiledSingleChunks.OnePixel*)

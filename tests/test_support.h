@@ -1,6 +1,8 @@
 #pragma once
 // Shared pieces of the test suites: one OpenCL context per process (PoCL unless
 // $TILESHADE_DEVICE says otherwise), where to find third-party scenes, and the tileshade binary.
+#include <sys/wait.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -32,14 +34,22 @@ inline std::string sharedScene(const std::string& relative) {
   return std::filesystem::exists(p) ? p.lexically_normal().string() : std::string();
 }
 
-// The tileshade binary run with `args` (stdout and stderr together).
+// The command line: runs the tileshade binary (built beside the tests) with `args`.
 struct CliRun {
-  int status;
-  std::string output;
+  int status;          // as from pclose(); 0 = success
+  std::string output;  // stderr, and stdout unless only stderr was asked for
+  int exitCode() const { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
 };
 
-inline CliRun runTileshade(const std::string& args) {
-  std::string cmd = std::string(TILESHADE_BINARY) + " " + args + " 2>&1";
+enum class Streams { Both, StderrOnly };
+
+inline CliRun runTileshade(const std::string& args, Streams streams = Streams::Both) {
+#ifdef TILESHADE_BINARY
+  std::string cmd = std::string(TILESHADE_BINARY) + " " + args +
+                    (streams == Streams::Both ? " 2>&1" : " 2>&1 >/dev/null");
+#else
+  std::string cmd = "false";
+#endif
   CliRun r{0, ""};
   FILE* p = popen(cmd.c_str(), "r");
   char buf[4096];

@@ -13,6 +13,7 @@
 #include "bench/bench_config.h"
 #include "bench/bench_run.h"
 #include "util/error.h"
+#include "util/option_values.h"
 
 namespace ts {
 namespace {
@@ -65,56 +66,19 @@ std::vector<std::string> jsonValues(const std::string& key, const nlohmann::json
   return out;
 }
 
-// Applies a JSON config file; command-line options that were given win.
+// Applies the --config file; command-line options that were given win.
 void applyConfigFile(BenchCliState& s, BenchOptions& o) {
-  std::ifstream in(s.config);
+  std::ifstream in(s.config, std::ios::binary);
   if (!in) throw Error("cannot read bench config " + s.config);
-  nlohmann::json j = nlohmann::json::parse(in, nullptr, false, true);
-  if (j.is_discarded() || !j.is_object())
-    throw Error("bench config " + s.config + " is not a JSON object");
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    const std::string& key = it.key();
-    const auto& v = it.value();
-    auto want = [&](bool ok, const char* what) {
-      if (!ok) throw Error("bench config " + s.config + ": '" + key + "' expects " + what);
-    };
-    if (key == "description") {
-      want(v.is_string(), "a string");
-      o.description = v.get<std::string>();
-    } else if (key == "comment" || key == "notes") {
-      // free text
-    } else if (key == "frames") {
-      want(v.is_string() || v.is_number_integer(), "a frame spec string");
-      if (!s.framesOpt->count()) o.frames.text = v.is_string() ? v.get<std::string>() : std::to_string(v.get<int>());
-    } else if (key == "warmup") {
-      want(v.is_number_integer(), "an integer");
-      if (!s.warmupOpt->count()) o.warmup = v.get<int>();
-    } else if (key == "repeat") {
-      want(v.is_number_integer(), "an integer");
-      if (!s.repeatOpt->count()) o.repeat = v.get<int>();
-    } else if (key == "error") {
-      want(v.is_boolean(), "true or false");
-      if (!s.errorOpt->count()) o.error = v.get<bool>();
-    } else if (key == "error_frames") {
-      want(v.is_string() || v.is_number_integer(), "a frame spec string");
-      if (!s.errorFramesOpt->count())
-        o.errorFrames = v.is_string() ? v.get<std::string>() : std::to_string(v.get<int>());
-    } else if (key == "calib_mib") {
-      want(v.is_number_integer(), "an integer");
-      if (!s.calibOpt->count()) o.calibration.copyBytes = size_t(v.get<int>()) << 20;
-    } else {
-      std::string known;
-      const BenchDimension* dim = nullptr;
-      for (const auto& d : benchDimensions()) {
-        known += d.name + ", ";
-        if (d.matchesKey(key)) dim = &d;
-      }
-      if (!dim)
-        throw Error("bench config " + s.config + ": unknown field '" + key + "' (known: " + known +
-                    "frames, warmup, repeat, error, error_frames, calib_mib, description)");
-      if (!s.dimOptions.at(dim->name)->count()) o.sweep.set(dim->name, jsonValues(key, v));
-    }
-  }
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::map<std::string, const CLI::Option*> runOptions = {
+      {"frames", s.framesOpt}, {"warmup", s.warmupOpt},         {"repeat", s.repeatOpt},
+      {"error", s.errorOpt},   {"error_frames", s.errorFramesOpt}, {"calib_mib", s.calibOpt}};
+  applyBenchConfig(text, s.config, o, [&](const std::string& field) {
+    auto run = runOptions.find(field);
+    if (run != runOptions.end()) return run->second->count() > 0;
+    return s.dimOptions.at(field)->count() > 0;
+  });
 }
 
 void runCommand(BenchCliState& s) {
@@ -129,7 +93,7 @@ void runCommand(BenchCliState& s) {
   o.resume = s.resume;
   o.overwrite = s.overwrite;
   o.calibrate = !s.noCalibrate;
-  if (s.calibMiB < 1 || s.calibMiB > 65536) throw Error("--calib-mib: expected 1..65536");
+  checkInteger("--calib-mib", s.calibMiB, 1, kMaxCalibMiB);
   o.calibration.copyBytes = size_t(s.calibMiB) << 20;
   o.progress = !s.quiet;
   o.command = commandLine();
@@ -155,6 +119,71 @@ void runCommand(BenchCliState& s) {
 }
 
 }  // namespace
+
+void applyBenchConfig(const std::string& text, const std::string& source, BenchOptions& o,
+                      const std::function<bool(const std::string&)>& givenOnCommandLine) {
+  nlohmann::json j = nlohmann::json::parse(text, nullptr, false, true);
+  if (j.is_discarded() || !j.is_object())
+    throw Error("bench config " + source + " is not a JSON object");
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    const std::string& key = it.key();
+    const auto& v = it.value();
+    auto want = [&](bool ok, const char* what) {
+      if (!ok) throw Error("bench config " + source + ": '" + key + "' expects " + what);
+    };
+    // An integer field within lo..hi (a JSON integer, not truncated to int).
+    auto integer = [&](long long lo, long long hi) {
+      want(v.is_number_integer(), "an integer");
+      bool inRange = v.is_number_unsigned()
+                         ? v.get<unsigned long long>() <= (unsigned long long)hi &&
+                               (lo <= 0 || v.get<unsigned long long>() >= (unsigned long long)lo)
+                         : v.get<long long>() >= lo && v.get<long long>() <= hi;
+      if (!inRange)
+        throw Error("bench config " + source + ": '" + key + "' expects an integer in " +
+                    std::to_string(lo) + ".." + std::to_string(hi) + ", got " + v.dump());
+      return v.is_number_unsigned() ? (long long)v.get<unsigned long long>() : v.get<long long>();
+    };
+    auto frameSpec = [&]() {
+      want(v.is_string() || v.is_number_integer(), "a frame spec string");
+      return v.is_string() ? v.get<std::string>() : std::to_string(integer(0, 10000000));
+    };
+    if (key == "description") {
+      want(v.is_string(), "a string");
+      o.description = v.get<std::string>();
+    } else if (key == "comment" || key == "notes") {
+      // free text
+    } else if (key == "frames") {
+      std::string f = frameSpec();
+      if (!givenOnCommandLine(key)) o.frames.text = f;
+    } else if (key == "warmup") {
+      int n = int(integer(0, kMaxWarmup));
+      if (!givenOnCommandLine(key)) o.warmup = n;
+    } else if (key == "repeat") {
+      int n = int(integer(1, kMaxRepeat));
+      if (!givenOnCommandLine(key)) o.repeat = n;
+    } else if (key == "error") {
+      want(v.is_boolean(), "true or false");
+      if (!givenOnCommandLine(key)) o.error = v.get<bool>();
+    } else if (key == "error_frames") {
+      std::string f = frameSpec();
+      if (!givenOnCommandLine(key)) o.errorFrames = f;
+    } else if (key == "calib_mib") {
+      size_t mib = size_t(integer(1, kMaxCalibMiB));
+      if (!givenOnCommandLine(key)) o.calibration.copyBytes = mib << 20;
+    } else {
+      std::string known;
+      const BenchDimension* dim = nullptr;
+      for (const auto& d : benchDimensions()) {
+        known += d.name + ", ";
+        if (d.matchesKey(key)) dim = &d;
+      }
+      if (!dim)
+        throw Error("bench config " + source + ": unknown field '" + key + "' (known: " + known +
+                    "frames, warmup, repeat, error, error_frames, calib_mib, description)");
+      if (!givenOnCommandLine(dim->name)) o.sweep.set(dim->name, jsonValues(key, v));
+    }
+  }
+}
 
 CliCommand addBenchCommand(CLI::App& app) {
   auto state = std::make_shared<BenchCliState>();

@@ -8,46 +8,12 @@
 #include <set>
 #include <sstream>
 
+#include "util/checked_size.h"
 #include "util/error.h"
+#include "util/option_values.h"
 
 namespace ts {
 namespace {
-
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace((unsigned char)s[b])) ++b;
-  while (e > b && std::isspace((unsigned char)s[e - 1])) --e;
-  return s.substr(b, e - b);
-}
-
-[[noreturn]] void bad(const std::string& option, const std::string& value, const std::string& what) {
-  throw Error(option + ": " + what + ", got '" + value + "'");
-}
-
-long long parseInteger(const std::string& option, const std::string& value, long long lo,
-                       long long hi) {
-  std::string s = trim(value);
-  if (!std::regex_match(s, std::regex(R"([-+]?\d{1,18})")))
-    bad(option, value, "expected an integer");
-  long long v = std::stoll(s);
-  if (v < lo || v > hi)
-    bad(option, value, "expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
-  return v;
-}
-
-float parseNumber(const std::string& option, const std::string& value, float lo) {
-  std::string s = trim(value);
-  size_t used = 0;
-  float v = 0.0f;
-  try {
-    v = std::stof(s, &used);
-  } catch (const std::exception&) {
-    bad(option, value, "expected a number");
-  }
-  if (used != s.size() || !std::isfinite(v)) bad(option, value, "expected a number");
-  if (v < lo) bad(option, value, lo == 0.0f ? "expected a number >= 0" : "number too small");
-  return v;
-}
 
 // Shortest text that reads back as the same float ("12.5", not "12.500000").
 std::string floatText(float v) {
@@ -61,11 +27,11 @@ std::string floatText(float v) {
 
 std::string oneOf(const std::string& option, const std::string& value,
                   const std::vector<std::string>& known) {
-  std::string s = trim(value);
+  std::string s = trimmed(value);
   if (std::find(known.begin(), known.end(), s) != known.end()) return s;
   std::string list;
   for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-  bad(option, value, "expected one of " + list);
+  badOptionValue(option, value, "expected one of " + list);
 }
 
 std::string joinedVariants() {
@@ -91,15 +57,15 @@ std::vector<BenchDimension> makeDimensions() {
   // Order = nesting order of the product (first = outermost) and of the CSV columns.
   add("device", "OpenCL device(s): cpu, gpu, an index or a name substring (`tileshade devices`)",
       false, [](BenchConfig& c, const std::string& v) {
-        std::string s = trim(v);
+        std::string s = trimmed(v);
         c.device = s == "default" ? "" : s;
       },
       [](const BenchConfig& c) { return c.device.empty() ? std::string("default") : c.device; });
   add("scene", "scene(s): builtin:street, builtin:atrium, a .gltf/.glb path, or gbuffer:DIR (an "
       "imported G-buffer: render --dump's folder or a descriptor .json)", true,
       [](BenchConfig& c, const std::string& v) {
-        std::string s = trim(v);
-        if (s.empty()) bad("--scene", v, "expected a scene");
+        std::string s = trimmed(v);
+        if (s.empty()) badOptionValue("--scene", v, "expected a scene");
         c.scene = s;
       },
       [](const BenchConfig& c) { return c.scene; });
@@ -109,7 +75,7 @@ std::vector<BenchDimension> makeDimensions() {
   add("variant", "built-in scene variant(s), each a '+' list of " + joinedVariants() +
       " (none: the scene as designed)", true,
       [](BenchConfig& c, const std::string& v) {
-        std::string s = trim(v);
+        std::string s = trimmed(v);
         std::replace(s.begin(), s.end(), '+', ',');
         if (s == "none") s.clear();
         for (const auto& part : splitList(s, ',')) oneOf("--variant", part, builtinVariants());
@@ -129,22 +95,22 @@ std::vector<BenchDimension> makeDimensions() {
   add("light_set", "light set(s) (street: many, few; atrium: small, big, mixed); default: the scene's",
       true,
       [](BenchConfig& c, const std::string& v) {
-        std::string s = trim(v);
+        std::string s = trimmed(v);
         c.lightSet = s == "default" ? "" : s;
       },
       [](const BenchConfig& c) { return c.lightSet.empty() ? std::string("default") : c.lightSet; });
   d.back().option = "--lights";  // as in `tileshade render`
   add("light_count", "number(s) of lights (-1: the set's own)", true,
       [](BenchConfig& c, const std::string& v) {
-        c.lightCount = int(parseInteger("--light-count", v, -1, 1 << 24));
+        c.lightCount = int(parseInteger("--light-count", v, -1, kMaxLightCount));
       },
       [](const BenchConfig& c) { return std::to_string(c.lightCount); });
   add("light_range", "light range(s) overriding every light's (0: keep), scene units", true,
-      [](BenchConfig& c, const std::string& v) { c.lightRange = parseNumber("--light-range", v, 0.0f); },
+      [](BenchConfig& c, const std::string& v) { c.lightRange = parseNumber("--light-range", v, NumberRule::AtLeastZero); },
       [](const BenchConfig& c) { return floatText(c.lightRange); });
   add("light_threshold", "ranges from the attenuation threshold t (0: keep the scene's)", true,
       [](BenchConfig& c, const std::string& v) {
-        c.lightThreshold = parseNumber("--light-threshold", v, 0.0f);
+        c.lightThreshold = parseNumber("--light-threshold", v, NumberRule::AtLeastZero);
       },
       [](const BenchConfig& c) { return floatText(c.lightThreshold); });
   add("seed", "seed(s) of the built-in scenes", true,
@@ -167,9 +133,9 @@ std::vector<BenchDimension> makeDimensions() {
   add("features", "what the kernels and the G-buffer model: auto (the scene's needs), general, or "
       "a '+' list of specular, emissive, textures, point, spot, directional", false,
       [](BenchConfig& c, const std::string& v) {
-        std::string s = trim(v);
+        std::string s = trimmed(v);
         std::replace(s.begin(), s.end(), '+', ',');
-        if (s.empty()) bad("--features", v, "expected auto, general or a list");
+        if (s.empty()) badOptionValue("--features", v, "expected auto, general or a list");
         c.features = s;
       },
       [](const BenchConfig& c) {
@@ -203,10 +169,10 @@ std::vector<BenchDimension> makeDimensions() {
       [](BenchConfig& c, const std::string& v) { c.math = oneOf("--math", v, {"precise", "fast", "native"}); },
       [](const BenchConfig& c) { return c.math; });
   add("slices", "depth slices of clustered shading", false,
-      [](BenchConfig& c, const std::string& v) { c.clusterSlices = int(parseInteger("--slices", v, 1, 1024)); },
+      [](BenchConfig& c, const std::string& v) { c.clusterSlices = int(parseInteger("--slices", v, 1, kMaxClusterSlices)); },
       [](const BenchConfig& c) { return std::to_string(c.clusterSlices); });
   add("lanes", "pixels shaded together per light: auto (on CPU devices 16 for tiled, tiled-single and brute, else 1), 1, 2, 4, 8, 16", false,
-      [](BenchConfig& c, const std::string& v) { c.lanes = parseLanes(trim(v)); },
+      [](BenchConfig& c, const std::string& v) { c.lanes = parseLanes(trimmed(v)); },
       [](const BenchConfig& c) { return lanesName(c.lanes); });
   return d;
 }
@@ -301,55 +267,53 @@ std::vector<std::string> splitList(const std::string& s, char sep) {
   std::string item;
   std::istringstream in(s);
   while (std::getline(in, item, sep)) {
-    item = trim(item);
+    item = trimmed(item);
     if (!item.empty()) out.push_back(item);
   }
   return out;
 }
 
-std::pair<int, int> parseTileSize(const std::string& value) {
-  std::smatch m;
-  std::string s = trim(value);
-  if (!std::regex_match(s, m, std::regex(R"((\d{1,6})(?:[xX](\d{1,6}))?)")))
-    bad("--tile", value, "expected N or WxH (e.g. 16 or 32x16)");
-  int w = std::stoi(m[1]), h = m[2].matched ? std::stoi(m[2]) : w;
-  if (w < 1 || h < 1 || w > 256 || h > 256) bad("--tile", value, "tile sides must be within 1..256");
-  return {w, h};
-}
-
-std::pair<int, int> parseResolution(const std::string& value) {
-  std::smatch m;
-  std::string s = trim(value);
-  if (!std::regex_match(s, m, std::regex(R"((\d{1,6})[xX](\d{1,6}))")))
-    bad("--resolution", value, "expected WxH (e.g. 1280x720)");
-  int w = std::stoi(m[1]), h = std::stoi(m[2]);
-  if (w < 1 || h < 1 || w > 16384 || h > 16384)
-    bad("--resolution", value, "sides must be within 1..16384");
-  return {w, h};
-}
-
 std::vector<BenchConfig> expandSweep(const BenchSweep& sweep) {
   for (const auto& [name, list] : sweep.values) findDimension(name);
-  std::vector<BenchConfig> configs{BenchConfig{}};
+  // Each dimension's values, each once (" 16" and "16x16" are one tile size), validated; then the
+  // size of the product, before any of it is built.
+  std::vector<std::pair<const BenchDimension*, std::vector<std::string>>> lists;
+  CheckedSize total(1);
   for (const auto& dim : benchDimensions()) {
     auto it = sweep.values.find(dim.name);
     if (it == sweep.values.end()) continue;
-    std::vector<std::string> list;
+    std::vector<std::string> values;
+    std::set<std::string> canonical;
+    auto add = [&](const std::string& v) {
+      BenchConfig probe;
+      dim.set(probe, v);
+      if (canonical.insert(dim.get(probe)).second) values.push_back(v);
+    };
     for (const auto& v : it->second)
       for (const auto& item : splitList(v)) {
         if (dim.name == "technique" && item == "all") {
-          for (const auto& t : techniqueNames()) list.push_back(t);
+          for (const auto& t : techniqueNames()) add(t);
         } else {
-          list.push_back(item);
+          add(item);
         }
       }
-    if (list.empty()) throw Error(dim.optionName() + ": empty list");
+    if (values.empty()) throw Error(dim.optionName() + ": empty list");
+    total = total * values.size();
+    if (!total.fitsWithin(kMaxBenchConfigurations))
+      throw Error("the sweep has more than " + std::to_string(kMaxBenchConfigurations) +
+                  " configurations (the product of the lists, up to " + dim.optionName() +
+                  "): split it into several runs");
+    lists.emplace_back(&dim, std::move(values));
+  }
+  std::vector<BenchConfig> configs{BenchConfig{}};
+  configs.reserve(total.value());
+  for (const auto& [dim, values] : lists) {
     std::vector<BenchConfig> next;
-    next.reserve(configs.size() * list.size());
+    next.reserve(configs.size() * values.size());
     for (const auto& c : configs)
-      for (const auto& v : list) {
+      for (const auto& v : values) {
         BenchConfig x = c;
-        dim.set(x, v);
+        dim->set(x, v);
         next.push_back(x);
       }
     configs = std::move(next);
@@ -364,22 +328,24 @@ std::vector<BenchConfig> expandSweep(const BenchSweep& sweep) {
 void FrameSpec::validate() const { resolve(240); }
 
 std::vector<int> FrameSpec::resolve(int pathLength) const {
-  std::string s = trim(text);
+  std::string s = trimmed(text);
   std::smatch m;
   std::vector<int> frames;
   const int kMaxFrame = 1 << 20;
+  static const std::regex rangeForm(R"((\d{1,7}):(\d{1,7})(?::(\d{1,7}))?)"),
+      countForm(R"(\d{1,7})"), listForm(R"(\d{1,7}(\s*;\s*\d{1,7})+)");
   auto badFrames = [&](const std::string& what) {
-    bad("--frames", text, what + " (forms: A:B[:S], N, all, a;b;c)");
+    badOptionValue("--frames", text, what + " (forms: A:B[:S], N, all, a;b;c)");
   };
   if (s == "all") {
     for (int k = 0; k < std::max(pathLength, 1); ++k) frames.push_back(k);
-  } else if (std::regex_match(s, m, std::regex(R"((\d{1,7}):(\d{1,7})(?::(\d{1,7}))?)"))) {
+  } else if (std::regex_match(s, m, rangeForm)) {
     int a = std::stoi(m[1]), b = std::stoi(m[2]), step = m[3].matched ? std::stoi(m[3]) : 1;
     if (step < 1) badFrames("the step must be at least 1");
     if (b <= a) badFrames("the range A:B must have B > A");
     if (b > kMaxFrame) badFrames("frames must be below 2^20");
     for (int k = a; k < b; k += step) frames.push_back(k);
-  } else if (std::regex_match(s, std::regex(R"(\d{1,7})"))) {
+  } else if (std::regex_match(s, countForm)) {
     int n = std::stoi(s);
     if (n < 1) badFrames("the frame count must be at least 1");
     if (n > 100000) badFrames("at most 100000 frames");
@@ -388,7 +354,7 @@ std::vector<int> FrameSpec::resolve(int pathLength) const {
     } else {
       for (int k = 0; k < n; ++k) frames.push_back(int((long long)k * pathLength / n));
     }
-  } else if (std::regex_match(s, std::regex(R"(\d{1,7}(\s*;\s*\d{1,7})+)"))) {
+  } else if (std::regex_match(s, listForm)) {
     for (const auto& item : splitList(s, ';')) frames.push_back(std::stoi(item));
   } else {
     badFrames("unrecognised frame list");
@@ -400,14 +366,14 @@ std::vector<int> FrameSpec::resolve(int pathLength) const {
 
 Shard Shard::parse(const std::string& value) {
   std::smatch m;
-  std::string s = trim(value);
+  std::string s = trimmed(value);
   if (!std::regex_match(s, m, std::regex(R"((\d{1,6})/(\d{1,6}))")))
-    bad("--shard", value, "expected k/n with 0 <= k < n (e.g. 0/3)");
+    badOptionValue("--shard", value, "expected k/n with 0 <= k < n (e.g. 0/3)");
   Shard sh;
   sh.index = std::stoi(m[1]);
   sh.count = std::stoi(m[2]);
   if (sh.count < 1 || sh.index >= sh.count)
-    bad("--shard", value, "expected k/n with 0 <= k < n (e.g. 0/3)");
+    badOptionValue("--shard", value, "expected k/n with 0 <= k < n (e.g. 0/3)");
   return sh;
 }
 

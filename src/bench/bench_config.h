@@ -13,6 +13,7 @@
 #include "raster/gbuffer_layout.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
+#include "util/option_values.h"
 
 namespace ts {
 
@@ -80,11 +81,12 @@ struct BenchSweep {
 // The cartesian product, in a fixed order (the first dimension varies slowest), duplicates (same
 // key()) removed. "all" as a technique expands to every registered technique. Every value is
 // validated before anything runs: ts::Error naming the option and the bad value.
+// At most kMaxBenchConfigurations configurations (ts::Error beyond: a config file of long lists
+// would otherwise exhaust memory before anything runs).
+constexpr size_t kMaxBenchConfigurations = 100000;
 std::vector<BenchConfig> expandSweep(const BenchSweep& sweep);
 
-// Value parsers shared by the dimensions and the tests; each throws ts::Error on bad input.
-std::pair<int, int> parseTileSize(const std::string& s);   // "16" | "32x16", sides 1..256
-std::pair<int, int> parseResolution(const std::string& s); // "1280x720"
+// parseTileSize and parseResolution, shared with `render`, are in util/option_values.h.
 // Splits "a,b , c" into trimmed non-empty items.
 std::vector<std::string> splitList(const std::string& s, char sep = ',');
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -27,6 +28,8 @@
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
 #include "util/error.h"
+#include "util/file_write.h"
+#include "util/option_values.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -47,6 +50,8 @@ double shadeFlops(ShadingModel model) {
   return model == ShadingModel::MetallicRoughness ? TS_SHADE_FLOPS_METALLIC_ROUGHNESS
                                                   : TS_SHADE_FLOPS_BLINN_PHONG;
 }
+// Counters read back from bench.csv on --resume (18 digits, the most parseInteger reads).
+constexpr long long kMaxCsvInteger = 999999999999999999LL;
 
 std::string nowUtc() {
   std::time_t t = std::time(nullptr);
@@ -132,7 +137,7 @@ const std::vector<std::string>& rowColumns() {
       "device_name", "lanes_used", "features_used", "gbuffer_bytes_per_pixel", "kernel_options", "frame",
       "lights", "geometry_pixels", "total_ms", "kernels", "wall_ms",
       "upload_ms", "compile_ms", "raster_ms", "warmup", "repeat", "lighting_computations",
-      "evaluations", "gbuffer_bytes_read", "list_min", "list_mean", "list_max", "min_bytes",
+      "evaluations", "gbuffer_bytes_read", "nonfinite_pixels", "list_min", "list_mean", "list_max", "min_bytes",
       "min_flops", "flops_basis", "bandwidth_gbs", "peak_gflops", "limit_ms", "limit_pct",
       "reference_contributing", "err_max_abs", "err_rmse", "err_psnr_db", "err_max_rel_peak",
       "err_p50", "err_p99", "err_p999", "notes"};
@@ -169,6 +174,7 @@ std::vector<std::string> csvFieldsOf(const json& row) {
   f.push_back(intText(row, "lighting_computations"));
   f.push_back(intText(row, "evaluations"));
   f.push_back(intText(row, "gbuffer_bytes_read"));
+  f.push_back(intText(row, "nonfinite_pixels"));
   f.push_back(intText(bins, "min"));
   f.push_back(numberText(num(bins, "mean")));
   f.push_back(intText(bins, "max"));
@@ -187,7 +193,7 @@ std::vector<std::string> csvFieldsOf(const json& row) {
 
 // The inverse of csvFieldsOf for rows that bench.json lost (kernel launch counts are not in the
 // CSV and come back as absent).
-json rowFromCsv(const std::map<std::string, std::string>& r) {
+json rowFromCsv(const std::map<std::string, std::string>& r, const std::string& csvName) {
   auto get = [&](const std::string& k) {
     auto it = r.find(k);
     return it == r.end() ? std::string() : it->second;
@@ -195,13 +201,12 @@ json rowFromCsv(const std::map<std::string, std::string>& r) {
   auto number = [&](const std::string& k) -> json {
     std::string v = get(k);
     if (v.empty()) return nullptr;
-    if (v == "inf") return "inf";
-    return std::strtod(v.c_str(), nullptr);
+    return jsonNumber(std::strtod(v.c_str(), nullptr));  // "inf", "-inf" stay strings
   };
   auto integer = [&](const std::string& k) -> json {
     std::string v = get(k);
     if (v.empty()) return nullptr;
-    return std::stoull(v);
+    return (unsigned long long)parseInteger(csvName + " column " + k, v, 0, kMaxCsvInteger);
   };
   json config = json::object();
   for (const auto& d : benchDimensions()) config[d.name] = get(d.name);
@@ -211,6 +216,7 @@ json rowFromCsv(const std::map<std::string, std::string>& r) {
               {"lighting_computations", integer("lighting_computations")},
               {"evaluations", integer("evaluations")},
               {"gbuffer_bytes_read", integer("gbuffer_bytes_read")},
+              {"nonfinite_pixels", integer("nonfinite_pixels")},
               {"lights_per_bin", {{"min", integer("list_min")}, {"mean", number("list_mean")}, {"max", integer("list_max")}}},
               {"notes", json::array()},
               {"config_id", get("config_id")},
@@ -220,7 +226,7 @@ json rowFromCsv(const std::map<std::string, std::string>& r) {
               {"features_used", get("features_used")},
               {"gbuffer_bytes_per_pixel", integer("gbuffer_bytes_per_pixel")},
               {"kernel_options", get("kernel_options")},
-              {"frame", std::stoi(get("frame"))},
+              {"frame", int(parseInteger(csvName + " column frame", get("frame"), 0, INT32_MAX))},
               {"lights", integer("lights")},
               {"geometry_pixels", integer("geometry_pixels")},
               {"wall_ms", number("wall_ms")},
@@ -241,16 +247,6 @@ json rowFromCsv(const std::map<std::string, std::string>& r) {
     row["error"] = e;
   }
   return row;
-}
-
-void writeFileAtomically(const std::string& path, const std::string& text) {
-  std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw Error("cannot write " + tmp);
-    out << text;
-  }
-  fs::rename(tmp, path);
 }
 
 std::string fixed(double v, int digits) {
@@ -348,7 +344,7 @@ std::vector<std::string> summaryCsvColumns() {
        {"device_name", "lanes_used", "features_used", "gbuffer_bytes_per_pixel", "frames", "total_ms_median", "total_ms_min", "total_ms_max", "total_ms_mean",
         "wall_ms_median", "wall_ms_min", "wall_ms_max", "upload_ms_median", "compile_ms",
         "raster_ms_median", "kernels_median", "lighting_computations_median", "evaluations_median",
-        "limit_ms_median", "limit_pct_median", "flops_basis", "error_frames", "err_max_abs_max",
+        "limit_ms_median", "limit_pct_median", "flops_basis", "nonfinite_pixels_max", "error_frames", "err_max_abs_max",
         "err_rmse_max", "err_psnr_db_min", "err_max_rel_peak_max"})
     c.push_back(k);
   return c;
@@ -370,6 +366,7 @@ json summarizeRows(const json& rows) {
     std::vector<std::pair<std::string, std::vector<double>>> kernels;
     std::set<std::string> bases;
     std::vector<double> errMax, errRmse, errPsnr, errRel;
+    double nonfinite = 0.0;
     json frameList = json::array();
     for (const auto& [frame, rp] : frames) {
       const json& r = *rp;
@@ -381,6 +378,7 @@ json summarizeRows(const json& rows) {
       compile.push_back(num(r, "compile_ms"));
       lc.push_back(num(r, "lighting_computations"));
       ev.push_back(num(r, "evaluations"));
+      if (double n = num(r, "nonfinite_pixels"); n > nonfinite) nonfinite = n;
       if (r.contains("limit")) {
         limitMs.push_back(num(r["limit"], "limit_ms"));
         limitPct.push_back(num(r["limit"], "limit_pct"));
@@ -427,15 +425,22 @@ json summarizeRows(const json& rows) {
               {"evaluations", summaryJson(summarize(ev))},
               {"limit_ms", summaryJson(summarize(limitMs))},
               {"limit_pct", summaryJson(summarize(limitPct))},
+              {"nonfinite_pixels_max", uint64_t(nonfinite)},
               {"flops_basis", bases.empty() ? "" : bases.size() == 1 ? *bases.begin() : "mixed"}};
     if (!errMax.empty()) {
-      bool allExact = std::all_of(errPsnr.begin(), errPsnr.end(), [](double v) { return std::isinf(v); });
-      Summary psnr = summarize(errPsnr);
+      // The worst frame, infinities kept: summarize() skips them, but a frame with NaN/inf pixels
+      // has an infinite error (and PSNR -inf), and PSNR +inf (exact) only if every frame is.
+      auto worst = [](const std::vector<double>& v, double sign) {
+        double w = -sign * INFINITY;
+        for (double x : v)
+          if (!std::isnan(x)) w = sign > 0 ? std::max(w, x) : std::min(w, x);
+        return jsonNumber(w);
+      };
       s["error"] = {{"frames", errMax.size()},
-                    {"max_abs", summarize(errMax).max},
-                    {"rmse", summarize(errRmse).max},
-                    {"psnr_db", allExact ? json("inf") : json(psnr.min)},
-                    {"max_rel_peak", summarize(errRel).max}};
+                    {"max_abs", worst(errMax, 1)},
+                    {"rmse", worst(errRmse, 1)},
+                    {"psnr_db", worst(errPsnr, -1)},
+                    {"max_rel_peak", worst(errRel, 1)}};
     }
     out.push_back(s);
   }
@@ -469,8 +474,8 @@ std::vector<int> selectErrorFrames(const std::string& spec, const std::vector<in
 }
 
 BenchRunResult runBench(const BenchOptions& o) {
-  if (o.warmup < 0 || o.warmup > 1000) throw Error("--warmup: expected 0..1000, got " + std::to_string(o.warmup));
-  if (o.repeat < 1 || o.repeat > 1000) throw Error("--repeat: expected 1..1000, got " + std::to_string(o.repeat));
+  checkInteger("--warmup", o.warmup, 0, kMaxWarmup);
+  checkInteger("--repeat", o.repeat, 1, kMaxRepeat);
   o.frames.validate();
   selectErrorFrames(o.errorFrames, {0, 1, 2});
   if (o.resume && o.overwrite) throw Error("--resume and --overwrite exclude each other");
@@ -517,9 +522,10 @@ BenchRunResult runBench(const BenchOptions& o) {
       auto id = r.count("config_id") ? r.at("config_id") : "";
       auto frame = r.count("frame") ? r.at("frame") : "";
       if (id.empty() || frame.empty()) continue;
-      std::pair<std::string, int> key{id, std::stoi(frame)};
+      std::pair<std::string, int> key{
+          id, int(parseInteger(csvPath + " column frame", frame, 0, INT32_MAX))};
       if (done.insert(key).second) order.push_back(key);
-      byKey[key] = rowFromCsv(r);
+      byKey[key] = rowFromCsv(r, csvPath);
     }
     std::ifstream jin(jsonPath);
     if (jin) {
@@ -527,7 +533,8 @@ BenchRunResult runBench(const BenchOptions& o) {
       if (!old.is_discarded()) {
         if (old.contains("rows"))
           for (const auto& r : old["rows"]) {
-            std::pair<std::string, int> key{str(r, "config_id"), r.value("frame", -1)};
+            if (!r.is_object() || !r.contains("frame") || !r["frame"].is_number_integer()) continue;
+            std::pair<std::string, int> key{str(r, "config_id"), r["frame"].get<int>()};
             if (byKey.count(key)) byKey[key] = r;
           }
         if (old.contains("runs") && old["runs"].is_array()) runs = old["runs"];
@@ -545,8 +552,11 @@ BenchRunResult runBench(const BenchOptions& o) {
   for (auto& e : entries) {
     std::string key = sceneKey(e.config);
     auto it = scenes.find(key);
-    if (it == scenes.end()) it = scenes.try_emplace(key, e.config).first;
-    else it->second.check(e.config);
+    if (it == scenes.end())
+      it = outOfMemoryAs("loading scene " + e.config.scene,
+                         [&] { return scenes.try_emplace(key, e.config).first; });
+    else
+      it->second.check(e.config);
     e.frames = o.frames.resolve(it->second.pathLength());
     std::string id = e.config.id();
     for (int f : e.frames) {
@@ -572,7 +582,10 @@ BenchRunResult runBench(const BenchOptions& o) {
 
   std::ofstream csv(csvPath, std::ios::app);
   if (!csv) throw Error("cannot write " + csvPath);
-  if (!csvExists || fs::file_size(csvPath, ec) == 0) csv << csvLine(benchCsvColumns()) << "\n" << std::flush;
+  if (!csvExists || fs::file_size(csvPath, ec) == 0) {
+    csv << csvLine(benchCsvColumns()) << "\n";
+    flushChecked(csv, csvPath);
+  }
 
   json run = {{"started", nowUtc()},
               {"command", o.command},
@@ -675,7 +688,10 @@ BenchRunResult runBench(const BenchOptions& o) {
     for (Entry* e : group) frames.insert(e->pending.begin(), e->pending.end());
 
     for (int f : frames) {
-      PreparedFrame prepared = scene.prepare(g, f);
+      PreparedFrame prepared = outOfMemoryAs(
+          "preparing a " + std::to_string(g.width) + "x" + std::to_string(g.height) + " frame of " +
+              g.scene,
+          [&] { return scene.prepare(g, f); });
       // Each configuration's layout (precision x features), encoded once each, when needed.
       std::map<std::pair<GBufferFormat, std::string>, EncodedGBuffer> layouts;
       auto encoded = [&](GBufferFormat format, const SceneFeatures& features) -> const EncodedGBuffer& {
@@ -800,7 +816,8 @@ BenchRunResult runBench(const BenchOptions& o) {
           if (reference) row["reference_contributing"] = reference->contributing;
           if (errorStored) row["error_vs_stored"] = errorJson(*errorStored);
 
-          csv << csvLine(csvFieldsOf(row)) << "\n" << std::flush;
+          csv << csvLine(csvFieldsOf(row)) << "\n";
+          flushChecked(csv, csvPath);
           rows.push_back(std::move(row));
           ++result.measuredRows;
           e->pending.erase(f);
@@ -839,7 +856,8 @@ BenchRunResult runBench(const BenchOptions& o) {
             numberText(num(sm.at("wall_ms"), "min")), numberText(num(sm.at("wall_ms"), "max")),
             med("upload_ms"), numberText(num(sm, "compile_ms")), med("raster_ms"), kernels,
             med("lighting_computations"), med("evaluations"), med("limit_ms"), med("limit_pct"),
-            str(sm, "flops_basis"), err.empty() ? std::string() : intText(err, "frames"),
+            str(sm, "flops_basis"), intText(sm, "nonfinite_pixels_max"),
+            err.empty() ? std::string() : intText(err, "frames"),
             e("max_abs"), e("rmse"), e("psnr_db"), e("max_rel_peak")})
         f.push_back(v);
       s << csvLine(f) << "\n";

@@ -12,6 +12,9 @@
 
 namespace ts {
 
+// Limits of the run options (command line and --config alike).
+constexpr int kMaxWarmup = 1000, kMaxRepeat = 1000, kMaxCalibMiB = 65536;
+
 struct BenchOptions {
   BenchSweep sweep;
   FrameSpec frames;                 // which frames of the camera path are timed

@@ -5,11 +5,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <utility>
 
 namespace ts {
 
-Progress::Progress(size_t total, bool enabled)
-    : total_(total), enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0),
+Progress::Progress(size_t total, bool enabled, std::string name)
+    : total_(total), name_(std::move(name)), enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0),
       start_(std::chrono::steady_clock::now()), lastLine_(start_) {}
 
 Progress::~Progress() { finish(); }
@@ -55,7 +56,7 @@ void Progress::draw(const std::string& label) {
   int decile = pct / 10;
   double sinceLine = std::chrono::duration<double>(now - lastLine_).count();
   if (decile != lastDecile_ || sinceLine >= 30.0 || done_ == total_) {
-    std::cerr << "bench: " << done_ << "/" << total_ << " (" << pct << "%), elapsed "
+    std::cerr << name_ << ": " << done_ << "/" << total_ << " (" << pct << "%), elapsed "
               << duration(elapsed) << ", ETA " << duration(eta) << " - " << label << "\n";
     lastDecile_ = decile;
     lastLine_ = now;

@@ -9,8 +9,9 @@ namespace ts {
 
 class Progress {
  public:
-  // total: units of work (configuration x frame measurements); enabled = false prints nothing.
-  Progress(size_t total, bool enabled);
+  // total: units of work (configuration x frame measurements); enabled = false prints nothing;
+  // name starts the plain log lines ("bench: 3/40 ...").
+  Progress(size_t total, bool enabled, std::string name = "bench");
   ~Progress();
   void step(const std::string& label);  // one unit done
   void note(const std::string& line);   // a message that must not be overwritten by the bar
@@ -21,6 +22,7 @@ class Progress {
  private:
   void draw(const std::string& label);
   size_t total_, done_ = 0;
+  std::string name_;
   bool enabled_, tty_, drawn_ = false;
   int lastDecile_ = -1;
   std::chrono::steady_clock::time_point start_, lastLine_;

@@ -1,6 +1,7 @@
 #include "cl/cl_context.h"
 
 #include <algorithm>
+#include <limits>
 #include <cctype>
 #include <chrono>
 #include <cstdlib>
@@ -51,7 +52,8 @@ const DeviceInfo& choose(const std::vector<DeviceInfo>& devices, const std::stri
     throw Error("no OpenCL " + s + " device (see `tileshade devices`)");
   }
   if (std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); })) {
-    size_t i = std::stoul(s);
+    // At most 9 digits, so that the number fits (a longer one is out of range anyway).
+    size_t i = s.size() <= 9 ? std::stoul(s) : std::numeric_limits<size_t>::max();
     if (i < devices.size()) return devices[i];
     throw Error("device index " + s + " out of range: " + std::to_string(devices.size()) +
                 " device(s) (see `tileshade devices`)");

@@ -13,33 +13,49 @@ std::vector<float> errorMap(const std::vector<glm::vec4>& image, const Reference
   std::vector<float> out(image.size());
   for (size_t i = 0; i < image.size(); ++i) {
     glm::dvec3 d = glm::abs(glm::dvec3(glm::vec3(image[i])) - ref.rgb[i]);
-    out[i] = float(std::max({d.x, d.y, d.z}));
+    double m = std::max({d.x, d.y, d.z});
+    // NaN compares false in max(): a pixel with any non-finite channel is an infinite error.
+    bool finite = std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z);
+    out[i] = finite ? float(m) : std::numeric_limits<float>::infinity();
   }
   return out;
+}
+
+uint64_t countNonFinitePixels(const std::vector<glm::vec4>& image) {
+  uint64_t n = 0;
+  for (const auto& p : image)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) ++n;
+  return n;
 }
 
 ErrorStats compareToReference(const std::vector<glm::vec4>& image, const ReferenceImage& ref,
                               double tolerance) {
   if (image.size() != ref.rgb.size()) throw Error("image and reference sizes differ");
+  const double inf = std::numeric_limits<double>::infinity();
   ErrorStats e;
-  e.peak = ref.peak;
+  for (const auto& c : ref.rgb)
+    for (int k = 0; k < 3; ++k)
+      if (std::isfinite(c[k])) e.peak = std::max(e.peak, c[k]);
   e.tolerance = tolerance;
   double sumSq = 0.0;
   std::vector<double> perPixel(image.size());
   for (size_t i = 0; i < image.size(); ++i) {
     glm::dvec3 d = glm::dvec3(glm::vec3(image[i])) - ref.rgb[i];
-    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
-      d = glm::dvec3(std::numeric_limits<double>::infinity());
-    sumSq += glm::dot(d, d);
-    glm::dvec3 a = glm::abs(d);
-    perPixel[i] = std::max({a.x, a.y, a.z});
+    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z)) {
+      ++e.nonfinitePixels;
+      perPixel[i] = inf;
+    } else {
+      sumSq += glm::dot(d, d);
+      glm::dvec3 a = glm::abs(d);
+      perPixel[i] = std::max({a.x, a.y, a.z});
+    }
     e.maxAbs = std::max(e.maxAbs, perPixel[i]);
-    if (perPixel[i] > tolerance) ++e.pixelsAboveTolerance;
+    if (!(perPixel[i] <= tolerance)) ++e.pixelsAboveTolerance;
   }
   size_t n = std::max<size_t>(image.size(), 1);
-  e.rmse = std::sqrt(sumSq / double(3 * n));
-  e.psnr = e.rmse > 0.0 ? 20.0 * std::log10(e.peak / e.rmse)
-                        : std::numeric_limits<double>::infinity();
+  e.rmse = e.nonfinitePixels ? inf : std::sqrt(sumSq / double(3 * n));
+  if (e.nonfinitePixels) e.psnr = -inf;
+  else e.psnr = e.rmse > 0.0 ? 20.0 * std::log10(e.peak / e.rmse) : inf;
   e.maxRelPeak = e.peak > 0.0 ? e.maxAbs / e.peak : e.maxAbs;
   auto quantile = [&](double q) {
     if (perPixel.empty()) return 0.0;

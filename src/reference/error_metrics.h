@@ -9,16 +9,23 @@
 
 namespace ts {
 
+// A pixel whose image (or reference) value is NaN or inf has an infinite error: it is counted in
+// nonfinitePixels and makes maxAbs, rmse and maxRelPeak +inf and psnr -inf, so such an image is
+// never reported as exact (psnr +inf means rmse is exactly 0 and every pixel finite).
 struct ErrorStats {
   double maxAbs = 0.0;      // largest channel difference
   double rmse = 0.0;        // over all pixels and channels
-  double psnr = 0.0;        // 20 log10(peak / rmse), peak = the reference's peak; inf if exact
+  double psnr = 0.0;        // 20 log10(peak / rmse), peak = the reference's peak; +inf if exact
   double maxRelPeak = 0.0;  // maxAbs / peak
   double p50 = 0.0, p99 = 0.0, p999 = 0.0;  // quantiles of the per-pixel max channel error
   double tolerance = 0.0;   // the threshold counted below
-  uint64_t pixelsAboveTolerance = 0;
-  double peak = 0.0;
+  uint64_t pixelsAboveTolerance = 0;  // non-finite pixels included
+  uint64_t nonfinitePixels = 0;       // pixels with a NaN or inf channel (image or reference)
+  double peak = 0.0;                  // largest finite channel value of the reference
 };
+
+// Pixels of an image with a NaN or inf colour channel.
+uint64_t countNonFinitePixels(const std::vector<glm::vec4>& image);
 
 // `tolerance` is absolute; pass e.g. 1e-4 * ref.peak.
 ErrorStats compareToReference(const std::vector<glm::vec4>& image, const ReferenceImage& ref,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <mutex>
 #include <thread>
 
 #include "reference/shading_cpu.h"
@@ -9,15 +10,24 @@
 namespace ts {
 namespace {
 
-// Runs body(y) for every row on `threads` threads (0 = all cores), rows handed out dynamically.
+// Runs body(y) for every row on `threads` threads (0 = all cores), rows handed out dynamically;
+// reports each finished row to `progress` (serialised).
 template <typename Body>
-void parallelRows(int height, int threads, Body body) {
+void parallelRows(int height, int threads, const RowProgress& progress, Body body) {
   int n = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
   std::atomic<int> next{0};
+  int done = 0;
+  std::mutex progressMutex;
   std::vector<std::thread> pool;
   for (int t = 0; t < n; ++t)
     pool.emplace_back([&] {
-      for (int y; (y = next++) < height;) body(y);
+      for (int y; (y = next++) < height;) {
+        body(y);
+        if (progress) {
+          std::lock_guard<std::mutex> lock(progressMutex);
+          progress(++done, height);
+        }
+      }
     });
   for (auto& th : pool) th.join();
 }
@@ -54,7 +64,7 @@ bool nonZero(const glm::dvec3& v) { return v.x != 0.0 || v.y != 0.0 || v.z != 0.
 
 ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
                               const ViewLights& lights, glm::vec3 ambient, int model,
-                              int threads) {
+                              int threads, const RowProgress& progress) {
   ReferenceImage ref;
   ref.width = gbuffer.width;
   ref.height = gbuffer.height;
@@ -62,7 +72,7 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
   std::vector<uint64_t> rowContributing(size_t(gbuffer.height), 0);
   glm::dvec3 a = glm::dvec3(ambient);
   const int shading = int(gbuffer.model);
-  parallelRows(gbuffer.height, threads, [&](int y) {
+  parallelRows(gbuffer.height, threads, progress, [&](int y) {
     for (int x = 0; x < gbuffer.width; ++x) {
       SurfaceD s;
       if (!decodeSurface(gbuffer, camera, x, y, s)) continue;
@@ -93,15 +103,18 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
 
 uint64_t countMissedContributions(const LightAssignment& assignment, const EncodedGBuffer& gbuffer,
                                   const CameraIntrinsics& camera, const ViewLights& lights,
-                                  int model) {
-  // Bitsets of the lights each bin lists, for O(1) membership.
+                                  int model, const RowProgress& progress) {
+  // Each bin's lights, sorted for a binary search: memory in proportion to the lists themselves
+  // (a bins x lights bitset would need 3.6 GB for 1e6 lights on 3600 tiles).
   size_t bins = assignment.binCount.size(), n = lights.size();
-  std::vector<uint8_t> listed(bins * n, 0);
-  for (size_t b = 0; b < bins; ++b)
-    for (uint32_t k = 0; k < assignment.binCount[b]; ++k)
-      listed[b * n + assignment.binLights[assignment.binOffset[b] + k]] = 1;
+  std::vector<std::vector<uint32_t>> listed(bins);
+  for (size_t b = 0; b < bins; ++b) {
+    auto first = assignment.binLights.begin() + long(assignment.binOffset[b]);
+    listed[b].assign(first, first + long(assignment.binCount[b]));
+    std::sort(listed[b].begin(), listed[b].end());
+  }
   std::vector<uint64_t> rowMisses(size_t(gbuffer.height), 0);
-  parallelRows(gbuffer.height, 0, [&](int y) {
+  parallelRows(gbuffer.height, 0, progress, [&](int y) {
     for (int x = 0; x < gbuffer.width; ++x) {
       SurfaceD s;
       if (!decodeSurface(gbuffer, camera, x, y, s)) continue;
@@ -110,7 +123,8 @@ uint64_t countMissedContributions(const LightAssignment& assignment, const Encod
       int bin = assignment.pixelBin.empty() ? -1 : assignment.pixelBin[pixel];
       for (size_t i = 0; i < n; ++i) {
         if (!nonZero(lightContribution(s, p, lights, i, model, int(gbuffer.model)))) continue;
-        bool seen = bin >= 0 && listed[size_t(bin) * n + i];
+        bool seen = bin >= 0 && std::binary_search(listed[size_t(bin)].begin(),
+                                                   listed[size_t(bin)].end(), uint32_t(i));
         if (!seen && !assignment.lightRect.empty()) {
           const glm::ivec4& r = assignment.lightRect[i];
           seen = x >= r.x && y >= r.y && x < r.z && y < r.w;

@@ -3,6 +3,7 @@
 // values the kernels read, shaded by kernels/shading.h compiled as C++ with TS_REAL = double, in
 // the G-buffer's shading model. `model` is the range model (TS_MODEL_WINDOWED / _PHYSICAL).
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -21,9 +22,13 @@ struct ReferenceImage {
   double peak = 0.0;              // largest channel value
 };
 
+// Called from the worker threads (one call at a time) after each image row with the rows done so
+// far and the total, so that a long reference (1e5-1e6 lights) can show progress; may be empty.
+using RowProgress = std::function<void(int rowsDone, int rows)>;
+
 ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
                               const ViewLights& lights, glm::vec3 ambient, int model,
-                              int threads = 0);
+                              int threads = 0, const RowProgress& progress = {});
 
 // For every geometry pixel and every point or spot light whose reference contribution is non-zero
 // (directional lights are never culled), checks that
@@ -31,6 +36,6 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
 // rectangle covers the pixel). Returns the number of misses: 0 = conservative culling.
 uint64_t countMissedContributions(const LightAssignment& assignment, const EncodedGBuffer& gbuffer,
                                   const CameraIntrinsics& camera, const ViewLights& lights,
-                                  int model);
+                                  int model, const RowProgress& progress = {});
 
 }  // namespace ts

@@ -7,6 +7,7 @@
 #include "render/gbuffer_files.h"
 #include "cl/work_group.h"
 #include "render/image_io.h"
+#include "util/file_write.h"
 #include "techniques/device_frame.h"
 #include "util/error.h"
 
@@ -68,7 +69,7 @@ void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFra
   for (const auto& h : host) names.push_back(h.name);
   writeExr(dir + "/gbuffer.exr", encoded.width, encoded.height, names, data);
 
-  std::ofstream(dir + "/lights.json") << lightsJson(*frame.lights, frame.ambient).dump(2) << "\n";
+  writeFile(dir + "/lights.json", lightsJson(*frame.lights, frame.ambient).dump(2) + "\n");
 
   const CameraIntrinsics& in = prepared.intrinsics;
   nlohmann::json d = {
@@ -98,9 +99,7 @@ void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFra
       d[f->key] = list;
     }
   }
-  std::ofstream out(dir + "/gbuffer.json");
-  if (!out) throw Error("cannot write " + dir + "/gbuffer.json");
-  out << d.dump(2) << "\n";
+  writeFile(dir + "/gbuffer.json", d.dump(2) + "\n");
 }
 
 }  // namespace ts

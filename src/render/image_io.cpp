@@ -7,20 +7,36 @@
 #include <iostream>
 
 #ifndef TILESHADE_NO_OIIO
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #endif
 
 #include "util/error.h"
+#include "util/file_write.h"
+#include "util/stderr_capture.h"
 
 namespace ts {
 namespace {
 
 #ifndef TILESHADE_NO_OIIO
+// Encodes in memory (the format from the extension), then writes the file with a checked write:
+// OpenImageIO's PNG writer reports success on a full disk. What libpng prints itself goes into
+// the error message instead of a raw "libpng error:" line.
 void write(const std::string& path, const OIIO::ImageSpec& spec, const void* data) {
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw Error("cannot write " + path + ": " + OIIO::geterror());
-  if (!out->open(path, spec) || !out->write_image(spec.format, data) || !out->close())
-    throw Error("cannot write " + path + ": " + out->geterror());
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput memory(bytes);
+  StderrCapture libraryMessages;
+  auto out = OIIO::ImageOutput::create(path, &memory);
+  bool ok = out && out->supports("ioproxy") && out->open(path, spec) &&
+            out->write_image(spec.format, data) && out->close();
+  std::string printed = libraryMessages.text();
+  if (!ok) {
+    std::string why = !out ? OIIO::geterror()
+                           : !out->supports("ioproxy") ? "OpenImageIO cannot encode it in memory"
+                                                       : out->geterror();
+    throw Error("cannot write " + path + ": " + why + (printed.empty() ? "" : " (" + printed + ")"));
+  }
+  writeFile(path, bytes.data(), bytes.size());
 }
 #else
 // A measurement build (TILESHADE_WITH_OIIO=OFF) says once that it writes no images.
@@ -46,7 +62,7 @@ ImageSpec PngSpec(int width, int height) { return ImageSpec(width, height, 3, kU
 #endif
 
 uint8_t srgb8(float linear) {
-  float v = std::clamp(linear, 0.0f, 1.0f);
+  float v = std::isnan(linear) ? 0.0f : std::clamp(linear, 0.0f, 1.0f);  // NaN: black
   v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
   return uint8_t(std::lround(v * 255.0f));
 }

@@ -23,7 +23,10 @@
 #include "scene/light_range.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
+#include "bench/progress.h"
 #include "util/error.h"
+#include "util/file_write.h"
+#include "util/option_values.h"
 
 namespace fs = std::filesystem;
 
@@ -46,6 +49,55 @@ std::vector<std::string> expandTechniques(const std::vector<std::string>& names)
   return out;
 }
 
+// Progress of the double-precision reference on stderr when it is long (1e5-1e6 lights: minutes
+// per pass); nothing for the usual few-second ones.
+class ReferenceProgress {
+ public:
+  ReferenceProgress(size_t pixels, size_t lights, int passes, int rows)
+      : progress_(size_t(passes) * size_t(rows),
+                  double(pixels) * double(lights) * passes >= kLongReferenceEvaluations,
+                  "tileshade: reference") {}
+  // The RowProgress of one pass called `label`.
+  RowProgress pass(const std::string& label) {
+    return [this, label](int, int) { progress_.step(label); };
+  }
+
+ private:
+  // About 5-10 s of reference shading on two cores.
+  static constexpr double kLongReferenceEvaluations = 2e9;
+  Progress progress_;
+};
+
+std::string frameText(const RenderOptions& o) {
+  return std::to_string(o.width) + "x" + std::to_string(o.height);
+}
+
+}  // namespace
+
+void validateRenderOptions(const RenderOptions& o) {
+  checkInteger("--light-count", o.lightCount, -1, kMaxLightCount);
+  checkNumber("--light-range", o.lightRange, NumberRule::AtLeastZero);
+  checkNumber("--light-threshold", o.lightThreshold, NumberRule::AtLeastZero);
+  checkInteger("--width", o.width, 1, kMaxImageSide);
+  checkInteger("--height", o.height, 1, kMaxImageSide);
+  checkInteger("--frame", o.frame, 0, INT32_MAX);
+  checkInteger("--tile", o.tileWidth, 1, kMaxTileSide);
+  checkInteger("--tile", o.tileHeight, 1, kMaxTileSide);
+  checkInteger("--slices", o.clusterSlices, 1, kMaxClusterSlices);
+  checkNumber("--exposure", o.exposure, NumberRule::AboveZero);
+  if (o.heatmap && !o.check) throw Error("--heatmap needs --check (it maps the error)");
+  parseCulling(o.culling);
+  parseSpotCulling(o.spotCulling);
+  parseLanes(o.lanes);
+  if (o.shadingModel != "auto") parseShadingModel(o.shadingModel);
+  TechniqueConfig math;
+  math.math = o.math;
+  math.kernelOptions();  // rejects a bad --math
+  for (const auto& t : expandTechniques(o.techniques)) findTechnique(t);
+}
+
+namespace {
+
 std::string kernelSummary(const FrameResult& r) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(3);
@@ -57,9 +109,13 @@ std::string kernelSummary(const FrameResult& r) {
 }  // namespace
 
 void runRender(const RenderOptions& options) {
+  // Every option is checked before any work, so a bad one never follows written images.
+  validateRenderOptions(options);
   std::vector<std::string> techniques = expandTechniques(options.techniques);
-  for (const auto& t : techniques) findTechnique(t);  // bad names fail before any work
-  const RenderInput input = loadRenderInput(options);
+  ClContext cl(options.device);  // a bad --device fails before the scene is loaded
+  const RenderInput input = outOfMemoryAs(
+      "loading and rasterizing " + (options.gbufferIn.empty() ? options.scene : options.gbufferIn),
+      [&] { return loadRenderInput(options); });
   const PreparedFrame& prepared = input.frame;
   const SceneFeatures& features = prepared.features;
   RenderOptions o = options;  // an imported G-buffer decides the size and maybe the layout
@@ -67,7 +123,6 @@ void runRender(const RenderOptions& options) {
   o.height = prepared.intrinsics.height;
   o.format = prepared.encoded.format;
 
-  ClContext cl(o.device);
   DeviceFrame frame = prepared.upload(cl);
   TechniqueConfig config;
   config.format = o.format;
@@ -80,7 +135,11 @@ void runRender(const RenderOptions& options) {
   config.depthSplit = o.depthSplit;
   config.math = o.math;
   config.lanes = parseLanes(o.lanes);
-  config.kernelOptions();  // rejects a bad --math before any work
+  // Every technique is created (its configuration checked, its kernels built) before the first
+  // one renders: one that refuses the configuration (e.g. slices beyond the device's local
+  // memory) fails before any file is written.
+  std::vector<std::unique_ptr<Technique>> created;
+  for (const auto& name : techniques) created.push_back(createTechnique(name, cl, config));
 
   std::error_code ec;
   fs::create_directories(o.outDir, ec);
@@ -90,14 +149,19 @@ void runRender(const RenderOptions& options) {
   // and arithmetic), and the physical model (no range cut) from the fp32 G-buffer (adds the bias
   // of the range cut and of the storage precision).
   std::optional<ReferenceImage> reference, physical;
+  ReferenceProgress progress(prepared.encoded.pixelCount(), prepared.lights.size(),
+                             2 + int(techniques.size()), o.height);
   if (o.check) {
-    reference = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
-                               prepared.ambient, config.shadingModel);
-    const EncodedGBuffer fp32 = o.format == GBufferFormat::FP32
-                                    ? prepared.encoded
-                                    : encode(prepared.gbuffer, GBufferFormat::FP32);
-    physical = shadeReference(fp32, prepared.intrinsics, prepared.lights, prepared.ambient,
-                              TS_MODEL_PHYSICAL);
+    outOfMemoryAs("computing the double-precision reference of a " + frameText(o) + " frame", [&] {
+      reference = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
+                                 prepared.ambient, config.shadingModel, 0,
+                                 progress.pass("windowed model"));
+      const EncodedGBuffer fp32 = o.format == GBufferFormat::FP32
+                                      ? prepared.encoded
+                                      : encode(prepared.gbuffer, GBufferFormat::FP32);
+      physical = shadeReference(fp32, prepared.intrinsics, prepared.lights, prepared.ambient,
+                                TS_MODEL_PHYSICAL, 0, progress.pass("physical model"));
+    });
   }
 
   std::cout << "tileshade: " << input.sceneName << " (" << input.triangles << " triangles, "
@@ -120,14 +184,16 @@ void runRender(const RenderOptions& options) {
         << std::setw(16) << "lighting comp." << std::setw(15) << "evaluations" << std::setw(13)
         << "max err/peak" << std::setw(8) << "missed" << std::setw(12) << "G-buf MB"
         << "  per-kernel ms\n";
-  for (const auto& name : techniques) {
-    auto technique = createTechnique(name, cl, config);
+  for (size_t t = 0; t < techniques.size(); ++t) {
+    const std::string& name = techniques[t];
+    Technique* technique = created[t].get();
     FrameRequest request;
     request.wantAssignment = o.check;
     FrameResult r = technique->render(frame, request);
 
     std::string dir = techniques.size() == 1 ? o.outDir : o.outDir + "/" + name;
     fs::create_directories(dir, ec);
+    if (ec) throw Error("cannot create output folder " + dir + ": " + ec.message());
     writeExrRgb(dir + "/image.exr", o.width, o.height, r.image);
     writePngToneMapped(dir + "/image.png", o.width, o.height, r.image, o.exposure);
 
@@ -141,7 +207,8 @@ void runRender(const RenderOptions& options) {
                         float(1e-7 * reference->peak), float(1e-2 * reference->peak));
       if (r.assignment)
         missed = countMissedContributions(*r.assignment, prepared.encoded, prepared.intrinsics,
-                                          prepared.lights, config.shadingModel);
+                                          prepared.lights, config.shadingModel,
+                                          progress.pass("missed lights of " + name));
     }
     results.push_back(techniqueJson(name, r, error, missed));
     results.back()["lanes"] = technique->lanes();
@@ -158,6 +225,8 @@ void runRender(const RenderOptions& options) {
           << kernelSummary(r)
           << "\n";
     for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
+    if (uint64_t bad = countNonFinitePixels(r.image))
+      table << "    note: " << bad << " pixel(s) NaN or inf (nonfinite_pixels in stats.json)\n";
   }
   std::cout << table.str();
 
@@ -195,7 +264,7 @@ void runRender(const RenderOptions& options) {
   };
   if (reference)
     stats["reference"] = {{"contributing", reference->contributing}, {"peak", reference->peak}};
-  std::ofstream(o.outDir + "/stats.json") << stats.dump(2) << "\n";
+  writeFile(o.outDir + "/stats.json", stats.dump(2) + "\n");
   if (o.dump) writeGBufferDump(cl, frame, prepared, input.sceneName, input.raster, o.outDir);
   std::cout << "wrote " << o.outDir << "/\n";
 }

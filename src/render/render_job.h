@@ -40,7 +40,12 @@ struct RenderOptions {
   bool keepInputLayout = false;        // with gbufferIn: encode in the files' layout, not `format`
 };
 
-// Runs the job, prints the table to stdout, writes the files. Throws ts::Error on bad input.
+// Throws ts::Error (one line naming the option) for any option that makes no sense: NaN, inf or
+// negative numbers, zero or absurd sizes, --heatmap without --check, unknown names.
+void validateRenderOptions(const RenderOptions& options);
+
+// Runs the job, prints the table to stdout, writes the files. Throws ts::Error on bad input (every
+// option is checked before any work) and when a file cannot be written.
 void runRender(const RenderOptions& options);
 
 }  // namespace ts

@@ -4,14 +4,24 @@
 
 namespace ts {
 
+nlohmann::json jsonNumber(double v) {
+  if (std::isfinite(v)) return v;
+  if (std::isnan(v)) return "nan";
+  return v > 0 ? "inf" : "-inf";
+}
+
 nlohmann::json errorJson(const ErrorStats& e) {
-  auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json("inf"); };
-  return {{"max_abs", e.maxAbs},       {"rmse", e.rmse},
-          {"psnr_db", finite(e.psnr)}, {"max_rel_peak", e.maxRelPeak},
-          {"p50", e.p50},              {"p99", e.p99},
-          {"p999", e.p999},            {"tolerance", e.tolerance},
+  return {{"max_abs", jsonNumber(e.maxAbs)},
+          {"rmse", jsonNumber(e.rmse)},
+          {"psnr_db", jsonNumber(e.psnr)},
+          {"max_rel_peak", jsonNumber(e.maxRelPeak)},
+          {"p50", jsonNumber(e.p50)},
+          {"p99", jsonNumber(e.p99)},
+          {"p999", jsonNumber(e.p999)},
+          {"tolerance", jsonNumber(e.tolerance)},
           {"pixels_above_tolerance", e.pixelsAboveTolerance},
-          {"reference_peak", e.peak}};
+          {"nonfinite_pixels", e.nonfinitePixels},
+          {"reference_peak", jsonNumber(e.peak)}};
 }
 
 nlohmann::json techniqueJson(const std::string& name, const FrameResult& r,
@@ -28,6 +38,7 @@ nlohmann::json techniqueJson(const std::string& name, const FrameResult& r,
       {"lighting_computations", c.lightingComputations},
       {"evaluations", c.evaluations},
       {"gbuffer_bytes_read", c.gbufferBytesRead},
+      {"nonfinite_pixels", countNonFinitePixels(r.image)},
       {"lights_per_bin", {{"min", c.listMin}, {"mean", c.listMean}, {"max", c.listMax}}},
       {"notes", c.notes},
   };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstring>
+#include <sstream>
 
 #ifndef TILESHADE_NO_OIIO
 #include <OpenImageIO/filesystem.h>
@@ -16,14 +17,16 @@
 #include "scene/gltf_mapping.h"
 #include "scene/scene_loader.h"
 #include "util/error.h"
+#include "util/file_write.h"
+#include "util/stderr_capture.h"
 
 namespace ts {
 
 namespace {
 
-bool endsWithGlb(std::string s) {
+bool endsWith(std::string s, const std::string& suffix) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s.size() >= 4 && s.compare(s.size() - 4, 4, ".glb") == 0;
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 tinygltf::Value number(double v) { return tinygltf::Value(v); }
@@ -97,19 +100,29 @@ std::vector<unsigned char> encodePng(const Texture& t) {
 #else
   std::vector<unsigned char> png;
   OIIO::Filesystem::IOVecOutput out(png);
+  StderrCapture libraryMessages;  // libpng prints its errors itself
   auto writer = OIIO::ImageOutput::create("png", &out);
   OIIO::ImageSpec spec(t.width, t.height, 4, OIIO::TypeDesc::UINT8);
-  if (!writer || !writer->open("texture.png", spec) ||
-      !writer->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !writer->close())
-    throw Error("cannot encode a texture as PNG: " +
-                (writer ? writer->geterror() : OIIO::geterror()));
+  bool ok = writer && writer->open("texture.png", spec) &&
+            writer->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && writer->close();
+  std::string printed = libraryMessages.text();
+  if (!ok) {
+    std::string why = writer ? writer->geterror() : OIIO::geterror();
+    throw Error("cannot encode a texture as PNG: " + why + (printed.empty() ? "" : " (" + printed + ")"));
+  }
   return png;
 #endif
 }
 
 }  // namespace
 
+void checkExportPath(const std::string& path) {
+  if (!endsWith(path, ".gltf") && !endsWith(path, ".glb"))
+    throw Error("cannot export to " + path + ": the file name must end in .gltf or .glb");
+}
+
 void exportGltf(const Scene& scene, const std::string& path) {
+  checkExportPath(path);
   Writer w;
   tinygltf::Model& m = w.model;
   bool emissiveStrength = false;
@@ -295,11 +308,14 @@ void exportGltf(const Scene& scene, const std::string& path) {
   if (!m.lights.empty()) m.extensionsUsed.push_back("KHR_lights_punctual");
   if (m.buffers[0].data.empty()) m.buffers.clear();
 
+  // Serialised in memory (buffers as data URIs in .gltf), then written with a checked write:
+  // tinygltf's own file writer does not report a full disk.
   tinygltf::TinyGLTF gltf;
-  bool binary = endsWithGlb(path);
-  if (!gltf.WriteGltfSceneToFile(&m, path, /*embedImages=*/true, /*embedBuffers=*/true,
-                                 /*prettyPrint=*/!binary, binary))
-    throw Error("cannot write glTF file " + path);
+  bool binary = endsWith(path, ".glb");
+  std::ostringstream out;
+  if (!gltf.WriteGltfSceneToStream(&m, out, /*prettyPrint=*/!binary, binary))
+    throw Error("cannot write glTF file " + path + ": tinygltf could not serialise the scene");
+  writeFile(path, out.str());
 }
 
 }  // namespace ts

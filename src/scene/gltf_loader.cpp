@@ -2,10 +2,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -20,10 +22,13 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <tiny_gltf.h>
 
+#include "scene/gltf_json_check.h"
 #include "scene/gltf_mapping.h"
 #include "scene/light_range.h"
 #include "scene/scene_loader.h"
+#include "util/checked_size.h"
 #include "util/error.h"
+#include "util/stderr_capture.h"
 
 namespace ts {
 
@@ -32,14 +37,30 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 constexpr int kOrbitFrames = 240;
 
-std::string oneLine(std::string s) {
-  while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ')) s.pop_back();
-  for (size_t i = 0; (i = s.find('\n', i)) != std::string::npos;) s.replace(i, 1, "; ");
-  return s;
+// Lines of a message joined with "; ", empty ones dropped.
+std::string oneLine(const std::string& s) {
+  std::string out, line;
+  std::istringstream in(s);
+  while (std::getline(in, line)) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (!line.empty()) out += (out.empty() ? "" : "; ") + line;
+  }
+  return out;
 }
 
-void warn(const std::string& path, const std::string& message) {
-  std::cerr << "tileshade: warning: " << path << ": " << message << "\n";
+// A number in messages: up to 6 significant digits ("1.5", "1e+39").
+std::string shortText(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// "N thing(s): a, b, c, ..." with at most three listed.
+std::string listed(const std::vector<std::string>& items) {
+  std::string list;
+  for (size_t i = 0; i < items.size() && i < 3; ++i) list += (i ? ", " : "") + items[i];
+  if (items.size() > 3) list += ", ...";
+  return list;
 }
 
 // Image callback: keep the encoded bytes, decode later only the images used as base colour.
@@ -93,6 +114,10 @@ double readComponent(const unsigned char* p, int componentType, bool normalized)
   return 0.0;
 }
 
+// Elements an accessor without a bufferView (all zeros, maybe with sparse values) may have: its
+// count is not backed by any data, so nothing else bounds the allocation.
+constexpr size_t kMaxElementsWithoutData = size_t(1) << 24;
+
 class Reader {
  public:
   Reader(const tinygltf::Model& m, const std::string& path) : m_(m), path_(path) {}
@@ -101,75 +126,130 @@ class Reader {
     throw Error("invalid glTF file " + path_ + ": " + what);
   }
 
-  // The bytes of bufferView `index` from `offset`, checking that `needed` bytes exist.
-  const unsigned char* view(int index, size_t offset, size_t needed, const std::string& what) const {
+  // The bytes [offset, offset + needed) of bufferView `index`, after checking, in overflow-checked
+  // arithmetic, that they lie inside the view and the view inside its buffer.
+  const unsigned char* view(int index, size_t offset, CheckedSize needed, const std::string& what) const {
     if (index < 0 || size_t(index) >= m_.bufferViews.size()) fail(what + ": bad bufferView");
     const auto& bv = m_.bufferViews[size_t(index)];
     if (bv.buffer < 0 || size_t(bv.buffer) >= m_.buffers.size()) fail(what + ": bad buffer");
     const auto& buf = m_.buffers[size_t(bv.buffer)];
-    if (offset + needed > bv.byteLength || bv.byteOffset + bv.byteLength > buf.data.size())
-      fail(what + ": data runs past its bufferView/buffer");
+    std::string name = "bufferView " + std::to_string(index);
+    if (!(CheckedSize(bv.byteOffset) + bv.byteLength).fitsWithin(buf.data.size()))
+      fail(what + ": " + name + " (offset " + std::to_string(bv.byteOffset) + ", length " +
+           std::to_string(bv.byteLength) + ") runs past its buffer of " +
+           std::to_string(buf.data.size()) + " bytes");
+    if (!(CheckedSize(offset) + needed).fitsWithin(bv.byteLength))
+      fail(what + ": data runs past " + name + " (offset " + std::to_string(offset) + " + " +
+           (needed.overflowed() ? std::string("more than 2^64") : std::to_string(needed.value())) +
+           " bytes > its " + std::to_string(bv.byteLength) + ")");
     return buf.data.data() + bv.byteOffset + offset;
   }
 
   // Accessor `index` as `count * components` doubles (components = that of its type), decoding
-  // any component type, normalization, byte stride and sparse substitution.
+  // any component type, normalization, byte stride and sparse substitution. Every size is checked
+  // against the data before anything is allocated.
   std::vector<double> read(int index, int wantComponents, const std::string& what) const {
-    if (index < 0 || size_t(index) >= m_.accessors.size()) fail(what + ": bad accessor");
-    const auto& a = m_.accessors[size_t(index)];
+    const auto& a = accessor(index, what);
     int nc = tinygltf::GetNumComponentsInType(uint32_t(a.type));
     int cs = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
     if (nc <= 0 || cs <= 0) fail(what + ": unsupported accessor type");
     if (wantComponents > 0 && nc != wantComponents)
       fail(what + ": expected " + std::to_string(wantComponents) + " components, got " +
            std::to_string(nc));
-    size_t count = a.count;
-    std::vector<double> out(count * size_t(nc), 0.0);
+    const size_t count = a.count, elem = size_t(nc) * size_t(cs);
+    const unsigned char* p = nullptr;
+    size_t stride = elem;
     if (a.bufferView >= 0 && count > 0) {
-      if (size_t(a.bufferView) >= m_.bufferViews.size()) fail(what + ": bad bufferView");
-      const auto& bv = m_.bufferViews[size_t(a.bufferView)];
-      int stride = a.ByteStride(bv);
-      if (stride <= 0) fail(what + ": bad byteStride");
-      size_t elem = size_t(nc) * size_t(cs);
-      const unsigned char* p =
-          view(a.bufferView, a.byteOffset, size_t(stride) * (count - 1) + elem, what);
-      for (size_t i = 0; i < count; ++i)
-        for (int c = 0; c < nc; ++c)
-          out[i * size_t(nc) + size_t(c)] =
-              readComponent(p + i * size_t(stride) + size_t(c) * size_t(cs), a.componentType,
-                            a.normalized);
+      stride = byteStride(a, elem, what);
+      p = view(a.bufferView, a.byteOffset, CheckedSize(stride) * (count - 1) + elem, what);
+    } else if (count > kMaxElementsWithoutData) {
+      fail(what + ": count " + std::to_string(count) + " without a bufferView (more than the " +
+           std::to_string(kMaxElementsWithoutData) + " elements tileshade accepts without data)");
     }
+    // count <= bufferView bytes / stride + 1 here, so the doubles are at most 8x the data.
+    std::vector<double> out(count * size_t(nc), 0.0);
+    for (size_t i = 0; p && i < count; ++i)
+      for (int c = 0; c < nc; ++c)
+        out[i * size_t(nc) + size_t(c)] = readComponent(
+            p + i * stride + size_t(c) * size_t(cs), a.componentType, a.normalized);
     if (a.sparse.isSparse && a.sparse.count > 0) {
       size_t n = size_t(a.sparse.count);
-      int ics = tinygltf::GetComponentSizeInBytes(uint32_t(a.sparse.indices.componentType));
-      if (ics <= 0) fail(what + ": bad sparse index type");
-      const unsigned char* ip = view(a.sparse.indices.bufferView,
-                                     size_t(a.sparse.indices.byteOffset), n * size_t(ics), what);
-      size_t elem = size_t(nc) * size_t(cs);
+      if (n > count) fail(what + ": " + std::to_string(n) + " sparse values for " + std::to_string(count) + " elements");
+      std::vector<uint32_t> targets =
+          unsignedIntegers(a.sparse.indices.bufferView, size_t(a.sparse.indices.byteOffset),
+                           a.sparse.indices.componentType, n, what + " sparse indices");
       const unsigned char* vp =
-          view(a.sparse.values.bufferView, size_t(a.sparse.values.byteOffset), n * elem, what);
+          view(a.sparse.values.bufferView, size_t(a.sparse.values.byteOffset), CheckedSize(n) * elem, what);
       for (size_t i = 0; i < n; ++i) {
-        size_t target = size_t(readComponent(ip + i * size_t(ics), a.sparse.indices.componentType,
-                                             false));
-        if (target >= count) fail(what + ": sparse index out of range");
+        if (targets[i] >= count) fail(what + ": sparse index out of range");
         for (int c = 0; c < nc; ++c)
-          out[target * size_t(nc) + size_t(c)] =
+          out[targets[i] * size_t(nc) + size_t(c)] =
               readComponent(vp + i * elem + size_t(c) * size_t(cs), a.componentType, a.normalized);
       }
     }
     return out;
   }
 
+  // An index accessor (a primitive's `indices`): unsigned byte, short or int scalars, read exactly.
+  std::vector<uint32_t> readIndices(int index, const std::string& what) const {
+    const auto& a = accessor(index, what);
+    if (a.type != TINYGLTF_TYPE_SCALAR || a.normalized || a.sparse.isSparse)
+      fail(what + ": indices must be plain unsigned integer scalars");
+    if (a.bufferView < 0) fail(what + ": indices without a bufferView");
+    int cs = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
+    if (cs <= 0) fail(what + ": unsupported component type");
+    size_t stride = byteStride(a, size_t(cs), what);
+    if (stride != size_t(cs)) fail(what + ": indices must be tightly packed (byteStride)");
+    return unsignedIntegers(a.bufferView, a.byteOffset, a.componentType, a.count, what);
+  }
+
  private:
+  const tinygltf::Accessor& accessor(int index, const std::string& what) const {
+    if (index < 0 || size_t(index) >= m_.accessors.size()) fail(what + ": bad accessor");
+    return m_.accessors[size_t(index)];
+  }
+
+  // The bufferView's byteStride for elements of `elem` bytes: the element size when absent; an
+  // error when smaller than the element (the elements would overlap) or not a multiple of the
+  // component size.
+  size_t byteStride(const tinygltf::Accessor& a, size_t elem, const std::string& what) const {
+    if (a.bufferView < 0 || size_t(a.bufferView) >= m_.bufferViews.size()) fail(what + ": bad bufferView");
+    const auto& bv = m_.bufferViews[size_t(a.bufferView)];
+    if (bv.byteStride == 0) return elem;
+    int stride = a.ByteStride(bv);
+    if (stride <= 0 || size_t(stride) < elem)
+      fail(what + ": byteStride " + std::to_string(bv.byteStride) + " of bufferView " +
+           std::to_string(a.bufferView) + " is smaller than its " + std::to_string(elem) +
+           "-byte element or not a multiple of its component size");
+    return size_t(stride);
+  }
+
+  // `count` unsigned integers of an UNSIGNED_BYTE/SHORT/INT component type, tightly packed.
+  std::vector<uint32_t> unsignedIntegers(int bufferView, size_t offset, int componentType,
+                                         size_t count, const std::string& what) const {
+    if (componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+        componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      fail(what + ": component type " + std::to_string(componentType) +
+           " (must be unsigned byte, short or int)");
+    size_t cs = size_t(tinygltf::GetComponentSizeInBytes(uint32_t(componentType)));
+    const unsigned char* p = view(bufferView, offset, CheckedSize(count) * cs, what);
+    std::vector<uint32_t> out(count);
+    for (size_t i = 0; i < count; ++i) out[i] = uint32_t(readComponent(p + i * cs, componentType, false));
+    return out;
+  }
+
   const tinygltf::Model& m_;
   std::string path_;
 };
 
 // ---- transforms ------------------------------------------------------------------------------
 
-// In double, as the file's numbers are: far from the origin the node transforms, and the camera
-// made from them, keep what float products of matrices would round away (Camera).
-glm::dmat4 localMatrix(const tinygltf::Node& n) {
+// The node's local matrix (sizes and float range of matrix/TRS were checked in the JSON), in
+// double, as the file's numbers are: far from the origin the node transforms, and the camera made
+// from them, keep what float products of matrices would round away (Camera). A rotation is
+// normalised; one of zero length has no rotation to normalise: an error.
+glm::dmat4 localMatrix(const tinygltf::Node& n, const Reader& read, const std::string& what) {
   if (n.matrix.size() == 16) {
     glm::dmat4 m;
     for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = n.matrix[size_t(i)];  // column-major
@@ -179,12 +259,31 @@ glm::dmat4 localMatrix(const tinygltf::Node& n) {
   if (n.translation.size() == 3)
     m = glm::translate(m, glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
   if (n.rotation.size() == 4) {
-    glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1],
-                 n.rotation[2]);  // glTF stores x, y, z, w
-    m *= glm::mat4_cast(glm::normalize(q));
+    glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);  // x, y, z, w in glTF
+    double length = glm::length(q);
+    if (!(length > 0.0) || !std::isfinite(length))
+      read.fail(what + ": rotation quaternion of zero length");
+    m *= glm::mat4_cast(q / length);
   }
   if (n.scale.size() == 3) m = glm::scale(m, glm::dvec3(n.scale[0], n.scale[1], n.scale[2]));
   return m;
+}
+
+bool isFinite(const glm::mat4& m) {
+  for (int i = 0; i < 16; ++i)
+    if (!std::isfinite(glm::value_ptr(m)[i])) return false;
+  return true;
+}
+
+bool isFinite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// A colour or factor from doubles, each within float's range (ts::Error naming `what` beyond).
+glm::vec3 floatVec3(double x, double y, double z, const Reader& read, const std::string& what) {
+  glm::dvec3 d(x, y, z);
+  for (int c = 0; c < 3; ++c)
+    if (!(std::fabs(d[c]) <= double(std::numeric_limits<float>::max())))
+      read.fail(what + " = " + std::to_string(d[c]) + " is beyond float's range (3.4e38)");
+  return glm::vec3(d);
 }
 
 // ---- extension values --------------------------------------------------------------------------
@@ -216,15 +315,71 @@ struct DecodedImage {
   std::string why;
 };
 
+// Texels a texture may have: 2^26 (an 8K x 8K image) is 1 GiB of float RGBA texels.
+constexpr uint64_t kMaxTexels = uint64_t(1) << 26;
+
+// Width and height from a PNG's IHDR or a JPEG's frame header (false for other formats or a
+// truncated header), so that an image claiming billions of pixels is refused before decoding.
+bool encodedImageSize(const std::vector<unsigned char>& b, uint64_t& width, uint64_t& height) {
+  auto be = [&](size_t at, int bytes) {
+    uint64_t v = 0;
+    for (int k = 0; k < bytes; ++k) v = (v << 8) | b[at + size_t(k)];
+    return v;
+  };
+  if (b.size() >= 24 && std::memcmp(b.data(), "\x89PNG\r\n\x1a\n", 8) == 0) {
+    width = be(16, 4);
+    height = be(20, 4);
+    return true;
+  }
+  if (b.size() < 4 || b[0] != 0xFF || b[1] != 0xD8) return false;
+  // JPEG: segments FF xx LEN..., up to a start-of-frame marker (C0-CF but C4, C8, CC).
+  for (size_t at = 2; at + 9 <= b.size();) {
+    if (b[at] != 0xFF) return false;
+    unsigned marker = b[at + 1];
+    if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC) {
+      height = be(at + 5, 2);
+      width = be(at + 7, 2);
+      return true;
+    }
+    at += 2 + size_t(be(at + 2, 2));
+  }
+  return false;
+}
+
 // Encoded PNG/JPEG/... bytes -> linear RGBA texels: colour channels sRGB-decoded when `srgb` (base
 // colour and emissive textures), taken as they are otherwise (metallic-roughness); alpha linear.
+// Never throws: a failure (also running out of memory) is the result's `why`.
+DecodedImage decodeImageOrThrow(const tinygltf::Image& image, int index, bool srgb);
+
 DecodedImage decodeImage(const tinygltf::Image& image, int index, bool srgb) {
+  try {
+    return decodeImageOrThrow(image, index, srgb);
+  } catch (const std::bad_alloc&) {
+    DecodedImage result;
+    result.why = "out of memory decoding it";
+    return result;
+  } catch (const std::length_error&) {
+    DecodedImage result;
+    result.why = "too large to decode";
+    return result;
+  }
+}
+
+DecodedImage decodeImageOrThrow(const tinygltf::Image& image, int index, bool srgb) {
   DecodedImage result;
   result.texture.srgb = srgb;
   if (image.image.empty()) {
     result.why = "not found";
     return result;
   }
+  auto tooLarge = [&](uint64_t w, uint64_t h) {
+    if (w * h <= kMaxTexels) return false;  // w, h < 2^32 each: no overflow
+    result.why = std::to_string(w) + "x" + std::to_string(h) + " texels, more than the " +
+                 std::to_string(kMaxTexels) + " tileshade keeps per texture";
+    return true;
+  };
+  uint64_t width = 0, height = 0;
+  if (encodedImageSize(image.image, width, height) && tooLarge(width, height)) return result;
   static const std::vector<float> lut = [] {
     std::vector<float> t(256);
     for (int i = 0; i < 256; ++i) t[size_t(i)] = gltf::srgbToLinear(float(i) / 255.0f);
@@ -251,9 +406,14 @@ DecodedImage decodeImage(const tinygltf::Image& image, int index, bool srgb) {
   // First tinygltf's own decoder (stb_image in Debian's build: PNG, JPEG, BMP, TGA, ...).
   tinygltf::Image d;
   std::string err, warnings;
+  if (image.image.size() > size_t(INT32_MAX)) {
+    result.why = "larger than 2 GiB";
+    return result;
+  }
   if (tinygltf::LoadImageData(&d, index, &err, &warnings, 0, 0, image.image.data(),
                               int(image.image.size()), nullptr) &&
       d.width > 0 && d.height > 0 && d.component > 0) {
+    if (tooLarge(uint64_t(d.width), uint64_t(d.height))) return result;
     size_t nc = size_t(d.component);
     const unsigned char* px = d.image.data();
     if (d.bits == 16)
@@ -272,27 +432,49 @@ DecodedImage decodeImage(const tinygltf::Image& image, int index, bool srgb) {
   result.why = oneLine(err.empty() ? std::string("built without OpenImageIO") : err);
   return result;
 #else
+  // A PNG that stb_image cannot decode is not retried with OpenImageIO: its PNG reader leaks when
+  // libpng longjmps out of a corrupt file (found by tests/fuzz/gltf_fuzzer), and stb_image reads
+  // every valid PNG.
+  if (image.image.size() >= 8 && std::memcmp(image.image.data(), "\x89PNG\r\n\x1a\n", 8) == 0) {
+    result.why = oneLine(err.empty() ? std::string("not a valid PNG") : err);
+    return result;
+  }
   // Then OpenImageIO from memory (whatever formats it was built with).
   std::string ext = image.mimeType == "image/jpeg" ? "jpg" : "png";
   if (auto dot = image.uri.rfind('.'); !image.uri.empty() && dot != std::string::npos)
     ext = image.uri.substr(dot + 1);
   OIIO::Filesystem::IOMemReader mem(const_cast<unsigned char*>(image.image.data()),
                                     image.image.size());
+  // Image libraries print their own lines (libjpeg's "Corrupt JPEG data: ...", libpng's
+  // "libpng error: ..."): they become part of the reason instead of raw stderr lines.
+  StderrCapture libraryMessages;
   auto in = OIIO::ImageInput::open("image." + ext, nullptr, &mem);
-  if (!in) {
-    result.why = oneLine(err.empty() ? OIIO::geterror() : err);
+  auto failed = [&](const std::string& why) {
+    std::string printed = libraryMessages.text();
+    result.why = oneLine(why.empty() ? printed : printed.empty() ? why : why + "; " + printed);
     return result;
-  }
+  };
+  if (!in) return failed(err.empty() ? OIIO::geterror() : err);
   const auto& spec = in->spec();
-  size_t nc = size_t(spec.nchannels);
-  std::vector<float> all(size_t(std::max(spec.width, 0)) * size_t(std::max(spec.height, 0)) * nc);
-  if (spec.width <= 0 || spec.height <= 0 ||
-      !in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data())) {
-    result.why = oneLine(in->geterror());
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    return failed("no pixels (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ")");
+  if (tooLarge(uint64_t(spec.width), uint64_t(spec.height))) {
+    libraryMessages.text();
     return result;
   }
+  size_t nc = size_t(spec.nchannels);
+  std::vector<float> all(size_t(spec.width) * size_t(spec.height) * nc);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
+    return failed(in->geterror());
+  libraryMessages.text();
+  // glTF textures hold [0, 1] data; a float format's NaN, inf or out-of-range values are clamped
+  // (NaN to 0) so that they cannot reach the G-buffer.
   fill(spec.width, spec.height, std::min(spec.nchannels, 4),
-       [&](size_t p, int c) { return double(all[p * nc + size_t(c)]); }, false);
+       [&](size_t p, int c) {
+         double v = all[p * nc + size_t(c)];
+         return std::isnan(v) ? 0.0 : std::clamp(v, 0.0, 1.0);
+       },
+       false);
   result.ok = true;
   return result;
 #endif
@@ -306,6 +488,8 @@ class GltfLoader {
       : m_(model), path_(path), read_(model, path) {}
 
   Scene load();
+  // What load() found worth a warning, one line each (without the path).
+  const std::vector<std::string>& warnings() const;
 
  private:
   void visit(int node, const glm::dmat4& parent, int depth);
@@ -327,7 +511,10 @@ class GltfLoader {
   int otherTexCoords_ = 0;  // textures on another UV set than the base colour's
   int uvSet_ = 0;           // the base colour's UV set of the material being read
   std::vector<std::string> textureFailures_;
+  std::vector<std::string> clampedFactors_;  // "materials[2].metallicFactor 1.5"
+  std::vector<std::string> warnings_;        // printed by the caller once the file has loaded
   int skippedPrimitives_ = 0;
+  size_t degenerateNormals_ = 0;  // zero-length normals replaced by +Y
   int otherLights_ = 0, orthographic_ = 0, extraCameras_ = 0;
   bool haveCamera_ = false;
   Camera camera_;
@@ -351,21 +538,34 @@ uint32_t GltfLoader::material(int index) {
     const auto& mat = m_.materials[size_t(index)];
     const auto& pbr = mat.pbrMetallicRoughness;
     std::string what = "material '" + mat.name + "'";
+    std::string at = "materials[" + std::to_string(index) + "]";
     out.name = mat.name;
+    // glTF bounds the factors to [0, 1]: values outside are clamped there, with one warning
+    // listing them (load()). Their products with strengths must stay within float's range.
+    auto unit = [&](double v, const std::string& field) {
+      if (v < 0.0 || v > 1.0) clampedFactors_.push_back(at + "." + field + " " + shortText(v));
+      return float(std::clamp(v, 0.0, 1.0));
+    };
     out.baseColor = glm::vec3(1.0f);
     if (pbr.baseColorFactor.size() >= 3)
-      out.baseColor = {float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
-                       float(pbr.baseColorFactor[2])};
-    out.metallic = std::clamp(float(pbr.metallicFactor), 0.0f, 1.0f);
-    out.roughness = std::clamp(float(pbr.roughnessFactor), 0.0f, 1.0f);
-    if (const auto* spec = extension(mat.extensions, "KHR_materials_specular"))
-      dielectricF0 = vec3(spec, "specularColorFactor", glm::vec3(1.0f)) *
-                     float(number(spec, "specularFactor", 1.0));
+      for (int c = 0; c < 3; ++c)
+        out.baseColor[c] = unit(pbr.baseColorFactor[size_t(c)], "baseColorFactor");
+    out.metallic = unit(pbr.metallicFactor, "metallicFactor");
+    out.roughness = unit(pbr.roughnessFactor, "roughnessFactor");
+    if (const auto* spec = extension(mat.extensions, "KHR_materials_specular")) {
+      float factor = unit(number(spec, "specularFactor", 1.0), "specularFactor");
+      glm::vec3 colour = vec3(spec, "specularColorFactor", glm::vec3(1.0f));
+      dielectricF0 = floatVec3(double(colour.x) * factor, double(colour.y) * factor,
+                               double(colour.z) * factor, read_,
+                               what + ": specularColorFactor x specularFactor");
+    }
+    glm::dvec3 emissive(0.0);
     if (mat.emissiveFactor.size() >= 3)
-      out.emissive = {float(mat.emissiveFactor[0]), float(mat.emissiveFactor[1]),
-                      float(mat.emissiveFactor[2])};
-    out.emissive *= float(number(extension(mat.extensions, "KHR_materials_emissive_strength"),
-                                 "emissiveStrength", 1.0));
+      for (int c = 0; c < 3; ++c) emissive[c] = unit(mat.emissiveFactor[size_t(c)], "emissiveFactor");
+    emissive *= number(extension(mat.extensions, "KHR_materials_emissive_strength"),
+                       "emissiveStrength", 1.0);
+    out.emissive = floatVec3(emissive.x, emissive.y, emissive.z, read_,
+                             what + ": emissiveFactor x emissiveStrength");
     out.doubleSided = mat.doubleSided;
     uvSet_ = std::max(pbr.baseColorTexture.texCoord, 0);  // the UV set addPrimitive keeps
     if (pbr.baseColorTexture.index >= 0)
@@ -467,10 +667,13 @@ void GltfLoader::decodeImages() {
 // attenuation threshold t = 5/256.
 void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
                           const std::string& what) {
-  glm::vec3 color(1.0f);
-  if (light.color.size() >= 3)
-    color = {float(light.color[0]), float(light.color[1]), float(light.color[2])};
-  color *= float(light.intensity);
+  // Colour components and intensity are >= 0 and within float's range (checked in the JSON);
+  // components above 1 (beyond the specification) are taken as they are. Their product must
+  // stay a float.
+  glm::dvec3 c(1.0);
+  if (light.color.size() >= 3) c = {light.color[0], light.color[1], light.color[2]};
+  c *= light.intensity;
+  glm::vec3 color = floatVec3(c.x, c.y, c.z, read_, what + ": light colour x intensity");
   glm::vec3 position = glm::vec3(world[3]);
   glm::vec3 axis = glm::vec3(-world[2]);
   float axisLength = glm::length(axis);
@@ -525,13 +728,24 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
     UV = read_.read(it->second, 2, what + " TEXCOORD");
   if (N.size() != 0 && N.size() != P.size()) read_.fail(what + ": NORMAL count differs from POSITION");
   if (UV.size() != 0 && UV.size() / 2 != n) read_.fail(what + ": TEXCOORD count differs from POSITION");
+  // Vertex data a float holds (a binary buffer can hold NaN and inf bits, and doubles beyond
+  // float's range): anything else would put NaN into the G-buffer.
+  auto requireFinite = [&](const std::vector<double>& v, size_t components, const char* name) {
+    for (size_t i = 0; i < v.size(); ++i)
+      if (!(std::fabs(v[i]) <= double(std::numeric_limits<float>::max())))
+        read_.fail(what + " " + name + ": element " + std::to_string(i / components) + " holds " +
+                   shortText(v[i]) + " (NaN, inf or beyond float's range)");
+  };
+  requireFinite(P, 3, "POSITION");
+  requireFinite(N, 3, "NORMAL");
+  requireFinite(UV, 2, "TEXCOORD");
+  if (n > size_t(UINT32_MAX) - scene_.vertices.size())
+    read_.fail(what + ": more than 2^32 vertices in the scene");
 
   // Triangle list (of the primitive's vertex indices).
   std::vector<uint32_t> idx;
   if (p.indices >= 0) {
-    std::vector<double> raw = read_.read(p.indices, 1, what + " indices");
-    idx.reserve(raw.size());
-    for (double v : raw) idx.push_back(uint32_t(v));
+    idx = read_.readIndices(p.indices, what + " indices");
   } else {
     idx.resize(n);
     for (size_t i = 0; i < n; ++i) idx[i] = uint32_t(i);
@@ -554,7 +768,11 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
   bool mirror = glm::determinant(glm::dmat3(world)) < 0.0;
   glm::mat3 normalMatrix(glm::transpose(glm::inverse(glm::dmat3(world))));
   auto position = [&](uint32_t i) {
-    return glm::vec3(world * glm::dvec4(P[3 * i], P[3 * i + 1], P[3 * i + 2], 1.0));
+    glm::vec3 v(world * glm::dvec4(P[3 * i], P[3 * i + 1], P[3 * i + 2], 1.0));
+    if (!isFinite(v))
+      read_.fail(what + ": vertex " + std::to_string(i) + " lies beyond float's range once its "
+                 "node transforms are applied");
+    return v;
   };
   auto uv = [&](uint32_t i) {
     return UV.empty() ? glm::vec2(0.0f) : glm::vec2(float(UV[2 * i]), float(UV[2 * i + 1]));
@@ -566,7 +784,9 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
       v.position = position(i);
       glm::vec3 nn = normalMatrix * glm::vec3(float(N[3 * i]), float(N[3 * i + 1]), float(N[3 * i + 2]));
       float len = glm::length(nn);
-      v.normal = len > 0.0f && std::isfinite(len) ? nn / len : glm::vec3(0.0f, 1.0f, 0.0f);
+      bool usable = len > 0.0f && std::isfinite(len);
+      if (!usable) ++degenerateNormals_;  // zero in the file, or a singular node transform
+      v.normal = usable ? nn / len : glm::vec3(0.0f, 1.0f, 0.0f);
       v.uv = uv(i);
       scene_.vertices.push_back(v);
     }
@@ -582,9 +802,10 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
       uint32_t c3[3] = {tris[t], tris[t + 1], tris[t + 2]};
       if (mirror) std::swap(c3[1], c3[2]);
       glm::vec3 p0 = position(c3[0]), p1 = position(c3[1]), p2 = position(c3[2]);
-      glm::vec3 fn = glm::cross(p1 - p0, p2 - p0);
-      float len = glm::length(fn);
-      fn = len > 0.0f ? fn / len : glm::vec3(0.0f, 1.0f, 0.0f);
+      // In double: the cross product of far-apart float vertices overflows float.
+      glm::dvec3 cross = glm::cross(glm::dvec3(p1) - glm::dvec3(p0), glm::dvec3(p2) - glm::dvec3(p0));
+      double len = glm::length(cross);
+      glm::vec3 fn = len > 0.0 ? glm::vec3(cross / len) : glm::vec3(0.0f, 1.0f, 0.0f);  // no area
       uint32_t base = uint32_t(scene_.vertices.size());
       for (int k = 0; k < 3; ++k) {
         Vertex v;
@@ -603,21 +824,25 @@ void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
   if (index < 0 || size_t(index) >= m_.nodes.size()) read_.fail("bad node index " + std::to_string(index));
   if (depth > 1000 || !visiting_.insert(index).second) read_.fail("node hierarchy has a cycle");
   const auto& node = m_.nodes[size_t(index)];
-  glm::dmat4 world = parent * localMatrix(node);
-  std::string what = "node '" + node.name + "'";
+  std::string what = "node " + std::to_string(index) + " '" + node.name + "'";
+  glm::dmat4 world = parent * localMatrix(node, read_, what);
+  if (!isFinite(glm::mat4(world)))
+    read_.fail(what + ": its world transform overflows float (translation, scale or matrix "
+               "values, or their product over the hierarchy, beyond 3.4e38)");
 
   if (node.mesh >= 0) {
     if (size_t(node.mesh) >= m_.meshes.size()) read_.fail(what + ": bad mesh index");
     const auto& mesh = m_.meshes[size_t(node.mesh)];
     for (size_t i = 0; i < mesh.primitives.size(); ++i)
       addPrimitive(mesh.primitives[i], world,
-                   "mesh '" + mesh.name + "' primitive " + std::to_string(i));
+                   "mesh " + std::to_string(node.mesh) + " '" + mesh.name + "' primitive " +
+                       std::to_string(i));
   }
 
   if (const auto* ext = extension(node.extensions, "KHR_lights_punctual")) {
     int li = int(number(ext, "light", -1.0));
     if (li < 0 || size_t(li) >= m_.lights.size()) read_.fail(what + ": bad light index");
-    addLight(m_.lights[size_t(li)], world, what);
+    addLight(m_.lights[size_t(li)], world, what + " light " + std::to_string(li));
   }
 
   if (node.camera >= 0) {
@@ -628,19 +853,32 @@ void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
     } else if (haveCamera_) {
       ++extraCameras_;
     } else {
-      // View = inverse of the node's world matrix, with any scale taken out (rigid).
+      // View = inverse of the node's world matrix, with any scale taken out (rigid). A zero scale
+      // or a flattening matrix leaves no orientation: an error, not a black image.
       glm::dmat4 rigid(1.0);
       for (int c = 0; c < 3; ++c) {
         glm::dvec3 axis(world[c]);
         double len = glm::length(axis);
-        rigid[c] = glm::dvec4(len > 0.0 ? axis / len : glm::dvec3(0.0), 0.0);
+        if (!(len > 0.0))
+          read_.fail(what + ": the camera's node transform has a zero scale (no view direction)");
+        rigid[c] = glm::dvec4(axis / len, 0.0);
       }
+      if (!(std::fabs(glm::determinant(glm::dmat3(rigid))) > 1e-3))
+        read_.fail(what + ": the camera's node transform is degenerate (its axes are parallel)");
       rigid[3] = world[3];
       camera_.viewFromWorld = glm::inverse(rigid);
+      // yfov, znear > 0 and zfar >= 0 within float's range were checked in the JSON.
       const auto& pc = cam.perspective;
-      camera_.yfov = pc.yfov > 0.0 ? float(pc.yfov) : kPi / 3.0f;
-      camera_.znear = pc.znear > 0.0 ? float(pc.znear) : 0.1f;
-      camera_.zfar = pc.zfar > pc.znear ? float(pc.zfar) : 0.0f;  // 0: infinite, set below
+      if (!(pc.yfov < double(kPi)))
+        read_.fail(what + ": camera yfov " + shortText(pc.yfov) + " is not below pi");
+      if (pc.zfar > 0.0 && !(pc.zfar > pc.znear))
+        read_.fail(what + ": camera zfar " + shortText(pc.zfar) + " is not beyond znear " +
+                   shortText(pc.znear));
+      camera_.yfov = float(pc.yfov);
+      camera_.znear = float(pc.znear);
+      camera_.zfar = float(pc.zfar);  // 0: infinite, set in buildCameraPath
+      if (!(camera_.znear > 0.0f))
+        read_.fail(what + ": camera znear " + shortText(pc.znear) + " is 0 as a float");
       haveCamera_ = true;
     }
   }
@@ -689,18 +927,37 @@ void GltfLoader::buildCameraPath() {
     scene_.cameraPath.push_back(
         Camera::lookAt(c + distance * back, c, {0.0f, 1.0f, 0.0f}, yfov, znear, zfar));
   }
+  // Geometry spread over more than float's range (vertices near +-3e38) cannot be framed.
+  for (const Camera& cam : scene_.cameraPath)
+    if (!isFinite(glm::mat4(cam.viewFromWorld)) || !(cam.znear > 0.0f) || !(cam.zfar > cam.znear) ||
+        !std::isfinite(cam.zfar))
+      read_.fail("the scene's extent (bounds " + shortText(b.min.x) + ".." + shortText(b.max.x) +
+                 " in x) is too large to frame with float cameras");
 }
 
 Scene GltfLoader::load() {
   scene_.name = std::filesystem::path(path_).stem().string();
   scene_.ambient = glm::vec3(0.05f);
 
+  // glTF node hierarchies are trees (a node has at most one parent; a scene lists root nodes,
+  // each once): otherwise a chain of shared children would be visited exponentially often.
+  std::vector<int> parents(m_.nodes.size(), 0);
+  for (const auto& n : m_.nodes)
+    for (int c : n.children)
+      if (c >= 0 && size_t(c) < parents.size() && ++parents[size_t(c)] > 1)
+        read_.fail("node " + std::to_string(c) + " has more than one parent (glTF node "
+                   "hierarchies are trees)");
   std::vector<int> roots;
   int sceneIndex = m_.defaultScene >= 0 ? m_.defaultScene : (m_.scenes.empty() ? -1 : 0);
   if (sceneIndex >= 0) {
     if (size_t(sceneIndex) >= m_.scenes.size()) read_.fail("bad default scene index");
     const auto& s = m_.scenes[size_t(sceneIndex)];
     roots = s.nodes;
+    std::set<int> unique;
+    for (int r : roots)
+      if (r >= 0 && size_t(r) < parents.size() && (parents[size_t(r)] > 0 || !unique.insert(r).second))
+        read_.fail("scene " + std::to_string(sceneIndex) + " lists node " + std::to_string(r) +
+                   " twice or although it is another node's child");
     // tileshade's own export stores the ambient term here.
     if (s.extras.IsObject() && s.extras.Has("tileshade")) {
       const auto& ts = s.extras.Get("tileshade");
@@ -708,69 +965,92 @@ Scene GltfLoader::load() {
     }
   } else {
     // No scenes: every node that is nobody's child is a root.
-    std::vector<bool> child(m_.nodes.size(), false);
-    for (const auto& n : m_.nodes)
-      for (int c : n.children)
-        if (c >= 0 && size_t(c) < child.size()) child[size_t(c)] = true;
     for (size_t i = 0; i < m_.nodes.size(); ++i)
-      if (!child[i]) roots.push_back(int(i));
+      if (parents[i] == 0) roots.push_back(int(i));
   }
   decodeImages();
   for (int r : roots) visit(r, glm::dmat4(1.0), 0);
 
+  auto warn = [&](const std::string& message) { warnings_.push_back(message); };
   if (skippedPrimitives_ > 0)
-    warn(path_, "skipped " + std::to_string(skippedPrimitives_) +
-                    " primitive(s) that are not triangles (points/lines) or have no POSITION");
+    warn("skipped " + std::to_string(skippedPrimitives_) +
+         " primitive(s) that are not triangles (points/lines) or have no POSITION");
   if (otherTexCoords_ > 0)
-    warn(path_, std::to_string(otherTexCoords_) + " texture(s) use another UV set than their "
-                "material's base colour texture; sampled with the base colour's set");
+    warn(std::to_string(otherTexCoords_) + " texture(s) use another UV set than their "
+         "material's base colour texture; sampled with the base colour's set");
   if (otherLights_ > 0)
-    warn(path_, "skipped " + std::to_string(otherLights_) +
-                    " light(s) of an unknown type (KHR_lights_punctual has point, spot, directional)");
+    warn("skipped " + std::to_string(otherLights_) +
+         " light(s) of an unknown type (KHR_lights_punctual has point, spot, directional)");
   if (orthographic_ > 0)
-    warn(path_, "ignored " + std::to_string(orthographic_) +
-                    " orthographic camera(s): only perspective cameras are supported");
+    warn("ignored " + std::to_string(orthographic_) +
+         " orthographic camera(s): only perspective cameras are supported");
   if (!m_.skins.empty() || !m_.animations.empty())
-    warn(path_, "ignored " + std::to_string(m_.skins.size()) + " skin(s) and " +
-                    std::to_string(m_.animations.size()) +
-                    " animation(s): meshes are drawn static, with their nodes' transforms");
-  if (!textureFailures_.empty()) {
-    std::string list;
-    for (size_t i = 0; i < textureFailures_.size() && i < 3; ++i)
-      list += (i ? ", " : "") + textureFailures_[i];
-    if (textureFailures_.size() > 3) list += ", ...";
-    warn(path_, std::to_string(textureFailures_.size()) +
-                    " texture(s) could not be decoded, using the factors alone: " + list);
-  }
+    warn("ignored " + std::to_string(m_.skins.size()) + " skin(s) and " +
+         std::to_string(m_.animations.size()) +
+         " animation(s): meshes are drawn static, with their nodes' transforms");
+  if (!textureFailures_.empty())
+    warn(std::to_string(textureFailures_.size()) +
+         " texture(s) could not be decoded, using the factors alone: " + listed(textureFailures_));
+  if (!clampedFactors_.empty())
+    warn("clamped " + std::to_string(clampedFactors_.size()) +
+         " material factor(s) outside glTF's [0, 1] to it: " + listed(clampedFactors_));
+  if (degenerateNormals_ > 0)
+    warn(std::to_string(degenerateNormals_) + " vertex normal(s) of zero length (or under a "
+         "singular node transform) replaced by +Y");
   buildCameraPath();
   return std::move(scene_);
 }
 
+const std::vector<std::string>& GltfLoader::warnings() const { return warnings_; }
+
+// tinygltf's warnings without those about images: a texture that cannot be read is reported
+// once, by the loader's texture list (tinygltf would add "File not found" for the same file).
+std::vector<std::string> tinygltfWarnings(const std::string& text) {
+  std::vector<std::string> out;
+  std::string line;
+  std::istringstream in(text);
+  while (std::getline(in, line)) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (line.empty() || line.rfind("File not found", 0) == 0 ||
+        line.find("for image[") != std::string::npos)
+      continue;
+    out.push_back("tinygltf: " + line);
+  }
+  return out;
+}
+
+void report(const std::string& name, const std::vector<std::string>& lines,
+            std::vector<std::string>* warnings) {
+  if (warnings) warnings->insert(warnings->end(), lines.begin(), lines.end());
+  else printSceneWarnings(name, lines);
+}
+
 }  // namespace
 
-Scene loadGltf(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw Error("cannot read glTF file " + path + ": no such file");
-  // .glb files start with the magic "glTF"; anything else is parsed as JSON.
-  char magic[4] = {0, 0, 0, 0};
-  {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw Error("cannot read glTF file " + path + ": cannot open it");
-    f.read(magic, 4);
+Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::string& baseDir,
+                         const std::string& name, std::vector<std::string>* warnings) {
+  // tinygltf takes 32-bit sizes.
+  if (size > size_t(UINT32_MAX)) throw Error("cannot load glTF file " + name + ": larger than 4 GiB");
+  // The JSON's types and shapes first: tinygltf would drop or truncate what does not fit.
+  std::string text;
+  if (gltf::jsonText(bytes, size, text)) {
+    nlohmann::json document = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+    if (!document.is_discarded()) gltf::checkJson(document, name);  // else tinygltf says why
   }
-  bool binary = std::memcmp(magic, "glTF", 4) == 0;
-
+  bool binary = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
   tinygltf::TinyGLTF gltf;
   gltf.SetImageLoader(keepEncodedImage, nullptr);
   tinygltf::Model model;
-  std::string err, warnings;
-  bool ok = binary ? gltf.LoadBinaryFromFile(&model, &err, &warnings, path)
-                   : gltf.LoadASCIIFromFile(&model, &err, &warnings, path);
+  std::string err, warningText;
+  bool ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, &warningText, bytes,
+                                               unsigned(size), baseDir)
+                   : gltf.LoadASCIIFromString(&model, &err, &warningText,
+                                              reinterpret_cast<const char*>(bytes), unsigned(size),
+                                              baseDir);
   if (!ok)
-    throw Error("cannot load glTF file " + path + ": " +
+    throw Error("cannot load glTF file " + name + ": " +
                 (err.empty() ? std::string("tinygltf reported no reason") : oneLine(err)));
-  if (!warnings.empty()) warn(path, "tinygltf: " + oneLine(warnings));
+  std::vector<std::string> found = tinygltfWarnings(warningText);
 
   static const std::set<std::string> fatal = {"KHR_draco_mesh_compression",
                                               "EXT_meshopt_compression"};
@@ -780,13 +1060,31 @@ Scene loadGltf(const std::string& path) {
   std::string approximated;
   for (const auto& e : model.extensionsRequired) {
     if (fatal.count(e))
-      throw Error("cannot load glTF file " + path + ": it requires " + e + ", which is not supported");
+      throw Error("cannot load glTF file " + name + ": it requires " + e + ", which is not supported");
     if (!supported.count(e)) approximated += (approximated.empty() ? "" : ", ") + e;
   }
   if (!approximated.empty())
-    warn(path, "required extension(s) not supported, loading without them: " + approximated);
+    found.push_back("required extension(s) not supported, loading without them: " + approximated);
 
-  return GltfLoader(model, path).load();
+  GltfLoader loader(model, name);
+  Scene scene = loader.load();
+  // Only now, once nothing can fail: an error is the only line about a file that fails.
+  found.insert(found.end(), loader.warnings().begin(), loader.warnings().end());
+  report(name, found, warnings);
+  return scene;
+}
+
+Scene loadGltf(const std::string& path, std::vector<std::string>* warnings) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw Error("cannot read glTF file " + path + ": no such file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read glTF file " + path + ": cannot open it");
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error("cannot read glTF file " + path + ": read error");
+  return loadGltfFromMemory(bytes.data(), bytes.size(),
+                            std::filesystem::path(path).parent_path().string(), path, warnings);
 }
 
 }  // namespace ts

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "reference/shading_cpu.h"
 #include "util/error.h"
@@ -9,9 +10,11 @@
 namespace ts {
 
 float rangeFromThreshold(glm::vec3 color, float threshold) {
-  if (!(threshold > 0.0f)) throw Error("light threshold must be > 0");
-  float peak = std::max({color.x, color.y, color.z});
-  return std::max(std::sqrt(std::max(peak, 0.0f) / threshold), float(TS_DMIN));
+  if (!(threshold > 0.0f) || !std::isfinite(threshold))
+    throw Error("light threshold must be finite and > 0, got " + std::to_string(threshold));
+  double peak = std::max({double(color.x), double(color.y), double(color.z), 0.0});
+  double r = std::sqrt(peak / double(threshold));
+  return float(std::clamp(r, double(TS_DMIN), double(std::numeric_limits<float>::max())));
 }
 
 void applyThresholdRanges(std::vector<Light>& lights, float threshold) {

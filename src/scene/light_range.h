@@ -8,7 +8,9 @@
 
 namespace ts {
 
-// sqrt(max(C.r, C.g, C.b) / t), at least TS_DMIN (kernels/shading.h). t must be > 0.
+// sqrt(max(C.r, C.g, C.b) / t), at least TS_DMIN (kernels/shading.h), at most the largest float
+// (computed in double: a tiny t or a huge C would overflow float; every range beyond ~1e19 shades
+// alike, as an infinite one). t must be finite and > 0.
 float rangeFromThreshold(glm::vec3 color, float threshold);
 
 // Replaces the range of every light that has one (point, spot) with

@@ -10,9 +10,10 @@ namespace ts {
 
 glm::vec4 Texture::sample(glm::vec2 uv) const {
   if (width <= 0 || height <= 0) return glm::vec4(1.0f);
-  // Texel centres at half-integers; wrap both axes (REPEAT).
-  float fx = uv.x * float(width) - 0.5f;
-  float fy = uv.y * float(height) - 0.5f;
+  // Texel centres at half-integers; wrap both axes (REPEAT). The fractional part first, so that a
+  // far-off coordinate (u = 1e10) cannot overflow the integer texel index.
+  float fx = (uv.x - std::floor(uv.x)) * float(width) - 0.5f;
+  float fy = (uv.y - std::floor(uv.y)) * float(height) - 0.5f;
   float x0f = std::floor(fx), y0f = std::floor(fy);
   float tx = fx - x0f, ty = fy - y0f;
   auto wrap = [](int i, int n) { return ((i % n) + n) % n; };

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <iostream>
 
 #include "scene/builtin_scenes.h"
 #include "scene/material_mapping.h"
@@ -113,6 +114,10 @@ glm::vec3 hueColor(float hue, float saturation) {
 
 std::vector<std::string> builtinSceneNames() { return {"street", "atrium"}; }
 
+void printSceneWarnings(const std::string& name, const std::vector<std::string>& warnings) {
+  for (const auto& w : warnings) std::cerr << "tileshade: warning: " << name << ": " << w << "\n";
+}
+
 std::vector<std::string> builtinLightSets(const std::string& scene) {
   if (scene == "street") return streetLightSets();
   if (scene == "atrium") return atriumLightSets();
@@ -128,7 +133,7 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
     throw Error("light count must be >= 0 (or -1 for the light set's own), got " +
                 std::to_string(options.lightCount));
   if (!(options.lightRange >= 0.0f) || !std::isfinite(options.lightRange))
-    throw Error("light range must be > 0 (or 0 to keep each light's own), got " +
+    throw Error("light range must be finite and > 0 (or 0 to keep each light's own), got " +
                 std::to_string(options.lightRange));
 
   Scene scene;
@@ -143,13 +148,15 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
                   " (valid: file, its own KHR_lights_punctual lights)");
     if (!options.variant.empty())
       throw Error("scene variants apply to built-in scenes only, not to " + spec);
-    scene = loadGltf(spec);
+    std::vector<std::string> warnings;
+    scene = loadGltf(spec, &warnings);
     if (options.lightCount >= 0) {
       if (size_t(options.lightCount) > scene.lights.size())
         throw Error("light count " + std::to_string(options.lightCount) + " is more than the " +
                     std::to_string(scene.lights.size()) + " light(s) in " + spec);
       scene.lights.resize(size_t(options.lightCount));
     }
+    printSceneWarnings(spec, warnings);  // after the last error about the file
   } else {
     throw Error("unknown scene spec '" + spec + "': use builtin:NAME (" +
                 joined(builtinSceneNames()) + ") or a .gltf/.glb file");

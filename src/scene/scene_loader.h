@@ -33,8 +33,22 @@ std::vector<std::string> builtinSceneNames();
 std::vector<std::string> builtinLightSets(const std::string& scene);  // first = default
 Scene makeBuiltinScene(const std::string& name, const std::string& lightSet, uint32_t seed);
 
-// glTF 2.0 (src/scene/gltf_*.cpp).
-Scene loadGltf(const std::string& path);
+// glTF 2.0 (src/scene/gltf_*.cpp). Warnings (skipped primitives, textures that could not be
+// decoded, clamped values, ...) go to `warnings` when given, else to stderr as
+// "tileshade: warning: ..." lines, and only once the file has loaded: an error is the only line
+// about a file that fails. Throws ts::Error (one line, with the path) for an invalid file.
+Scene loadGltf(const std::string& path, std::vector<std::string>* warnings = nullptr);
+// The same from the bytes of a .gltf or .glb file (the "glTF" magic decides); external URIs are
+// resolved against baseDir, `name` stands for the file in messages. For fuzzing and tests.
+Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::string& baseDir,
+                         const std::string& name, std::vector<std::string>* warnings = nullptr);
+// Writes a .gltf (buffers embedded as data URIs) or .glb, by the extension; throws ts::Error for
+// another extension or a failed write.
 void exportGltf(const Scene& scene, const std::string& path);
+// Throws ts::Error unless the path ends in .gltf or .glb (any case).
+void checkExportPath(const std::string& path);
+
+// "tileshade: warning: NAME: LINE" on stderr for each line.
+void printSceneWarnings(const std::string& name, const std::vector<std::string>& warnings);
 
 }  // namespace ts

@@ -25,7 +25,8 @@ cl::Event* FrameTimer::next(const std::string& name) {
 std::vector<KernelTime> FrameTimer::kernels() const {
   std::vector<KernelTime> out;
   for (const auto& [name, event] : events_) {
-    auto it = std::find_if(out.begin(), out.end(), [&](const KernelTime& k) { return k.name == name; });
+    // By value: clang before 16 cannot capture a structured binding.
+    auto it = std::find_if(out.begin(), out.end(), [&, n = name](const KernelTime& k) { return k.name == n; });
     if (it == out.end()) {
       out.push_back({name, 0.0, 0});
       it = out.end() - 1;

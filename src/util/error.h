@@ -1,6 +1,7 @@
 #pragma once
 // One exception type for user-facing failures: its message is printed as a single line
 // ("tileshade: error: <message>") and the program exits non-zero.
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -9,5 +10,17 @@ namespace ts {
 struct Error : std::runtime_error {
   explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
+
+// Runs f(); a std::bad_alloc inside becomes ts::Error("out of memory " + what), so the message
+// says what was too big (e.g. "out of memory rasterizing a 16384x16384 frame") instead of
+// "std::bad_alloc".
+template <typename F>
+auto outOfMemoryAs(const std::string& what, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const std::bad_alloc&) {
+    throw Error("out of memory " + what);
+  }
+}
 
 }  // namespace ts
