@@ -77,7 +77,7 @@ TEST(Lanes, EveryWidthGivesThePerPixelImage) {
 TEST(Lanes, MatchReferenceWithNoMissedLight) {
   const PreparedFrame f = prepareFrame(test::builtinScene("atrium", "mixed"), 20, 160, 96,
                                        GBufferFormat::FP16);
-  for (const char* name : {"tiled", "brute"}) {
+  for (const char* name : {"tiled", "brute", "clustered"}) {
     TechniqueConfig config;
     config.format = GBufferFormat::FP16;
     config.lanes = 16;

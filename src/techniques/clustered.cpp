@@ -40,7 +40,8 @@ class ClusteredTechnique : public Technique {
                   "than the device has (" + std::to_string(cl.info().localMemBytes) + " B)");
     std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
                           " -DTILE_H=" + std::to_string(config.tileHeight) +
-                          " -DSLICES=" + std::to_string(config.clusterSlices);
+                          " -DSLICES=" + std::to_string(config.clusterSlices) +
+                          config.lanesOption();
     program_ = cl.build("clustered.cl", options);
     frameRange_ = cl::Kernel(program_, "frame_depth_range");
     clusterBounds_ = cl::Kernel(program_, "cluster_depth_bounds");
@@ -50,6 +51,7 @@ class ClusteredTechnique : public Technique {
   }
 
   std::string name() const override { return "clustered"; }
+  int lanes() const override { return config_.lanes; }
 
   FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
@@ -175,7 +177,8 @@ class ClusteredTechnique : public Technique {
     frameRange_.setArg(2, depthRange_);
     q.enqueueNDRangeKernel(frameRange_, cl::NullRange, cl::NDRange(rangeGroups * rangeGroup),
                            cl::NDRange(rangeGroup), nullptr, timer_.next("depth_range"));
-    size_t group = pow2AtLeast(size_t(grid_.tileW) * grid_.tileH, 256);
+    // One work-item per row of the tile (kernels/clustered.cl).
+    size_t group = std::min<size_t>(grid_.tileH, 64);
     clusterBounds_.setArg(0, frame.depth);
     clusterBounds_.setArg(1, frame.width());
     clusterBounds_.setArg(2, frame.height());
@@ -202,7 +205,8 @@ class ClusteredTechnique : public Technique {
     enqueueBinning(q, binLights_, 7, frame.lightCount(), scan_, clusterCount_, int(clusters),
                    clusterOffset_, total_, timer_);
 
-    // 3. Shading: one work-item per pixel.
+    // 3. Shading: one work-item per pixel, or in lanes with work-groups inside one tile
+    // (shade_clustered then takes the tile, and so its clusters, from the group id).
     cl_uint arg = 0;
     shade_.setArg(arg++, camera);
     shade_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
@@ -219,6 +223,11 @@ class ClusteredTechnique : public Technique {
     shade_.setArg(arg++, cl_uint(capacity_));
     shade_.setArg(arg++, image_);
     size_t lx = std::min(grid_.tileW, 16), ly = std::min(grid_.tileH, 16);
+    if (config_.lanes > 1) {
+      lx = groupEdgeFor(grid_.tileW);
+      ly = groupEdgeFor(grid_.tileH);
+      shade_.setArg(arg++, laneLocalMemory(config_, lx * ly));
+    }
     q.enqueueNDRangeKernel(shade_, cl::NullRange,
                            cl::NDRange(roundUp(frame.width(), lx), roundUp(frame.height(), ly)),
                            cl::NDRange(lx, ly), nullptr, timer_.next("shade"));

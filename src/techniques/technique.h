@@ -43,7 +43,7 @@ struct TechniqueConfig {
   std::string buildOptions;  // extra OpenCL build options (e.g. -cl-fast-relaxed-math)
   // Pixels shaded together against each light (kernels/lanes.h): 0 = auto (createTechnique resolves
   // it: on CPU devices 16 for tiled, tiled-single and brute, 1 for the rest; 1 on GPUs), 1 = one
-  // work-item per pixel, 2/4/8/16 = lanes. clustered has no lanes path and always runs 1.
+  // work-item per pixel, 2/4/8/16 = lanes.
   int lanes = 0;
 
   // " -DTS_LANES=N -DTS_HOST_LANE_PLANES=P" for a technique with a lanes path when lanes > 1,
