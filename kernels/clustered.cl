@@ -5,8 +5,8 @@
  * geometry depth of the frame (zn, zf): slice k spans zn*(zf/zn)^(k/S) .. zn*(zf/zn)^((k+1)/S).
  * Per frame:
  *   1. frame_depth_range     min/max geometry depth of the whole frame: the slicing's zn, zf
- *      cluster_depth_bounds  one work-group per tile: each geometry pixel's slice (the cluster
- *                            key, stored per pixel), and per cluster its geometry depth min/max
+ *      pixel_slices          per pixel: its slice (the cluster key, stored per pixel)
+ *      cluster_depth_bounds  one work-group per tile: per cluster its geometry depth min/max
  *                            and pixel count
  *   2. bin_clusters (COUNT)  per light: its tile rectangle x its slice range, each cluster tested
  *                            against the cluster's geometry depth range (and TS_CULL),
@@ -14,11 +14,13 @@
  *      exclusive_scan        cluster_offset = exclusive prefix sum of cluster_count; total
  *      bin_clusters (FILL)   the same traversal, writing light indices into the cluster lists
  *   3. shade_clustered       per pixel: loop over its cluster's list with the one shading function
+ *                            (in lanes: each vector of pixels runs the lists of its slices)
  * Cluster c = tile * SLICES + slice (a tile's slices are adjacent). Clusters without geometry have
  * an empty depth range (min > max) and so get no lights.
  *
  * Build-time constants: TILE_W, TILE_H (pixels), SLICES, TS_CULL (per-cluster test, culling.h),
- * the scene's features and the G-buffer layout (gbuffer.h).
+ * TS_LANES (shading in lanes on CPU devices, lanes.h), the scene's features and the G-buffer
+ * layout (gbuffer.h).
  */
 #include "gbuffer.h"
 
@@ -38,10 +40,11 @@ static inline float ts_slice_scale(float zn, float zf) {
   return zf > zn ? (float)SLICES / log(zf / zn) : 0.0f;
 }
 
-/* Slice of depth z, for zn <= z <= zf (callers guarantee it, so log never sees z <= 0). */
+/* Slice of depth z, for zn <= z <= zf (callers guarantee it, so log never sees z <= 0); the
+ * slice is the integer part of ts_depth_slice_f, written for float and floatN. */
+#define ts_depth_slice_f(z, zn, scale) clamp(log((z) / (zn)) * (scale), 0.0f, (float)(SLICES - 1))
 static inline int ts_depth_slice(float z, float zn, float scale) {
-  float f = clamp(log(z / zn) * scale, 0.0f, (float)(SLICES - 1));
-  return (int)f;
+  return (int)ts_depth_slice_f(z, zn, scale);
 }
 
 /* ---- 1. depth range and cluster bounds ---------------------------------------------------- */
@@ -80,15 +83,38 @@ __kernel void frame_depth_range(__global const float *gb_depth, int pixels,
   }
 }
 
-/* One work-group per tile, one work-item per row of it. Each geometry pixel goes to its slice:
- * the slice is stored per pixel (shading and the host's light assignment read this key, so every
- * user sees the same cluster, whatever the rounding of log), and the slice's min/max depth and
- * pixel count are reduced in local memory with integer atomics -- valid only because depths are
+/* Every pixel's slice: the cluster key that cluster_depth_bounds, the shading and the host's
+ * light assignment read, so every user sees the same cluster whatever the rounding of log.
+ * Background pixels get the key 0xffff. One work-item per 16 pixels of the depth plane read as
+ * one array, in float16 vectors: PoCL did not vectorise the per-pixel form, whose scalar logs
+ * took 17 ms at 1280x720 (the tail past the last whole vector goes pixel by pixel). */
+__kernel void pixel_slices(__global const float *gb_depth, int pixels,
+                           __global const uint *depth_range, __global ushort *pixel_slice) {
+  float zn = as_float(depth_range[0]), zf = as_float(depth_range[1]);
+  float scale = ts_slice_scale(zn, zf);
+  int first = get_global_id(0) * 16;
+  if (first + 16 <= pixels) {
+    float16 z = vload16(0, gb_depth + first);
+    int16 geometry = z > 0.0f;
+    float16 f = ts_depth_slice_f(select((float16)zn, z, geometry), zn, scale);
+    vstore16(select((ushort16)0xffff, convert_ushort16(f), convert_short16(geometry)), 0,
+             pixel_slice + first);
+  } else {
+    for (int i = first; i < pixels; ++i) {
+      float z = gb_depth[i];
+      pixel_slice[i] = z > 0.0f ? (ushort)ts_depth_slice(z, zn, scale) : (ushort)0xffff;
+    }
+  }
+}
+
+/* One work-group per tile, one work-item per row of it: per cluster its geometry depth min/max
+ * and pixel count, reduced in local memory with integer atomics -- valid only because depths are
  * positive (see above). A work-item walks its row and merges a run of pixels of one slice with
  * one set of atomics when the slice changes: neighbouring pixels mostly share a slice, and on a
- * CPU three atomics per pixel cost 7x the rest of this kernel.
+ * CPU three atomics per pixel cost more than the rest of this kernel.
  * Output per cluster: (zmin, zmax), empty: zmin > zmax (FLT_MAX, 0); its geometry pixel count.
- * Background pixels get the key 0xffff. */
+ * Per tile: its first and last slice holding geometry (empty tile: first > last), so that
+ * binning tests only the clusters between them. */
 static inline void merge_run(int slice, uint zmin, uint zmax, uint count, __local uint *lmin,
                              __local uint *lmax, __local uint *lcount) {
   if (count == 0u) return;
@@ -98,13 +124,14 @@ static inline void merge_run(int slice, uint zmin, uint zmax, uint count, __loca
 }
 
 __kernel void cluster_depth_bounds(__global const float *gb_depth, int width, int height,
-                                   __global const uint *depth_range,
+                                   __global const ushort *pixel_slice,
                                    __global float2 *cluster_depth,
                                    __global uint *cluster_pixels,
-                                   __global ushort *pixel_slice) {
+                                   __global int2 *tile_slices) {
   __local uint lmin[SLICES];
   __local uint lmax[SLICES];
   __local uint lcount[SLICES];
+  __local int lfirst, llast;
   int tiles_x = (width + TILE_W - 1) / TILE_W;
   int tile = get_group_id(0);
   int tx = tile % tiles_x, ty = tile / tiles_x;
@@ -114,31 +141,29 @@ __kernel void cluster_depth_bounds(__global const float *gb_depth, int width, in
     lmax[s] = 0u;
     lcount[s] = 0u;
   }
+  if (lid == 0) {
+    lfirst = SLICES;
+    llast = -1;
+  }
   barrier(CLK_LOCAL_MEM_FENCE);
-  float zn = as_float(depth_range[0]), zf = as_float(depth_range[1]);
-  float scale = ts_slice_scale(zn, zf);
   int x0 = tx * TILE_W, x1 = min(x0 + TILE_W, width);
   for (int y = ty * TILE_H + lid; y < min((ty + 1) * TILE_H, height); y += lsize) {
     int run = 0; /* the slice of the current run, its depth bits' min/max and pixel count */
     uint run_min = TS_DEPTH_EMPTY_MIN, run_max = 0u, run_count = 0u;
     for (int x = x0; x < x1; ++x) {
-      float z = gb_depth[y * width + x];
-      ushort key = (ushort)0xffff;
-      if (z > 0.0f) {
-        int s = ts_depth_slice(z, zn, scale);
-        if (s != run) {
-          merge_run(run, run_min, run_max, run_count, lmin, lmax, lcount);
-          run = s;
-          run_min = TS_DEPTH_EMPTY_MIN;
-          run_max = 0u;
-          run_count = 0u;
-        }
-        run_min = min(run_min, as_uint(z));
-        run_max = max(run_max, as_uint(z));
-        ++run_count;
-        key = (ushort)s;
+      int s = pixel_slice[y * width + x];
+      if (s == 0xffff) continue; /* background */
+      if (s != run) {
+        merge_run(run, run_min, run_max, run_count, lmin, lmax, lcount);
+        run = s;
+        run_min = TS_DEPTH_EMPTY_MIN;
+        run_max = 0u;
+        run_count = 0u;
       }
-      pixel_slice[y * width + x] = key;
+      uint z = as_uint(gb_depth[y * width + x]);
+      run_min = min(run_min, z);
+      run_max = max(run_max, z);
+      ++run_count;
     }
     merge_run(run, run_min, run_max, run_count, lmin, lmax, lcount);
   }
@@ -147,7 +172,13 @@ __kernel void cluster_depth_bounds(__global const float *gb_depth, int width, in
     int c = tile * SLICES + s;
     cluster_depth[c] = (float2)(as_float(lmin[s]), as_float(lmax[s]));
     cluster_pixels[c] = lcount[s];
+    if (lcount[s] != 0u) {
+      atomic_min(&lfirst, s);
+      atomic_max(&llast, s);
+    }
   }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid == 0) tile_slices[tile] = (int2)(lfirst, llast);
 }
 
 /* ---- 2. light binning --------------------------------------------------------------------- */
@@ -198,7 +229,8 @@ static inline void light_clusters(__global const float4 *light_pos_range,
 __kernel void bin_clusters(__global const float4 *light_pos_range,
                            __global const float4 *light_spot, int light_count, float4 camera,
                            float znear, __global const uint *depth_range,
-                           __global const float2 *cluster_depth, int fill,
+                           __global const float2 *cluster_depth,
+                           __global const int2 *tile_slices, int fill,
                            __global uint *cluster_count, __global const uint *cluster_offset,
                            __global uint *cluster_cursor, __global uint *cluster_lights,
                            uint capacity) {
@@ -218,8 +250,9 @@ __kernel void bin_clusters(__global const float4 *light_pos_range,
   ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, (uint)light);
   for (int i = get_local_id(0); i < rect_tiles; i += get_local_size(0)) {
     int tx = x0 + i % rect_w, ty = y0 + i / rect_w;
-    int first = (ty * tiles_x + tx) * SLICES;
-    for (int s = s0; s <= s1; ++s)
+    int tile = ty * tiles_x + tx, first = tile * SLICES;
+    int2 geometry = tile_slices[tile]; /* the tile's slices that hold geometry */
+    for (int s = max(s0, geometry.x); s <= min(s1, geometry.y); ++s)
       if (ts_light_meets_bin(&v, tx, ty, cluster_depth[first + s], camera))
         ts_bin_light((uint)light, first + s, fill, cluster_count, cluster_offset, cluster_cursor,
                      cluster_lights, capacity);

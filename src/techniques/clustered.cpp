@@ -44,6 +44,7 @@ class ClusteredTechnique : public Technique {
                           config.lanesOption();
     program_ = cl.build("clustered.cl", options);
     frameRange_ = cl::Kernel(program_, "frame_depth_range");
+    pixelSlices_ = cl::Kernel(program_, "pixel_slices");
     clusterBounds_ = cl::Kernel(program_, "cluster_depth_bounds");
     binLights_ = cl::Kernel(program_, "bin_clusters");
     scan_ = cl::Kernel(program_, "exclusive_scan");
@@ -147,6 +148,7 @@ class ClusteredTechnique : public Technique {
     depthRange_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint));
     clusterDepth_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(cl_float2));
     clusterPixels_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
+    tileSlices_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, size_t(grid_.count()) * sizeof(cl_int2));
     clusterCount_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
     clusterOffset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
     clusterCursor_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
@@ -177,15 +179,21 @@ class ClusteredTechnique : public Technique {
     frameRange_.setArg(2, depthRange_);
     q.enqueueNDRangeKernel(frameRange_, cl::NullRange, cl::NDRange(rangeGroups * rangeGroup),
                            cl::NDRange(rangeGroup), nullptr, timer_.next("depth_range"));
+    pixelSlices_.setArg(0, frame.depth);
+    pixelSlices_.setArg(1, int(pixels));
+    pixelSlices_.setArg(2, depthRange_);
+    pixelSlices_.setArg(3, pixelSlice_);
+    q.enqueueNDRangeKernel(pixelSlices_, cl::NullRange, cl::NDRange(roundUp((pixels + 15) / 16, 64)),
+                           cl::NDRange(64), nullptr, timer_.next("slices"));  // 16 pixels per item
     // One work-item per row of the tile (kernels/clustered.cl).
     size_t group = std::min<size_t>(grid_.tileH, 64);
     clusterBounds_.setArg(0, frame.depth);
     clusterBounds_.setArg(1, frame.width());
     clusterBounds_.setArg(2, frame.height());
-    clusterBounds_.setArg(3, depthRange_);
+    clusterBounds_.setArg(3, pixelSlice_);
     clusterBounds_.setArg(4, clusterDepth_);
     clusterBounds_.setArg(5, clusterPixels_);
-    clusterBounds_.setArg(6, pixelSlice_);
+    clusterBounds_.setArg(6, tileSlices_);
     q.enqueueNDRangeKernel(clusterBounds_, cl::NullRange, cl::NDRange(tiles * group),
                            cl::NDRange(group), nullptr, timer_.next("cluster_bounds"));
 
@@ -197,12 +205,13 @@ class ClusteredTechnique : public Technique {
     binLights_.setArg(4, frame.camera.znear);
     binLights_.setArg(5, depthRange_);
     binLights_.setArg(6, clusterDepth_);
-    binLights_.setArg(8, clusterCount_);
-    binLights_.setArg(9, clusterOffset_);
-    binLights_.setArg(10, clusterCursor_);
-    binLights_.setArg(11, clusterLights_);
-    binLights_.setArg(12, cl_uint(capacity_));
-    enqueueBinning(q, binLights_, 7, frame.lightCount(), scan_, clusterCount_, int(clusters),
+    binLights_.setArg(7, tileSlices_);
+    binLights_.setArg(9, clusterCount_);
+    binLights_.setArg(10, clusterOffset_);
+    binLights_.setArg(11, clusterCursor_);
+    binLights_.setArg(12, clusterLights_);
+    binLights_.setArg(13, cl_uint(capacity_));
+    enqueueBinning(q, binLights_, 8, frame.lightCount(), scan_, clusterCount_, int(clusters),
                    clusterOffset_, total_, timer_);
 
     // 3. Shading: one work-item per pixel, or in lanes with work-groups inside one tile
@@ -236,9 +245,9 @@ class ClusteredTechnique : public Technique {
   ClContext& cl_;
   TechniqueConfig config_;
   cl::Program program_;
-  cl::Kernel frameRange_, clusterBounds_, binLights_, scan_, shade_;
+  cl::Kernel frameRange_, pixelSlices_, clusterBounds_, binLights_, scan_, shade_;
   TileGrid grid_;
-  cl::Buffer depthRange_, clusterDepth_, clusterPixels_, clusterCount_, clusterOffset_,
+  cl::Buffer depthRange_, clusterDepth_, clusterPixels_, tileSlices_, clusterCount_, clusterOffset_,
       clusterCursor_, pixelSlice_, total_, clusterLights_, image_;
   size_t capacity_ = 0;
   FrameTimer timer_;
