@@ -327,6 +327,11 @@ static inline ts_lane_rgb shade_vector_clusters(const ts_lane_surface *lanes,
   return sum;
 }
 
+/* Whether any of the TS_LANES slots from `first` holds geometry. */
+static inline int any_geometry(__local const int *slot_slice, int first) {
+  return any(TS_LANE_VLOAD(TS_LANES)(0, slot_slice + first) >= 0);
+}
+
 /* In lanes (kernels/lanes.h): every work-item decodes its pixel and stores its slice (-1: no
  * geometry); then one work-item per TS_LANES pixels shades them (shade_vector_clusters) and adds
  * the directional lights. The host launches work-groups inside one tile (groupEdgeFor), so a
@@ -358,7 +363,8 @@ __kernel void shade_clustered(float4 camera, float4 ambient, TS_GBUFFER_PARAMS, 
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   int first = ts_lanes_first_slot();
-  if (lights > 0 && first >= 0) {
+  /* A vector without geometry (sky) is skipped: its sums are never read. */
+  if (lights > 0 && first >= 0 && any_geometry(slot_slice, first)) {
     ts_lane_surface lanes = ts_lanes_get(soa, ts_lane_slots(), first);
     ts_lane_rgb sum = shade_vector_clusters(&lanes, slot_slice, first, tile, cluster_count,
                                             cluster_offset, cluster_lights, capacity,

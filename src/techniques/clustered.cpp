@@ -10,9 +10,10 @@
 //                         so the same number.
 //   listMin/Mean/Max      lights per cluster over the non-empty clusters (those holding geometry);
 //                         empty clusters get no lights and would only drag the mean to zero.
-//   gbufferBytesRead      the depth plane is read three times (frame range, cluster bounds,
-//                         shading), the other planes once per geometry pixel. The per-pixel slice
-//                         key (2 B written, 2 B read) is not G-buffer and is not counted.
+//   gbufferBytesRead      the depth plane is read three times per pixel (frame range, slices,
+//                         shading) and once more per geometry pixel (cluster bounds), the other
+//                         planes once per geometry pixel. The per-pixel slice key (2 B written,
+//                         2 B read twice) is not G-buffer and is not counted.
 // The per-cluster pixel counts come from the device (cluster_depth_bounds counts them while it
 // assigns slices), so host and kernels agree on every pixel's cluster.
 #include <algorithm>
@@ -108,7 +109,7 @@ class ClusteredTechnique : public Technique {
     c.listMean = nonEmpty ? sum / double(nonEmpty) : 0.0;
     c.evaluations = c.lightingComputations;
     size_t screen = size_t(frame.width()) * frame.height();
-    c.gbufferBytesRead = 3 * 4 * screen + geometry * (frame.gbuffer->bytesPerPixel() - 4);
+    c.gbufferBytesRead = 3 * 4 * screen + geometry * frame.gbuffer->bytesPerPixel();
     addDirectionalWork(c, geometry, frame);
     return c;
   }
