@@ -52,15 +52,28 @@ static inline int ts_depth_slice(float z, float zn, float scale) {
 /* min/max of the geometry depth (depth > 0; background excluded) into depth_range[0], [1] as
  * float bits (initialized to TS_DEPTH_EMPTY_MIN, 0 by the host). Integer atomic_min/max order
  * floats correctly here only because every depth compared is positive: positive IEEE floats sort
- * like their bit patterns read as unsigned integers. Grid-stride loop, local tree, one pair of
- * global atomics per work-group. */
+ * like their bit patterns read as unsigned integers. Grid-stride loop over float16 vectors (PoCL
+ * does not vectorise a per-pixel loop: 1.4 -> 0.25 ms at 1280x720) and then the pixels past the last
+ * whole vector, local tree, one pair of global atomics per work-group. */
+#define DEPTH_RANGE_GROUP 64
 __kernel void frame_depth_range(__global const float *gb_depth, int pixels,
                                 __global uint *depth_range) {
-  __local float lmin[256];
-  __local float lmax[256];
+  __local float lmin[DEPTH_RANGE_GROUP];
+  __local float lmax[DEPTH_RANGE_GROUP];
   int lid = get_local_id(0), lsize = get_local_size(0);
-  float zmin = FLT_MAX, zmax = 0.0f;
-  for (int i = get_global_id(0); i < pixels; i += get_global_size(0)) {
+  int id = get_global_id(0), size = get_global_size(0);
+  float16 vmin = (float16)FLT_MAX, vmax = (float16)0.0f;
+  for (int v = id; v < pixels / 16; v += size) {
+    float16 z = vload16(v, gb_depth);
+    int16 geometry = z > 0.0f;
+    vmin = fmin(vmin, select((float16)FLT_MAX, z, geometry));
+    vmax = fmax(vmax, select((float16)0.0f, z, geometry));
+  }
+  float8 m8 = fmin(vmin.lo, vmin.hi), x8 = fmax(vmax.lo, vmax.hi);
+  float4 m4 = fmin(m8.lo, m8.hi), x4 = fmax(x8.lo, x8.hi);
+  float2 m2 = fmin(m4.lo, m4.hi), x2 = fmax(x4.lo, x4.hi);
+  float zmin = fmin(m2.x, m2.y), zmax = fmax(x2.x, x2.y);
+  for (int i = pixels / 16 * 16 + id; i < pixels; i += size) {
     float z = gb_depth[i];
     if (z > 0.0f) {
       zmin = fmin(zmin, z);

@@ -173,8 +173,8 @@ class ClusteredTechnique : public Technique {
     q.enqueueFillBuffer(clusterCursor_, zero, 0, clusters * 4, nullptr, timer_.next("clear"));
 
     // 1. The frame's geometry depth range (slicing), then per-cluster bounds: a work-group per tile.
-    const size_t rangeGroup = 256;
-    size_t rangeGroups = std::clamp<size_t>(pixels / (rangeGroup * 32), 1, 1024);
+    const size_t rangeGroup = 64;  // DEPTH_RANGE_GROUP; 16 vectors of 16 pixels per item
+    size_t rangeGroups = std::clamp<size_t>(pixels / (rangeGroup * 16 * 16), 1, 1024);
     frameRange_.setArg(0, frame.depth);
     frameRange_.setArg(1, int(pixels));
     frameRange_.setArg(2, depthRange_);
