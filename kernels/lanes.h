@@ -99,13 +99,15 @@ static inline void ts_lanes_put3(__local float *soa, int slots, int plane, int i
   soa[(plane + 2) * slots + i] = v.z;
 }
 
+/* The depth of an unlit slot: d2 ~ 1e36 stays finite and beyond every range. */
+#define TS_LANE_UNLIT_Z -1e18f
+
 /* Stores slot i of `slots`: the surface s, or (s null) an unlit slot — far away with black
  * materials, so every light is out of its range and its sum stays 0. (A directional light
  * reaches every slot: the unlit slot's normal is 0, so its N.l is 0 and it gets nothing.) */
 static inline void ts_lanes_put(__local float *soa, int slots, int i, const ts_surface *s) {
   const float3 zero = (float3)(0.0f);
-  /* d2 ~ 1e36 stays finite and beyond every range */
-  ts_lanes_put3(soa, slots, TS_LP_P, i, s ? s->P : (float3)(0.0f, 0.0f, -1e18f));
+  ts_lanes_put3(soa, slots, TS_LP_P, i, s ? s->P : (float3)(0.0f, 0.0f, TS_LANE_UNLIT_Z));
   ts_lanes_put3(soa, slots, TS_LP_N, i, s ? s->N : zero);
   ts_lanes_put3(soa, slots, TS_LP_KD, i, s ? s->kd : zero);
 #if TS_HAS_SPECULAR
@@ -175,6 +177,38 @@ static inline ts_lane_surface ts_lanes_get(__local const float *soa, int slots, 
   s.p.view_term = one;
 #endif
   return s;
+}
+
+/* A per-lane mask of TS_LANES lanes: intN, a lane set where all its bits are (what a vector
+ * comparison gives). */
+#define TS_LANE_MASK_(n) int##n
+#define TS_LANE_MASK_TYPE(n) TS_LANE_MASK_(n)
+#define TS_LANE_MASK TS_LANE_MASK_TYPE(TS_LANES)
+
+/* s with only the lanes set in `keep` left as they are; the others become unlit slots (the
+ * values ts_lanes_put stores for one), so no light reaches them and lights that reach no kept
+ * lane exit at the range test. For a loop over a light list that only some lanes use. */
+static inline ts_lane_surface ts_lanes_keep(const ts_lane_surface *s, TS_LANE_MASK keep) {
+  const TS_LANE zero = (TS_LANE)0.0f, one = (TS_LANE)1.0f;
+  ts_lane_surface k = *s;
+  k.p.px = select(zero, s->p.px, keep);
+  k.p.py = select(zero, s->p.py, keep);
+  k.p.pz = select((TS_LANE)TS_LANE_UNLIT_Z, s->p.pz, keep);
+  k.p.nx = select(zero, s->p.nx, keep);
+  k.p.ny = select(zero, s->p.ny, keep);
+  k.p.nz = select(zero, s->p.nz, keep);
+  k.p.vx = select(zero, s->p.vx, keep);
+  k.p.vy = select(zero, s->p.vy, keep);
+  k.p.vz = select(zero, s->p.vz, keep);
+  k.p.gloss = select(one, s->p.gloss, keep);
+  k.p.view_term = select(one, s->p.view_term, keep);
+  k.kdr = select(zero, s->kdr, keep);
+  k.kdg = select(zero, s->kdg, keep);
+  k.kdb = select(zero, s->kdb, keep);
+  k.ksr = select(zero, s->ksr, keep);
+  k.ksg = select(zero, s->ksg, keep);
+  k.ksb = select(zero, s->ksb, keep);
+  return k;
 }
 
 /* sum += C (wd kd + ws ks + wf), lane by lane, as ts_weighted_color forms it. */

@@ -113,14 +113,6 @@ __kernel void bin_lights(__global const float4 *light_pos_range,
 
 /* ---- 3. shading --------------------------------------------------------------------------- */
 
-/* The tile of this work-group: the host launches groups that divide the tile, so the compiler sees
- * one tile (one light list) per work-group and keeps its loads uniform (1.7x faster shading on
- * PoCL than deriving it from x/y). */
-static inline int group_tile(int width) {
-  return (int)(get_group_id(1) * get_local_size(1) / TILE_H) * ((width + TILE_W - 1) / TILE_W) +
-         (int)(get_group_id(0) * get_local_size(0) / TILE_W);
-}
-
 #if TS_LANES == 1
 /* One work-item per pixel. */
 __kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS, TS_LIGHT_PARAMS,

@@ -89,8 +89,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   renderCmd->add_option("--lanes", render.lanes,
                         "pixels shaded together per light: auto (on CPU devices 16 for tiled, "
-                        "tiled-single and brute, else 1), 1 (one work-item per pixel), 2, 4, 8, 16 "
-                        "(vectors; every technique but clustered)")
+                        "tiled-single, clustered and brute, else 1), 1 (one work-item per pixel), "
+                        "2, 4, 8, 16 (vectors)")
       ->capture_default_str();
   renderCmd->add_option("--seed", render.seed, "seed of the built-in scenes")->capture_default_str();
   renderCmd->add_option("--technique", render.techniques,

@@ -39,7 +39,7 @@ gtest_discover_tests(tileshade_check_tests DISCOVERY_TIMEOUT 60
                      PROPERTIES LABELS check ENVIRONMENT "TILESHADE_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
 
 # Every kernel under Oclgrind (tests/oclgrind_run.sh), label `oclgrind`, on tiny frames: each
-# technique in each G-buffer layout with lanes 1 and 16 (clustered has no lanes path), the dump's
+# technique in each G-buffer layout with lanes 1 and 16, the dump's
 # decoder, tiled-single's local list overflowing into chunks, odd tile sizes, a device limit of
 # 64 work-items, and the test binary's exit. Zero reports of out-of-bounds or uninitialised
 # accesses, data races or barrier divergence. Oclgrind 21.10's --uninitialized needs
@@ -61,9 +61,6 @@ set(TILESHADE_OCLGRIND_ALL "--data-races --uninitialized ${TILESHADE_OCLGRIND_NO
 foreach(layout fp32 fp16 packed)
   foreach(lanes 1 16)
     foreach(technique tiled tiled-single clustered deferred deferred-stencil brute)
-      if(technique STREQUAL "clustered" AND lanes EQUAL 16)
-        continue()
-      endif()
       set(options ${TILESHADE_OCLGRIND_ALL})
       if(technique STREQUAL "tiled" OR technique STREQUAL "clustered")
         # the fill-buffer false reports, above

@@ -77,7 +77,7 @@ TEST(Lanes, EveryWidthGivesThePerPixelImage) {
 TEST(Lanes, MatchReferenceWithNoMissedLight) {
   const PreparedFrame f = prepareFrame(test::builtinScene("atrium", "mixed"), 20, 160, 96,
                                        GBufferFormat::FP16);
-  for (const char* name : {"tiled", "brute"}) {
+  for (const char* name : {"tiled", "brute", "clustered"}) {
     TechniqueConfig config;
     config.format = GBufferFormat::FP16;
     config.lanes = 16;
@@ -121,13 +121,13 @@ TEST(Lanes, LightExactlyOnASurfacePointStaysFinite) {
     EXPECT_EQ(many.image[i][c], manyWithout.image[i][c]) << "channel " << c;
 }
 
-// auto: 16 for tiled, tiled-single and brute on a CPU (measured faster there with many lights),
-// 1 for the rest and on GPUs.
+// auto: 16 for tiled, tiled-single, clustered and brute on a CPU (measured faster there with many
+// lights), 1 for the rest and on GPUs.
 TEST(Lanes, AutoPicksTheFasterWidthPerTechniqueAndDevice) {
   bool gpu = test::context().isGpu();
   for (const auto& name : techniqueNames()) {
     auto t = createTechnique(name, test::context(), TechniqueConfig{});
-    bool lanes = name == "tiled" || name == "tiled-single" || name == "brute";
+    bool lanes = name == "tiled" || name == "tiled-single" || name == "clustered" || name == "brute";
     EXPECT_EQ(t->lanes(), !gpu && lanes ? 16 : 1) << name;
   }
   // tiled-single keeps its whole tile in local memory in lanes (19 floats per pixel); a tile that

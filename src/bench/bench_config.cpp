@@ -171,7 +171,7 @@ std::vector<BenchDimension> makeDimensions() {
   add("slices", "depth slices of clustered shading", false,
       [](BenchConfig& c, const std::string& v) { c.clusterSlices = int(parseInteger("--slices", v, 1, kMaxClusterSlices)); },
       [](const BenchConfig& c) { return std::to_string(c.clusterSlices); });
-  add("lanes", "pixels shaded together per light: auto (on CPU devices 16 for tiled, tiled-single and brute, else 1), 1, 2, 4, 8, 16", false,
+  add("lanes", "pixels shaded together per light: auto (on CPU devices 16 for tiled, tiled-single, clustered and brute, else 1), 1, 2, 4, 8, 16", false,
       [](BenchConfig& c, const std::string& v) { c.lanes = parseLanes(trimmed(v)); },
       [](const BenchConfig& c) { return lanesName(c.lanes); });
   return d;

@@ -10,9 +10,10 @@
 //                         so the same number.
 //   listMin/Mean/Max      lights per cluster over the non-empty clusters (those holding geometry);
 //                         empty clusters get no lights and would only drag the mean to zero.
-//   gbufferBytesRead      the depth plane is read three times (frame range, cluster bounds,
-//                         shading), the other planes once per geometry pixel. The per-pixel slice
-//                         key (2 B written, 2 B read) is not G-buffer and is not counted.
+//   gbufferBytesRead      the depth plane is read three times per pixel (frame range, slices,
+//                         shading) and once more per geometry pixel (cluster bounds), the other
+//                         planes once per geometry pixel. The per-pixel slice key (2 B written,
+//                         2 B read twice) is not G-buffer and is not counted.
 // The per-cluster pixel counts come from the device (cluster_depth_bounds counts them while it
 // assigns slices), so host and kernels agree on every pixel's cluster.
 #include <algorithm>
@@ -41,9 +42,11 @@ class ClusteredTechnique : public Technique {
                   "than the device has (" + std::to_string(cl.info().localMemBytes) + " B)");
     std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
                           " -DTILE_H=" + std::to_string(config.tileHeight) +
-                          " -DSLICES=" + std::to_string(config.clusterSlices);
+                          " -DSLICES=" + std::to_string(config.clusterSlices) +
+                          config.lanesOption();
     program_ = cl.build("clustered.cl", options);
     frameRange_ = cl::Kernel(program_, "frame_depth_range");
+    pixelSlices_ = cl::Kernel(program_, "pixel_slices");
     clusterBounds_ = cl::Kernel(program_, "cluster_depth_bounds");
     binLights_ = cl::Kernel(program_, "bin_clusters");
     scan_ = cl::Kernel(program_, "exclusive_scan");
@@ -52,6 +55,7 @@ class ClusteredTechnique : public Technique {
 
   bool repeatable() const override { return false; }  // lists filled with atomics
   std::string name() const override { return "clustered"; }
+  int lanes() const override { return config_.lanes; }
 
   FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
@@ -107,7 +111,7 @@ class ClusteredTechnique : public Technique {
     c.listMean = nonEmpty ? sum / double(nonEmpty) : 0.0;
     c.evaluations = c.lightingComputations;
     size_t screen = size_t(frame.width()) * frame.height();
-    c.gbufferBytesRead = 3 * 4 * screen + geometry * (frame.gbuffer->bytesPerPixel() - 4);
+    c.gbufferBytesRead = 3 * 4 * screen + geometry * frame.gbuffer->bytesPerPixel();
     addDirectionalWork(c, geometry, frame);
     return c;
   }
@@ -147,6 +151,7 @@ class ClusteredTechnique : public Technique {
     depthRange_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint));
     clusterDepth_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(cl_float2));
     clusterPixels_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
+    tileSlices_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, size_t(grid_.count()) * sizeof(cl_int2));
     clusterCount_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
     clusterOffset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
     clusterCursor_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
@@ -170,22 +175,30 @@ class ClusteredTechnique : public Technique {
     q.enqueueFillBuffer(clusterCursor_, zero, 0, clusters * 4, nullptr, timer_.next("clear"));
 
     // 1. The frame's geometry depth range (slicing), then per-cluster bounds: a work-group per tile.
-    const size_t rangeGroup = powerOfTwoGroup(256, groupLimit(cl_, frameRange_));
-    size_t rangeGroups = std::clamp<size_t>(pixels / (rangeGroup * 32), 1, 1024);
+    const size_t rangeGroup = powerOfTwoGroup(64, groupLimit(cl_, frameRange_));  // DEPTH_RANGE_GROUP
+    size_t rangeGroups = std::clamp<size_t>(pixels / (rangeGroup * 16 * 16), 1, 1024);  // 16 vectors of 16 pixels per item
     frameRange_.setArg(0, frame.depth);
     frameRange_.setArg(1, int(pixels));
     frameRange_.setArg(2, depthRange_);
     q.enqueueNDRangeKernel(frameRange_, cl::NullRange, cl::NDRange(rangeGroups * rangeGroup),
                            cl::NDRange(rangeGroup), nullptr, timer_.next("depth_range"));
-    size_t group = powerOfTwoGroup(pow2AtLeast(size_t(grid_.tileW) * grid_.tileH, 256),
-                                   groupLimit(cl_, clusterBounds_));
+    const size_t sliceGroup = std::min<size_t>(64, groupLimit(cl_, pixelSlices_).size);
+    pixelSlices_.setArg(0, frame.depth);
+    pixelSlices_.setArg(1, int(pixels));
+    pixelSlices_.setArg(2, depthRange_);
+    pixelSlices_.setArg(3, pixelSlice_);
+    q.enqueueNDRangeKernel(pixelSlices_, cl::NullRange,
+                           cl::NDRange(roundUp((pixels + 15) / 16, sliceGroup)),
+                           cl::NDRange(sliceGroup), nullptr, timer_.next("slices"));  // 16 pixels per item
+    // One work-item per row of the tile (kernels/clustered.cl).
+    size_t group = std::min<size_t>({size_t(grid_.tileH), 64, groupLimit(cl_, clusterBounds_).size});
     clusterBounds_.setArg(0, frame.depth);
     clusterBounds_.setArg(1, frame.width());
     clusterBounds_.setArg(2, frame.height());
-    clusterBounds_.setArg(3, depthRange_);
+    clusterBounds_.setArg(3, pixelSlice_);
     clusterBounds_.setArg(4, clusterDepth_);
     clusterBounds_.setArg(5, clusterPixels_);
-    clusterBounds_.setArg(6, pixelSlice_);
+    clusterBounds_.setArg(6, tileSlices_);
     q.enqueueNDRangeKernel(clusterBounds_, cl::NullRange, cl::NDRange(tiles * group),
                            cl::NDRange(group), nullptr, timer_.next("cluster_bounds"));
 
@@ -197,15 +210,17 @@ class ClusteredTechnique : public Technique {
     binLights_.setArg(4, frame.camera.znear);
     binLights_.setArg(5, depthRange_);
     binLights_.setArg(6, clusterDepth_);
-    binLights_.setArg(8, clusterCount_);
-    binLights_.setArg(9, clusterOffset_);
-    binLights_.setArg(10, clusterCursor_);
-    binLights_.setArg(11, clusterLights_);
-    binLights_.setArg(12, cl_uint(capacity_));
-    enqueueBinning(cl_, binLights_, 7, frame.lightCount(), scan_, clusterCount_, int(clusters),
+    binLights_.setArg(7, tileSlices_);
+    binLights_.setArg(9, clusterCount_);
+    binLights_.setArg(10, clusterOffset_);
+    binLights_.setArg(11, clusterCursor_);
+    binLights_.setArg(12, clusterLights_);
+    binLights_.setArg(13, cl_uint(capacity_));
+    enqueueBinning(cl_, binLights_, 8, frame.lightCount(), scan_, clusterCount_, int(clusters),
                    clusterOffset_, total_, timer_);
 
-    // 3. Shading: one work-item per pixel.
+    // 3. Shading: one work-item per pixel, or in lanes with work-groups inside one tile
+    // (shade_clustered then takes the tile, and so its clusters, from the group id).
     cl_uint arg = 0;
     shade_.setArg(arg++, camera);
     shade_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
@@ -221,8 +236,12 @@ class ClusteredTechnique : public Technique {
     shade_.setArg(arg++, clusterLights_);
     shade_.setArg(arg++, cl_uint(capacity_));
     shade_.setArg(arg++, image_);
-    GroupShape g = fitGroup(std::min(grid_.tileW, 16), std::min(grid_.tileH, 16),
-                            groupLimit(cl_, shade_));
+    // In lanes a work-group lies inside one tile (its clusters are the tile's).
+    GroupShape g = config_.lanes > 1
+                       ? tileDividingGroup(grid_.tileW, grid_.tileH, groupLimit(cl_, shade_))
+                       : fitGroup(std::min(grid_.tileW, 16), std::min(grid_.tileH, 16),
+                                  groupLimit(cl_, shade_));
+    if (config_.lanes > 1) shade_.setArg(arg++, laneLocalMemory(config_, g.size()));
     q.enqueueNDRangeKernel(shade_, cl::NullRange, g.global(frame.width(), frame.height()),
                            g.local(), nullptr, timer_.next("shade"));
   }
@@ -230,9 +249,9 @@ class ClusteredTechnique : public Technique {
   ClContext& cl_;
   TechniqueConfig config_;
   cl::Program program_;
-  cl::Kernel frameRange_, clusterBounds_, binLights_, scan_, shade_;
+  cl::Kernel frameRange_, pixelSlices_, clusterBounds_, binLights_, scan_, shade_;
   TileGrid grid_;
-  cl::Buffer depthRange_, clusterDepth_, clusterPixels_, clusterCount_, clusterOffset_,
+  cl::Buffer depthRange_, clusterDepth_, clusterPixels_, tileSlices_, clusterCount_, clusterOffset_,
       clusterCursor_, pixelSlice_, total_, clusterLights_, image_;
   size_t capacity_ = 0;
   FrameTimer timer_;

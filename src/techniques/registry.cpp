@@ -1,7 +1,7 @@
 // The one list of techniques. Adding a technique = its own .cpp/.cl pair plus one line here.
 // The last field, where present, is the lanes "auto" picks on CPU devices: 16 where shading in
-// lanes measured faster on PoCL with many lights (tiled 6.6x, tiled-single 3.5x, brute 4.8x;
-// bench/RESULTS.md); deferred has a lanes path but measured 3-21% slower with it (its time is
+// lanes measured faster on PoCL with many lights (tiled 6.6x, tiled-single 3.5x, brute 4.8x,
+// clustered ~10x; bench/RESULTS.md); deferred has a lanes path but measured 3-21% slower with it (its time is
 // per-light launches and G-buffer re-reads), so it stays at 1.
 #include <sstream>
 
@@ -21,7 +21,7 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
        makeTiledSingleTechnique, 16},
       {"clustered",
        "clustered deferred: tiles x exponential depth slices, lights binned per non-empty cluster",
-       makeClusteredTechnique},
+       makeClusteredTechnique, 16},
       {"deferred",
        "traditional deferred: one launch per light over its screen rectangle, each pixel re-reads "
        "the G-buffer and blends into an accumulation buffer",

@@ -43,8 +43,8 @@ struct TechniqueConfig {
                                  // native (native_ sqrt/powr/divide)
   std::string buildOptions;  // extra OpenCL build options (e.g. -cl-fast-relaxed-math)
   // Pixels shaded together against each light (kernels/lanes.h): 0 = auto (createTechnique resolves
-  // it: on CPU devices 16 for tiled, tiled-single and brute, 1 for the rest; 1 on GPUs), 1 = one
-  // work-item per pixel, 2/4/8/16 = lanes. clustered has no lanes path and always runs 1.
+  // it: on CPU devices 16 for tiled, tiled-single, clustered and brute, 1 for the rest; 1 on
+  // GPUs), 1 = one work-item per pixel, 2/4/8/16 = lanes.
   int lanes = 0;
 
   // " -DTS_LANES=N -DTS_HOST_LANE_PLANES=P" for a technique with a lanes path when lanes > 1,
