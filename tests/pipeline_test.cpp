@@ -82,6 +82,31 @@ TEST(TiledCulling, ConservativeOnRandomCameras) {
   }
 }
 
+// --depth-split only drops lights that no pixel of a tile can see: on random cameras and on the
+// atrium's lights between its columns and the far wall, no missed light, the same error bound,
+// and never more lighting computations than one range per tile.
+TEST(TiledCulling, DepthSplitIsConservativeAndNeverCullsLess) {
+  auto frames = test::randomCameraFrames(5);
+  frames.push_back(test::LabelledFrame{
+      "atrium/small frame 0",
+      prepareFrame(builtinScene("atrium", "small"), 0, 200, 120, GBufferFormat::FP32)});
+  uint64_t plain = 0, split = 0;
+  for (const auto& [label, f] : frames) {
+    TechniqueConfig config;
+    config.depthSplit = true;
+    auto tiled = createTechnique("tiled", test::context(), config);
+    Checked c = renderAndCheck(f, *tiled);
+    EXPECT_EQ(c.missed, 0u) << label;
+    EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << label;
+    Checked d = renderAndCheck(f, tiledTechnique(GBufferFormat::FP32, 16));
+    EXPECT_LE(c.result.counters.lightingComputations, d.result.counters.lightingComputations)
+        << label;
+    split += c.result.counters.lightingComputations;
+    plain += d.result.counters.lightingComputations;
+  }
+  EXPECT_LT(split, plain) << "the split culled nothing anywhere";
+}
+
 // Far more list entries than the initial buffer holds: the list grows and the frame re-runs,
 // nothing is dropped, and the run says so.
 TEST(TiledCulling, OverflowingListGrowsInsteadOfDropping) {
