@@ -17,16 +17,7 @@
 namespace ts {
 namespace {
 
-// Largest |a - b| over every channel, relative to the peak of `a`.
-double relativeDifference(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b) {
-  double peak = 0.0, diff = 0.0;
-  for (size_t i = 0; i < a.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      peak = std::max(peak, double(std::abs(a[i][c])));
-      diff = std::max(diff, double(std::abs(a[i][c] - b[i][c])));
-    }
-  return peak > 0.0 ? diff / peak : diff;
-}
+using test::relativeDifference;
 
 bool allFinite(const std::vector<glm::vec4>& image) {
   for (const auto& p : image)

@@ -2,6 +2,8 @@
 // Rendering a prepared frame with a technique and checking it against the double-precision
 // reference: the error, the missed light contributions (culling conservativeness), the
 // reference's ideal count. Shared by the technique test suites.
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <random>
@@ -18,6 +20,18 @@
 #include "test_support.h"
 
 namespace ts::test {
+
+// Largest |a - b| over every channel, relative to the peak of `a`.
+inline double relativeDifference(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b) {
+  double peak = 0.0, diff = 0.0;
+  for (size_t i = 0; i < a.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      peak = std::max(peak, double(std::abs(a[i][c])));
+      diff = std::max(diff, double(std::abs(a[i][c] - b[i][c])));
+    }
+  return peak > 0.0 ? diff / peak : diff;
+}
+
 
 // fp32 kernels against the double reference: each pixel sums up to a few hundred light terms,
 // each with a relative rounding error of a few float ulps (~1e-7), plus the float position

@@ -11,6 +11,7 @@
 
 #include "check/check_run.h"
 #include "check/hard_cases.h"
+#include "test_support.h"
 
 namespace ts {
 namespace {
@@ -43,20 +44,8 @@ INSTANTIATE_TEST_SUITE_P(Check, HardCaseTest, ::testing::ValuesIn(caseNames()),
                            return n;
                          });
 
-struct CliRun {
-  int status;
-  std::string output;
-};
-
-CliRun runTileshade(const std::string& args) {
-  std::string cmd = std::string(TILESHADE_BINARY) + " " + args + " 2>&1";
-  CliRun r{0, ""};
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  while (fgets(buf, sizeof buf, p)) r.output += buf;
-  r.status = pclose(p);
-  return r;
-}
+using test::CliRun;
+using test::runTileshade;
 
 TEST(CheckCommand, PrintsTheTableAndFailsOnBadInputWithOneLine) {
   if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
