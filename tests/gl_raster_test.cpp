@@ -153,8 +153,10 @@ Tolerances tolerancesAt(const Scene& scene, const TriangleBound& b, uint32_t t, 
                         std::map<int, double>& lipschitz) {
   Tolerances tol;
   tol.depthRel = kFloatRel * (1.0 + b.worldScale / depth) + b.baryError * depth * b.invDepthRange;
+  // The 2e-5 rad floor: llvmpipe's interpolation, measured up to 1.3e-5 rad on flat atrium
+  // triangles seen from a random camera, more than the float terms explain (docs/opengl.md).
   tol.normalRad =
-      1e-6 + kFloatRel * b.depthRatio + b.baryError * b.normalSpread * b.normalGain;
+      2e-5 + kFloatRel * b.depthRatio + b.baryError * b.normalSpread * b.normalGain;
   static const Material kDefault;
   const Material& m = scene.triangleMaterial.empty()
                           ? (scene.materials.empty() ? kDefault : scene.materials[0])
@@ -455,9 +457,13 @@ TEST(GlRaster, RandomCamerasThroughTheNearPlaneMatchSoftware) {
     const Bounds b = scene.bounds();
     GlRasterizer gl(scene);
     for (int i = 0; i < 4; ++i) {
-      const glm::vec3 eye = b.min + glm::vec3(u(rng), 0.02f + 0.4f * u(rng), u(rng)) * b.extent();
-      const glm::vec3 dir(u(rng) - 0.5f, 0.4f * (u(rng) - 0.5f), u(rng) - 0.5f);
-      const Camera cam = Camera::lookAt(eye, eye + dir, {0, 1, 0}, 0.6f + 1.2f * u(rng), 0.05f, 500.0f);
+      // One draw per statement: the order of a call's arguments is the compiler's choice (g++
+      // and clang differ), and the cameras must not depend on it.
+      float r[7];
+      for (float& v : r) v = u(rng);
+      const glm::vec3 eye = b.min + glm::vec3(r[0], 0.02f + 0.4f * r[1], r[2]) * b.extent();
+      const glm::vec3 dir(r[3] - 0.5f, 0.4f * (r[4] - 0.5f), r[5] - 0.5f);
+      const Camera cam = Camera::lookAt(eye, eye + dir, {0, 1, 0}, 0.6f + 1.2f * r[6], 0.05f, 500.0f);
       compareFrame(scene, gl, cam, 160, 96, ShadingModel::BlinnPhong,
                    std::string(name) + " random camera " + std::to_string(i));
     }
