@@ -4,8 +4,10 @@
 #                 unless TILESHADE_DEVICE says otherwise); extra arguments go to this ctest
 #   2. sanitize   an AddressSanitizer + UndefinedBehaviorSanitizer build with clang (./build-asan,
 #                 also holding the fuzz targets) and the whole CTest suite in it, PoCL kernels
-#                 included (TILESHADE_SANITIZE_CTEST_ARGS, default "-LE oclgrind": not the slow
-#                 Oclgrind-simulated kernel tests, which the release stage runs)
+#                 included (TILESHADE_SANITIZE_CTEST_ARGS, default "-LE oclgrind -E /lights_1e5[^_]":
+#                 not the slow Oclgrind-simulated kernel tests, nor the hard case of 1e5 lights,
+#                 whose double reference takes 39 s in Release and over 10 min instrumented; the
+#                 release stage runs both)
 #   3. fuzz       each libFuzzer target for TILESHADE_FUZZ_SECONDS (default 60) over its seeds
 # ./scripts/test.sh --quick (or TILESHADE_QUICK=1) runs stage 1 only.
 set -euo pipefail
@@ -40,16 +42,21 @@ if [ "$quick" = 1 ]; then
 fi
 
 stage sanitize
-# Release flags, then -O1 with the sanitizers (cmake/sanitizers.cmake); leaks are reported by
-# LeakSanitizer at each process's exit and fail the test.
+# Release flags, then -O1 with the sanitizers (cmake/sanitizers.cmake). Leaks are checked in the
+# fuzz stage, not here: these tests run PoCL in the process, whose own allocations LeakSanitizer
+# reports at exit, and whose worker threads now and then crash LeakSanitizer's exit-time tracer
+# ("Tracer caught signal 11"), so a leak report here says nothing about our code.
 CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DTILESHADE_FUZZ=ON >/dev/null
 cmake --build build-asan -j "$jobs"
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+asan_options=${ASAN_OPTIONS:-}
+export ASAN_OPTIONS=${asan_options:-detect_leaks=0:abort_on_error=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-read -r -a sanitize_args <<< "${TILESHADE_SANITIZE_CTEST_ARGS:--LE oclgrind}"
+read -r -a sanitize_args <<< "${TILESHADE_SANITIZE_CTEST_ARGS:--LE oclgrind -E /lights_1e5[^_]}"
 (cd build-asan && ctest --output-on-failure -j "$jobs" "${sanitize_args[@]}")
 
 stage fuzz
+# No OpenCL runs here: the loaders and the config parser, with LeakSanitizer.
+export ASAN_OPTIONS=${asan_options:-detect_leaks=1:abort_on_error=1}
 work=$PWD/build-asan/fuzz
 fuzzers=$PWD/build-asan/tests/fuzz
 mkdir -p "$work/builtins" "$work/assimp"

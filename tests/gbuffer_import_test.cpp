@@ -44,7 +44,9 @@ fs::path dump(const PreparedFrame& f, const std::string& name) {
 
 template <typename T>
 bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+  // (memcmp must not see the null data() of an empty vector, even for 0 bytes)
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 void expectSameFrame(const PreparedFrame& a, const PreparedFrame& b, const std::string& what) {
