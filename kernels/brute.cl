@@ -47,7 +47,6 @@ __kernel void shade_brute(float4 camera, float4 ambient, TS_GBUFFER_PARAMS, TS_L
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (!inside) return;
-  float3 sum = lit ? ts_lanes_pixel_sum(soa) + s.base : (float3)(0.0f);
-  image[y * width + x] = (float4)(sum, 0.0f);
+  image[y * width + x] = (float4)(ts_lanes_pixel_colour(soa, lit, 1, &s), 0.0f);
 }
 #endif

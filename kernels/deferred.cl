@@ -57,9 +57,7 @@ __kernel void deferred_base(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (!inside) return;
-  float3 base = (float3)(0.0f);
-  if (lit) base = (lights > 0 ? ts_lanes_pixel_sum(soa) : base) + s.base;
-  accum[y * width + x] = (float4)(base, 0.0f);
+  accum[y * width + x] = (float4)(ts_lanes_pixel_colour(soa, lit, lights > 0, &s), 0.0f);
 }
 #endif
 

@@ -279,4 +279,12 @@ static inline float3 ts_lanes_pixel_sum(__local const float *soa) {
   return (float3)(soa[i], soa[slots + i], soa[2 * slots + i]);
 }
 
+/* Step 3's colour of a pixel: its summed contributions (when its group ran step 2: `summed`) plus
+ * its base term; black where the pixel is not lit (background). */
+static inline float3 ts_lanes_pixel_colour(__local const float *soa, int lit, int summed,
+                                           const ts_surface *s) {
+  if (!lit) return (float3)(0.0f);
+  return (summed ? ts_lanes_pixel_sum(soa) : (float3)(0.0f)) + s->base;
+}
+
 #endif

@@ -166,8 +166,6 @@ __kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS, TS_L
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   if (!inside) return;
-  float3 sum = (float3)(0.0f);
-  if (lit) sum = (lights > 0 ? ts_lanes_pixel_sum(soa) : sum) + s.base;
-  image[y * width + x] = (float4)(sum, 0.0f);
+  image[y * width + x] = (float4)(ts_lanes_pixel_colour(soa, lit, lights > 0, &s), 0.0f);
 }
 #endif
