@@ -262,17 +262,6 @@ std::string BenchConfig::id() const {
   return buf;
 }
 
-std::vector<std::string> splitList(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string item;
-  std::istringstream in(s);
-  while (std::getline(in, item, sep)) {
-    item = trimmed(item);
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 std::vector<BenchConfig> expandSweep(const BenchSweep& sweep) {
   for (const auto& [name, list] : sweep.values) findDimension(name);
   // Each dimension's values, each once (" 16" and "16x16" are one tile size), validated; then the

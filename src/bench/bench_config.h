@@ -86,9 +86,7 @@ struct BenchSweep {
 constexpr size_t kMaxBenchConfigurations = 100000;
 std::vector<BenchConfig> expandSweep(const BenchSweep& sweep);
 
-// parseTileSize and parseResolution, shared with `render`, are in util/option_values.h.
-// Splits "a,b , c" into trimmed non-empty items.
-std::vector<std::string> splitList(const std::string& s, char sep = ',');
+// parseTileSize, parseResolution and splitList, shared with `render`, are in util/option_values.h.
 
 // Which frames of the camera path are timed:
 //   "A:B" or "A:B:S"   frames A, A+S, … below B (half-open, like Python's range)

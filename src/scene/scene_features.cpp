@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "util/error.h"
+#include "util/option_values.h"
 
 namespace ts {
 namespace {
@@ -118,12 +119,7 @@ SceneFeatures chooseFeatures(const std::string& spec, const SceneFeatures& need)
   SceneFeatures f;
   f.model = need.model;
   for (const Flag& flag : kFlags) f.*flag.member = false;
-  std::stringstream in(spec);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    while (!item.empty() && item.back() == ' ') item.pop_back();
-    while (!item.empty() && item.front() == ' ') item.erase(item.begin());
-    if (item.empty()) continue;
+  for (const std::string& item : splitList(spec)) {
     const Flag* found = nullptr;
     for (const Flag& flag : kFlags)
       if (item == flag.name) found = &flag;

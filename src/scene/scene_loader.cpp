@@ -10,6 +10,7 @@
 #include "scene/material_mapping.h"
 #include "scene/mesh_builder.h"
 #include "util/error.h"
+#include "util/option_values.h"
 
 namespace ts {
 
@@ -33,21 +34,6 @@ Scene makeBuiltin(const std::string& name, const std::string& lightSet, uint32_t
   throw Error("unknown built-in scene '" + name + "' (known: " + joined(builtinSceneNames()) + ")");
 }
 
-std::vector<std::string> splitVariants(const std::string& s) {
-  std::vector<std::string> out;
-  std::string item;
-  for (size_t i = 0; i <= s.size(); ++i) {
-    if (i == s.size() || s[i] == ',') {
-      while (!item.empty() && item.back() == ' ') item.pop_back();
-      size_t b = item.find_first_not_of(' ');
-      if (b != std::string::npos) out.push_back(item.substr(b));
-      item.clear();
-    } else {
-      item += s[i];
-    }
-  }
-  return out;
-}
 
 // Every second point light becomes a spot light at the same place, with the same colour and
 // range, pointing down within 30 degrees of the vertical, outer cone 25..50 degrees, inner cone
@@ -73,7 +59,7 @@ std::vector<std::string> builtinVariants() {
 }
 
 void applyVariants(Scene& scene, const std::string& variants, uint32_t seed) {
-  for (const std::string& v : splitVariants(variants)) {
+  for (const std::string& v : splitList(variants)) {
     if (v == "diffuse" || v == "no-emission") {
       for (Material& m : scene.materials) {
         m.emissive = glm::vec3(0.0f);

@@ -1,8 +1,8 @@
 // The one list of techniques. Adding a technique = its own .cpp/.cl pair plus one line here.
 // The last field, where present, is the lanes "auto" picks on CPU devices: 16 where shading in
 // lanes measured faster on PoCL with many lights (tiled 6.6x, tiled-single 3.5x, brute 4.8x,
-// clustered ~10x; bench/RESULTS.md); deferred has a lanes path but measured 3-21% slower with it (its time is
-// per-light launches and G-buffer re-reads), so it stays at 1.
+// clustered 6.8x; bench/RESULTS.md, docs/techniques.md); deferred has a lanes path but measured
+// 3-21% slower with it (its time is per-light launches and G-buffer re-reads), so it stays at 1.
 #include <sstream>
 
 #include "techniques/technique.h"
@@ -99,14 +99,35 @@ void checkFrameFeatures(const SceneFeatures& features, const DeviceFrame& frame)
 }
 
 namespace {
-const char* const kCullingNames[] = {"rect", "frustum", "aabb"};  // TS_CULL_* order
+// A culling knob's names, in the order of the kernels' constants (kernels/culling.h).
+const char* const kCullingNames[] = {"rect", "frustum", "aabb"};                    // TS_CULL_*
+const char* const kSpotCullingNames[] = {"cone", "bound-sphere", "range-sphere"};  // TS_SPOT_CULL_*
+
+template <size_t N>
+int knobIndex(const char* const (&names)[N], const std::string& name, const std::string& knob) {
+  std::string known;
+  for (size_t i = 0; i < N; ++i) {
+    if (name == names[i]) return int(i);
+    known += (i ? ", " : "") + std::string(names[i]);
+  }
+  throw Error("unknown " + knob + " '" + name + "' (known: " + known + ")");
 }
 
-int parseCulling(const std::string& name) {
-  for (int i = 0; i < 3; ++i)
-    if (name == kCullingNames[i]) return i;
-  throw Error("unknown culling test '" + name + "' (known: rect, frustum, aabb)");
+template <size_t N>
+std::string knobName(const char* const (&names)[N], int index) {
+  return index >= 0 && index < int(N) ? names[index] : "?";
 }
+}  // namespace
+
+int parseCulling(const std::string& name) { return knobIndex(kCullingNames, name, "culling test"); }
+
+int parseSpotCulling(const std::string& name) {
+  return knobIndex(kSpotCullingNames, name, "spot culling");
+}
+
+std::string cullingName(int culling) { return knobName(kCullingNames, culling); }
+
+std::string spotCullingName(int spotCulling) { return knobName(kSpotCullingNames, spotCulling); }
 
 int parseLanes(const std::string& text) {
   if (text == "auto") return 0;
@@ -116,24 +137,6 @@ int parseLanes(const std::string& text) {
 }
 
 std::string lanesName(int lanes) { return lanes == 0 ? "auto" : std::to_string(lanes); }
-
-namespace {
-const char* const kSpotCullingNames[] = {"cone", "bound-sphere", "range-sphere"};  // TS_SPOT_CULL_*
-}
-
-int parseSpotCulling(const std::string& name) {
-  for (int i = 0; i < 3; ++i)
-    if (name == kSpotCullingNames[i]) return i;
-  throw Error("unknown spot culling '" + name + "' (known: cone, bound-sphere, range-sphere)");
-}
-
-std::string spotCullingName(int spotCulling) {
-  return spotCulling >= 0 && spotCulling < 3 ? kSpotCullingNames[spotCulling] : "?";
-}
-
-std::string cullingName(int culling) {
-  return culling >= 0 && culling < 3 ? kCullingNames[culling] : "?";
-}
 
 std::string TechniqueConfig::kernelOptions() const {
   std::ostringstream o;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <regex>
+#include <sstream>
 
 #include "util/error.h"
 
@@ -97,6 +98,17 @@ std::pair<int, int> parseResolution(const std::string& text) {
   if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
     badOptionValue("--resolution", text, "sides must be within 1.." + std::to_string(kMaxImageSide));
   return {w, h};
+}
+
+std::vector<std::string> splitList(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::string item;
+  std::istringstream in(s);
+  while (std::getline(in, item, sep)) {
+    item = trimmed(item);
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
 }
 
 }  // namespace ts

@@ -5,6 +5,7 @@
 // "OPTION: expected ..., got 'VALUE'" (ts::Error) before any work starts.
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace ts {
 
@@ -43,5 +44,8 @@ std::pair<int, int> parseResolution(const std::string& text);
 
 // Leading and trailing white space removed.
 std::string trimmed(const std::string& s);
+
+// Splits "a,b , c" into trimmed non-empty items.
+std::vector<std::string> splitList(const std::string& s, char sep = ',');
 
 }  // namespace ts
