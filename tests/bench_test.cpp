@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -660,6 +661,54 @@ TEST(BenchPlot, PlotScriptRunsOnASmallCsv) {
   size_t png = 0;
   for (const auto& e : fs::directory_iterator(dir + "/plots")) png += e.path().extension() == ".png";
   EXPECT_GE(png, 2u) << log;
+  fs::remove_all(dir);
+}
+
+// bench/plot.py on input it cannot use: one line "plot.py: error: ...", exit status 1, no
+// traceback. The input is read before matplotlib is imported, so any python3 will do.
+TEST(BenchPlot, BadInputIsOneLineError) {
+  if (std::system("python3 -c '' >/dev/null 2>&1") != 0) GTEST_SKIP() << "no python3";
+  std::string script = ts::test::sourceDir() + "/bench/plot.py";
+  std::string dir = tempDir("plot_bad");
+  auto cols = ts::benchCsvColumns();
+  std::vector<std::string> good(cols.size(), "1");
+  auto set = [&](std::vector<std::string> f, const std::string& column, const std::string& v) {
+    f[size_t(std::find(cols.begin(), cols.end(), column) - cols.begin())] = v;
+    return ts::csvLine(f);
+  };
+  std::vector<std::string> noFrame;
+  for (const auto& c : cols)
+    if (c != "frame") noFrame.push_back(c);
+  const std::string header = ts::csvLine(cols);
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"missing.csv", "", "no such file"},
+      {"empty.csv", "\n", "empty"},
+      {"nocolumn.csv", ts::csvLine(noFrame) + "\n", "no column frame"},
+      {"text.csv", header + "\n" + set(good, "total_ms", "fast") + "\n", "total_ms is not a number: 'fast'"},
+      {"kernels.csv", header + "\n" + set(good, "kernels", "shade=x") + "\n", "kernel time is not a number"},
+      {"truncated.csv", header + "\n1,2,3\n", "line 2: 3 field(s)"},
+      {"noid.csv", header + "\n" + set(good, "config_id", "") + "\n", "no config_id"},
+      {"junk.csv", header + "\n" + std::string(1 << 20, 'x') + "\n", "junk.csv"},
+      {"bad.json", "{\"rows\": [", "not JSON"},
+      {"rows.json", "{\"rows\": 5}", "no \"rows\" list"},
+      {"row.json", "{\"rows\": [{\"config\": {\"technique\": \"tiled\", \"tile\": \"16x16\"}, \"config_id\": \"a\", \"frame\": 0, \"total_ms\": \"x\"}]}",
+       "total_ms is not a number"},
+  };
+  for (const auto& [name, text, needle] : cases) {
+    std::string path = dir + "/" + name;
+    if (name != "missing.csv") std::ofstream(path, std::ios::binary) << text;
+    std::string cmd = "python3 '" + script + "' '" + path + "' --out '" + dir + "/plots' >'" + dir +
+                      "/log.txt' 2>&1";
+    int rc = std::system(cmd.c_str());
+    std::ifstream logIn(dir + "/log.txt");
+    std::string log((std::istreambuf_iterator<char>(logIn)), std::istreambuf_iterator<char>());
+    EXPECT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 1) << name << ": " << log;
+    EXPECT_EQ(log.rfind("plot.py: error: ", 0), 0u) << name << ": " << log;
+    EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << name << ": " << log;
+    EXPECT_NE(log.find(needle), std::string::npos) << name << ": " << log;
+    EXPECT_LT(log.size(), 300u) << name;
+  }
+  EXPECT_FALSE(fs::exists(dir + "/plots"));
   fs::remove_all(dir);
 }
 
