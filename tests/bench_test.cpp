@@ -579,6 +579,15 @@ TEST_F(BenchResume, RepeatedRowsKeepTheLast) {
   expectDropped(resume(o, 0, 4), 1, "measured again later");
 }
 
+TEST_F(BenchResume, BrokenBenchJsonIsSaidAndTheRowsComeFromTheCsv) {
+  ts::BenchOptions o = resumeOptions("json");
+  std::ofstream(o.outDir + "/bench.json", std::ios::trunc) << "{\"rows\": [";
+  std::string err = resume(o, 0, 4);
+  EXPECT_EQ(err, "tileshade: warning: bench --resume: " + o.outDir +
+                     "/bench.json is not a bench.json; its rows come back from bench.csv, its "
+                     "earlier runs are lost\n");
+}
+
 TEST_F(BenchResume, OtherColumnsAreOneLineError) {
   ts::BenchOptions o = resumeOptions("header");
   auto l = lines(o);

@@ -546,7 +546,11 @@ BenchRunResult runBench(const BenchOptions& o) {
     std::ifstream jin(jsonPath);
     if (jin) {
       json old = json::parse(jin, nullptr, false);
-      if (!old.is_discarded()) {
+      if (old.is_discarded() || !old.is_object()) {
+        std::cerr << "tileshade: warning: bench --resume: " << jsonPath
+                  << " is not a bench.json; its rows come back from bench.csv, its earlier runs "
+                     "are lost\n";
+      } else {
         if (old.contains("rows") && old["rows"].is_array())
           for (const auto& r : old["rows"]) {
             if (!r.is_object() || !r.contains("frame") || !r["frame"].is_number_integer()) continue;
