@@ -595,16 +595,6 @@ BenchRunResult runBench(const BenchOptions& o) {
     pendingTotal += e.pending.size();
   }
 
-  std::ostream& log = std::cout;
-  if (o.printTable) {
-    log << "bench: " << result.configurations << " configuration(s)";
-    if (o.shard.count > 1)
-      log << ", " << result.selected << " in shard " << o.shard.index << "/" << o.shard.count;
-    log << "; " << pendingTotal << " measurement(s) to run";
-    if (result.skippedRows) log << ", " << result.skippedRows << " already in " << csvPath;
-    log << "\n";
-  }
-
   // Now the files: bench.csv starts again from its header and the kept rows (never appended
   // after rows that were dropped), then grows a row per measurement.
   fs::create_directories(o.outDir, ec);
@@ -618,6 +608,16 @@ BenchRunResult runBench(const BenchOptions& o) {
   }
   std::ofstream csv(csvPath, std::ios::app);
   if (!csv) throw Error("cannot write " + csvPath);
+
+  std::ostream& log = std::cout;
+  if (o.printTable) {
+    log << "bench: " << result.configurations << " configuration(s)";
+    if (o.shard.count > 1)
+      log << ", " << result.selected << " in shard " << o.shard.index << "/" << o.shard.count;
+    log << "; " << pendingTotal << " measurement(s) to run";
+    if (result.skippedRows) log << ", " << result.skippedRows << " already in " << csvPath;
+    log << "\n";
+  }
 
   json run = {{"started", nowUtc()},
               {"command", o.command},
