@@ -588,6 +588,20 @@ TEST_F(BenchResume, BrokenBenchJsonIsSaidAndTheRowsComeFromTheCsv) {
                      "earlier runs are lost\n");
 }
 
+TEST_F(BenchResume, RowsRebuiltFromTheCsvAgreeWithTheirRecordNextTime) {
+  ts::BenchOptions o = resumeOptions("rebuilt");
+  o.error = true;
+  o.errorFrames = "1";
+  fs::remove(o.outDir + "/bench.csv");
+  ts::runBench(o);  // with error columns, so that they round-trip too
+  fs::remove(o.outDir + "/bench.json");  // lost: the rows come back from bench.csv
+  o.printTable = false;
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(ts::runBench(o).measuredRows, 0u);
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  EXPECT_EQ(resume(o, 0, 4), "");  // their rebuilt records agree with bench.csv
+}
+
 TEST_F(BenchResume, OtherColumnsAreOneLineError) {
   ts::BenchOptions o = resumeOptions("header");
   auto l = lines(o);

@@ -532,7 +532,8 @@ BenchRunResult runBench(const BenchOptions& o) {
 
   // What is already there (resume): bench.csv is the record of completed rows, of which only
   // those this run would have written itself are kept (bench_resume.h); bench.json gives their
-  // full JSON records where it agrees with the CSV (rebuilt from the CSV where it does not).
+  // full JSON records (a row whose record disagrees was edited and is dropped; one without a
+  // record, lost when a run was killed between the two writes, is rebuilt from the CSV).
   std::set<std::pair<std::string, int>> done;
   json rows = json::array(), runs = json::array();
   std::vector<std::string> keptLines;
