@@ -30,10 +30,7 @@ import re
 import sys
 from collections import OrderedDict, defaultdict
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+plt = None  # matplotlib.pyplot, imported once the input has been read (load_matplotlib)
 
 # Columns of bench.csv after the sweep dimensions (which sit between config_id and device_name).
 NUMERIC = {
@@ -44,6 +41,43 @@ NUMERIC = {
     "err_max_rel_peak", "err_p50", "err_p99", "err_p999",
 }
 MAX_PANELS = 12  # figures per kind, at most
+# Columns every row needs (the figures are keyed and sorted by them).
+REQUIRED = ("config_id", "technique", "tile", "device_name", "frame", "total_ms")
+
+
+class InputError(Exception):
+    """Input plot.py cannot use: one line "plot.py: error: ..." and exit status 1."""
+
+
+def fail(message):
+    print("plot.py: error: " + message, file=sys.stderr)
+    sys.exit(1)
+
+
+def shown(text, limit=60):
+    """A value as quoted in an error line, cut to `limit` characters."""
+    return repr(text if len(text) <= limit else text[:limit] + "...")
+
+
+def check_row(row, where):
+    """Refuses a row without its key columns or with text where a number belongs."""
+    for k in ("config_id", "frame"):
+        if not row.get(k):
+            raise InputError("%s: no %s" % (where, k))
+    for k in NUMERIC:
+        v = row.get(k)
+        if v is None or v == "":
+            continue
+        try:
+            float(v)
+        except ValueError:
+            raise InputError("%s: column %s is not a number: %s" % (where, k, shown(v)))
+    for item in (row.get("kernels") or "").split(";"):
+        if "=" in item:
+            try:
+                float(item.split("=", 1)[1])
+            except ValueError:
+                raise InputError("%s: kernel time is not a number: %s" % (where, shown(item)))
 
 
 def number(text):
@@ -63,23 +97,50 @@ def load_csv(path):
         for fields in reader:
             if not fields:
                 continue
-            if header is None or fields == header:
+            if header is None:
                 header = fields
-                if "device_name" in header:
-                    dims = header[header.index("config_id") + 1:header.index("device_name")]
+                missing = [c for c in REQUIRED if c not in header]
+                if missing:
+                    raise InputError("%s: no column %s (not a bench.csv?)" % (path, ", ".join(missing)))
+                dims = header[header.index("config_id") + 1:header.index("device_name")]
                 continue
+            if fields == header:
+                continue
+            where = "%s line %d" % (path, reader.line_num)
+            if len(fields) != len(header):
+                raise InputError("%s: %d field(s), the header has %d" % (where, len(fields), len(header)))
             row = dict(zip(header, fields))
+            check_row(row, where)
             rows.append(row)
+    if header is None:
+        raise InputError("%s is empty (no header line)" % path)
     return rows, dims
 
 
 def load_json(path):
     with open(path) as f:
-        doc = json.load(f)
+        try:
+            doc = json.load(f)
+        except json.JSONDecodeError as e:
+            raise InputError("%s is not JSON: %s" % (path, e))
+        except RecursionError:
+            raise InputError("%s nests too deeply" % path)
+    if not isinstance(doc, dict) or not isinstance(doc.get("rows", []), list):
+        raise InputError('%s: no "rows" list (not a bench.json?)' % path)
     rows, dims = [], []
-    for r in doc.get("rows", []):
-        flat = {"config_id": r.get("config_id", "")}
+
+    def text(v):
+        return "" if v is None else str(v)
+
+    for i, r in enumerate(doc.get("rows", [])):
+        where = "%s row %d" % (path, i)
+        if not isinstance(r, dict) or not isinstance(r.get("config", {}), dict):
+            raise InputError("%s is not a bench row" % where)
+        flat = {"config_id": text(r.get("config_id"))}
         config = r.get("config", {})
+        for k in ("technique", "tile"):
+            if k not in config:
+                raise InputError("%s: no config.%s" % (where, k))
         for k, v in config.items():
             flat[k] = str(v)
             if k not in dims:
@@ -89,18 +150,27 @@ def load_json(path):
                   "gbuffer_bytes_read", "reference_contributing"):
             if k in r and r[k] is not None:
                 flat[k] = str(r[k])
+        for name, obj in r.items():
+            if name in ("limit", "error") or name.startswith("error_"):
+                if obj is not None and not isinstance(obj, dict):
+                    raise InputError("%s: %s is not an object" % (where, name))
         for k, v in (r.get("limit") or {}).items():
-            flat[k] = str(v)
+            flat[k] = text(v)
         for k, v in (r.get("error") or {}).items():
-            flat["err_" + k] = str(v)
+            flat["err_" + k] = text(v)
         # Further error objects (e.g. "error_vs_physical") as err_vs_physical_*, for --error-prefix.
         for name, obj in r.items():
             if name.startswith("error_") and isinstance(obj, dict):
                 for k, v in obj.items():
-                    flat["err_" + name[len("error_"):] + "_" + k] = str(v)
+                    flat["err_" + name[len("error_"):] + "_" + k] = text(v)
         if "missed_contributions" in r:
-            flat["missed_contributions"] = str(r["missed_contributions"])
-        flat["kernels"] = ";".join("%s=%s" % (k["name"], k["ms"]) for k in r.get("kernels", []))
+            flat["missed_contributions"] = text(r["missed_contributions"])
+        kernels = r.get("kernels", [])
+        if not isinstance(kernels, list) or not all(
+                isinstance(k, dict) and "name" in k and "ms" in k for k in kernels):
+            raise InputError("%s: kernels is not a list of {name, ms}" % where)
+        flat["kernels"] = ";".join("%s=%s" % (k["name"], k["ms"]) for k in kernels)
+        check_row(flat, where)
         rows.append(flat)
     return rows, dims
 
@@ -108,7 +178,12 @@ def load_json(path):
 def load(paths):
     rows, dims = [], []
     for p in paths:
-        r, d = load_json(p) if p.endswith(".json") else load_csv(p)
+        try:
+            r, d = load_json(p) if p.endswith(".json") else load_csv(p)
+        except UnicodeDecodeError:
+            raise InputError("%s is not UTF-8 text" % p)
+        except csv.Error as e:
+            raise InputError("%s: %s" % (p, e))
         for k in d:
             if k not in dims:
                 dims.append(k)
@@ -693,8 +768,35 @@ def write_report(report, rows, summaries, dims, paths, title, pareto_lines=()):
         f.write("\n".join(lines) + "\n")
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """argparse with its errors in one line, like plot.py's others."""
+
+    def error(self, message):
+        fail(message + " (see --help)")
+
+
+def load_matplotlib():
+    global plt
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as pyplot
+    except ImportError as e:
+        fail("the figures need matplotlib (Debian: python3-matplotlib): %s" % e)
+    plt = pyplot
+
+
 def main(argv):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    try:
+        plot(argv)
+    except InputError as e:
+        fail(str(e))
+    except OSError as e:
+        fail("%s: %s" % (e.filename, e.strerror) if e.filename else str(e))
+
+
+def plot(argv):
+    ap = OneLineParser(description=__doc__.split("\n")[0])
     ap.add_argument("inputs", nargs="+",
                     help="bench.csv or bench.json files, or bench output folders")
     ap.add_argument("--out", required=True, help="output folder for plots and report.md")
@@ -710,12 +812,13 @@ def main(argv):
                     a.inputs[i] = os.path.join(p, name)
                     break
             else:
-                sys.exit("plot.py: no bench.csv or bench.json in %s" % p)
+                raise InputError("no bench.csv or bench.json in %s" % p)
         elif not os.path.exists(p):
-            sys.exit("plot.py: no such file: %s" % p)
+            raise InputError("no such file: %s" % p)
     rows, dims = load(a.inputs)
     if not rows:
-        sys.exit("plot.py: no rows in " + ", ".join(a.inputs))
+        raise InputError("no rows in " + ", ".join(a.inputs))
+    load_matplotlib()
     os.makedirs(a.out, exist_ok=True)
     summaries = summarize(rows, dims)
     report = Report(a.out)

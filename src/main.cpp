@@ -27,6 +27,26 @@ void printDevices() {
               << (d.localMemBytes >> 10) << " KiB)\n";
 }
 
+// Checks a number option on the text as typed: CLI11 converts 1e39 to inf before the option's
+// own check would see it, and the error would echo "inf".
+CLI::Validator typedNumber(ts::NumberRule rule) {
+  return CLI::Validator([rule](std::string& text) { return ts::numberTextProblem(text, rule); }, "");
+}
+
+// "unknown subcommand 'X' (known: ...)" when the deepest subcommand given wants one and the
+// next argument names none; "" otherwise (CLI11 says only "A subcommand is required").
+std::string unknownSubcommand(CLI::App& app) {
+  CLI::App* at = &app;
+  while (!at->get_subcommands().empty()) at = at->get_subcommands().front();
+  std::vector<std::string> rest = at->remaining();
+  if (at->get_require_subcommand_min() == 0 || rest.empty() || rest.front().rfind("-", 0) == 0)
+    return "";
+  std::string known;
+  for (const CLI::App* sub : at->get_subcommands([](const CLI::App*) { return true; }))
+    known += (known.empty() ? "" : ", ") + sub->get_name();
+  return "unknown subcommand '" + rest.front() + "' (known: " + known + ")";
+}
+
 std::string joined(const std::vector<std::string>& v) {
   std::string s;
   for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
@@ -54,7 +74,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   renderCmd->add_option("--light-range", render.lightRange,
                         "override every light's range (0: keep; finite, >= 0)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(typedNumber(ts::NumberRule::AtLeastZero));
   renderCmd->add_option("--variant", render.variant,
                         "built-in scene variants, a comma list of: " +
                             joined(ts::builtinVariants()) + " (scenes/README.md)");
@@ -70,7 +91,8 @@ int main(int argc, char** argv) {
   renderCmd->add_option("--light-threshold", render.lightThreshold,
                         "ranges from the attenuation threshold t: r = sqrt(max(C)/t), e.g. "
                         "0.01953125 (5/256); 0 keeps the scene's ranges (finite, >= 0)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(typedNumber(ts::NumberRule::AtLeastZero));
   renderCmd->add_option("--culling", render.culling,
                         "per-tile light test: rect (projected sphere + depth range), frustum "
                         "(+ tile side planes), aabb (+ tile box)")
@@ -122,7 +144,8 @@ int main(int argc, char** argv) {
                         "default: first GPU, else CPU, or $TILESHADE_DEVICE");
   renderCmd->add_option("--out", render.outDir, "output folder")->capture_default_str();
   renderCmd->add_option("--exposure", render.exposure, "exposure of the tone-mapped PNG (> 0)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(typedNumber(ts::NumberRule::AboveZero));
   renderCmd->add_flag("--check", render.check,
                       "compare with the double-precision reference (error, missed lights; "
                       "progress on stderr when it is long)");
@@ -164,7 +187,8 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // One line, like every other bad input (CLI11's default adds a second "Run with --help").
-    std::cerr << "tileshade: error: " << e.what() << " (see --help)\n";
+    std::string unknown = unknownSubcommand(app);
+    std::cerr << "tileshade: error: " << (unknown.empty() ? e.what() : unknown) << " (see --help)\n";
     return 1;
   }
   try {

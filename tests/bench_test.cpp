@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -377,6 +378,264 @@ TEST(BenchRun, ShardsTogetherMakeTheWholeSweep) {
   fs::remove_all(dir);
 }
 
+// ---- --resume keeps only rows it can use (issue #16 item 7) -----------------------------------
+
+std::vector<std::string> fileLines(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::string> out;
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+void writeLines(const std::string& path, const std::vector<std::string>& lines) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  for (const auto& l : lines) out << l << "\n";
+}
+
+// Replaces field `column` of a CSV line written by the runner (no quoted fields).
+std::string withField(const std::string& line, const std::string& column, const std::string& value) {
+  auto cols = ts::benchCsvColumns();
+  auto fields = ts::parseCsvLine(line);
+  size_t i = size_t(std::find(cols.begin(), cols.end(), column) - cols.begin());
+  EXPECT_LT(i, fields.size()) << column;
+  if (i < fields.size()) fields[i] = value;
+  return ts::csvLine(fields);
+}
+
+// One finished run (2 configurations x 2 frames), copied for each case of junk.
+class BenchResume : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    ts::BenchOptions o = tinyOptions(baseDir());
+    o.calibrate = false;
+    o.warmup = 0;
+    ts::BenchRunResult r = ts::runBench(o);
+    ASSERT_TRUE(r.failures.empty());
+    ASSERT_EQ(r.measuredRows, 4u);
+  }
+  static void TearDownTestSuite() { fs::remove_all(baseDir()); }
+  static const std::string& baseDir() {
+    static const std::string dir = tempDir("resume_base");
+    return dir;
+  }
+  ts::BenchOptions resumeOptions(const std::string& name) {
+    std::string dir = tempDir("resume_" + name);
+    fs::remove_all(dir);
+    fs::copy(baseDir(), dir, fs::copy_options::recursive);
+    ts::BenchOptions o = tinyOptions(dir);
+    o.calibrate = false;
+    o.warmup = 0;
+    o.resume = true;
+    return o;
+  }
+  std::vector<std::string> lines(const ts::BenchOptions& o) { return fileLines(o.outDir + "/bench.csv"); }
+
+  // Resumes; returns stderr. Then every line of bench.csv parses with every column, and
+  // bench.json and summary.csv hold what bench.csv holds.
+  std::string resume(const ts::BenchOptions& o, size_t measured, size_t rowsAfter) {
+    ::testing::internal::CaptureStderr();
+    ts::BenchRunResult r = ts::runBench(o);
+    std::string err = ::testing::internal::GetCapturedStderr();
+    EXPECT_TRUE(r.failures.empty());
+    EXPECT_EQ(r.measuredRows, measured) << err;
+    auto after = lines(o);
+    EXPECT_EQ(after.size(), rowsAfter + 1) << err;
+    for (size_t i = 1; i < after.size(); ++i) {
+      std::vector<std::string> f;
+      EXPECT_TRUE(ts::parseCsvRecord(after[i], f)) << after[i];
+      EXPECT_EQ(f.size(), ts::benchCsvColumns().size()) << after[i].substr(0, 200);
+    }
+    nlohmann::json doc = nlohmann::json::parse(std::ifstream(o.outDir + "/bench.json"));
+    EXPECT_EQ(doc["rows"].size(), rowsAfter);
+    size_t frames = 0;
+    for (const auto& s : doc["summaries"]) frames += s["frames"].get<size_t>();
+    EXPECT_EQ(frames, rowsAfter);
+    fs::remove_all(o.outDir);
+    return err;
+  }
+};
+
+// Exactly one warning line, naming the count and the reason; never the row itself.
+void expectDropped(const std::string& err, size_t rows, const std::string& reason) {
+  std::string lead = "tileshade: warning: bench --resume: dropped " + std::to_string(rows) + " row(s) of ";
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err.substr(0, 500);
+  EXPECT_EQ(err.rfind(lead, 0), 0u) << err.substr(0, 500);
+  EXPECT_NE(err.find(reason), std::string::npos) << err.substr(0, 500);
+  EXPECT_LT(err.size(), 400u);
+}
+
+TEST_F(BenchResume, NothingDroppedFromItsOwnOutput) {
+  ts::BenchOptions o = resumeOptions("own");
+  EXPECT_EQ(resume(o, 0, 4), "");
+}
+
+TEST_F(BenchResume, TruncatedRowIsDroppedAndMeasuredAgain) {
+  ts::BenchOptions o = resumeOptions("truncated");
+  auto l = lines(o);
+  l.back() = l.back().substr(0, l.back().size() / 2);  // a run killed mid-write
+  writeLines(o.outDir + "/bench.csv", l);
+  expectDropped(resume(o, 1, 4), 1, "fewer fields than the header");
+}
+
+TEST_F(BenchResume, UnterminatedQuoteIsDropped) {
+  ts::BenchOptions o = resumeOptions("quote");
+  auto l = lines(o);
+  ASSERT_EQ(l.back().find('"'), std::string::npos);
+  l.back() = "\"" + l.back();  // a quote that never closes
+  writeLines(o.outDir + "/bench.csv", l);
+  expectDropped(resume(o, 1, 4), 1, "a quote that is not closed");
+}
+
+TEST_F(BenchResume, MegabyteJunkLineIsDroppedNotEchoed) {
+  ts::BenchOptions o = resumeOptions("junk");
+  auto l = lines(o);
+  l.push_back(std::string(1 << 20, 'x'));
+  l.push_back(std::string(1 << 20, ','));
+  writeLines(o.outDir + "/bench.csv", l);
+  std::string err = resume(o, 0, 4);
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 2) << err.substr(0, 500);
+  EXPECT_NE(err.find("dropped 1 row(s) of " + o.outDir + "/bench.csv: fewer fields"), std::string::npos) << err.substr(0, 500);
+  EXPECT_NE(err.find("dropped 1 row(s) of " + o.outDir + "/bench.csv: more fields"), std::string::npos) << err.substr(0, 500);
+  EXPECT_LT(err.size(), 600u);
+}
+
+TEST_F(BenchResume, ValuesNotOfTheirColumnsTypeAreDropped) {
+  ts::BenchOptions o = resumeOptions("types");
+  auto l = lines(o);
+  l[1] = withField(l[1], "total_ms", "fast");
+  l[2] = withField(l[2], "wall_ms", "-3");
+  l[3] = withField(l[3], "kernels", "shade");
+  l[4] = withField(l[4], "lights", "");
+  writeLines(o.outDir + "/bench.csv", l);
+  expectDropped(resume(o, 4, 4), 4, "not of its column's type");
+}
+
+TEST_F(BenchResume, EditedValuesThatDisagreeWithBenchJsonAreDropped) {
+  ts::BenchOptions o = resumeOptions("edited");
+  auto l = lines(o);
+  l[1] = withField(l[1], "total_ms", "0.000123");  // plausible, well-typed, not what was measured
+  writeLines(o.outDir + "/bench.csv", l);
+  expectDropped(resume(o, 1, 4), 1, "differ from its record in bench.json");
+}
+
+TEST_F(BenchResume, RowsOfAnotherSweepAreDropped) {
+  ts::BenchOptions o = resumeOptions("sweep");
+  o.sweep.set("tile", {"16"});  // the 32x16 rows are another sweep's now
+  expectDropped(resume(o, 0, 2), 2, "a configuration this sweep (or shard) does not run");
+}
+
+TEST_F(BenchResume, RowsOfAnotherShardAreDropped) {
+  ts::BenchOptions o = resumeOptions("shard");
+  o.shard = ts::Shard::parse("1/2");
+  expectDropped(resume(o, 0, 2), 2, "does not run");
+}
+
+TEST_F(BenchResume, DimensionsThatContradictTheConfigIdAreDropped) {
+  ts::BenchOptions o = resumeOptions("dims");
+  auto l = lines(o);
+  // The row keeps its config_id and claims the other tile size.
+  std::string other = withField(l[1], "tile", "16x16") == l[1] ? "32x16" : "16x16";
+  l[1] = withField(l[1], "tile", other);
+  writeLines(o.outDir + "/bench.csv", l);
+  expectDropped(resume(o, 1, 4), 1, "do not match the row's config_id");
+}
+
+TEST_F(BenchResume, RowsOfAnotherDeviceAreDropped) {
+  ts::BenchOptions o = resumeOptions("device");
+  auto l = lines(o);
+  l[1] = withField(l[1], "device_name", "Some Other / GPU");
+  writeLines(o.outDir + "/bench.csv", l);
+  expectDropped(resume(o, 1, 4), 1, "another device");
+}
+
+TEST_F(BenchResume, FramesNotTimedNowAreDropped) {
+  ts::BenchOptions o = resumeOptions("frames");
+  o.frames.text = "0:1";  // frame 0 only
+  expectDropped(resume(o, 0, 2), 2, "a frame that --frames does not time");
+}
+
+TEST_F(BenchResume, OtherWarmupOrRepeatIsDropped) {
+  ts::BenchOptions o = resumeOptions("repeat");
+  o.frames.text = "0:1";
+  o.repeat = 2;
+  std::string err = resume(o, 2, 2);
+  EXPECT_NE(err.find("dropped 2 row(s)"), std::string::npos) << err;
+  EXPECT_NE(err.find("another --warmup or --repeat"), std::string::npos) << err;
+}
+
+TEST_F(BenchResume, RowsWithoutErrorColumnsAreMeasuredAgainWithError) {
+  ts::BenchOptions o = resumeOptions("error");
+  o.error = true;
+  o.errorFrames = "1";  // frame 0
+  expectDropped(resume(o, 2, 4), 2, "no error columns where --error wants them");
+}
+
+TEST_F(BenchResume, RepeatedRowsKeepTheLast) {
+  ts::BenchOptions o = resumeOptions("repeated");
+  auto l = lines(o);
+  l.push_back(l[1]);
+  l.push_back(ts::csvLine(ts::benchCsvColumns()));  // `cat` of two files: skipped, not counted
+  writeLines(o.outDir + "/bench.csv", l);
+  expectDropped(resume(o, 0, 4), 1, "measured again later");
+}
+
+TEST_F(BenchResume, BrokenBenchJsonIsSaidAndTheRowsComeFromTheCsv) {
+  ts::BenchOptions o = resumeOptions("json");
+  std::ofstream(o.outDir + "/bench.json", std::ios::trunc) << "{\"rows\": [";
+  std::string err = resume(o, 0, 4);
+  EXPECT_EQ(err, "tileshade: warning: bench --resume: " + o.outDir +
+                     "/bench.json is not a bench.json; its rows come back from bench.csv, its "
+                     "earlier runs are lost\n");
+}
+
+TEST_F(BenchResume, RowsRebuiltFromTheCsvAgreeWithTheirRecordNextTime) {
+  ts::BenchOptions o = resumeOptions("rebuilt");
+  o.error = true;
+  o.errorFrames = "1";
+  fs::remove(o.outDir + "/bench.csv");
+  ts::runBench(o);  // with error columns, so that they round-trip too
+  fs::remove(o.outDir + "/bench.json");  // lost: the rows come back from bench.csv
+  o.printTable = false;
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(ts::runBench(o).measuredRows, 0u);
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  EXPECT_EQ(resume(o, 0, 4), "");  // their rebuilt records agree with bench.csv
+}
+
+TEST_F(BenchResume, OtherColumnsAreOneLineError) {
+  ts::BenchOptions o = resumeOptions("header");
+  auto l = lines(o);
+  l[0] += ",extra";
+  writeLines(o.outDir + "/bench.csv", l);
+  expectOneLineError([&] { ts::runBench(o); }, {"other columns"});
+  EXPECT_EQ(lines(o), l);  // not touched
+  fs::remove_all(o.outDir);
+}
+
+TEST(BenchCsv, StrictRecordsRefuseStrayQuotes) {
+  std::vector<std::string> f;
+  EXPECT_TRUE(ts::parseCsvRecord("a,\"b,\"\"c\"\"\",", f));
+  EXPECT_EQ(f, (std::vector<std::string>{"a", "b,\"c\"", ""}));
+  for (const char* bad : {"\"a", "a\"b\",c", "\"a\"b,c", "a,\"b"})
+    EXPECT_FALSE(ts::parseCsvRecord(bad, f)) << bad;
+}
+
+TEST(BenchRun, UnknownDeviceWritesNothing) {
+  std::string dir = tempDir("nodevice");
+  ts::BenchOptions o = tinyOptions(dir + "/out");
+  o.sweep.set("device", {"cpu,no-such-device"});
+  expectOneLineError([&] { ts::runBench(o); }, {"no-such-device"});
+  EXPECT_FALSE(fs::exists(dir + "/out"));
+  fs::remove_all(dir);
+}
+
+TEST(BenchShard, LimitIsTheOneStated) {
+  EXPECT_EQ(ts::Shard::parse("999999/1000000").count, 1000000);
+  expectOneLineError([] { ts::Shard::parse("0/1000001"); }, {"n <= 1000000", "'0/1000001'"});
+  expectOneLineError([] { ts::Shard::parse("0/99999999999999999999"); }, {"n <= 1000000"});
+  expectOneLineError([] { ts::Shard::parse("3/3"); }, {"0 <= k < n"});
+}
+
 // bench/plot.py on a small generated CSV, when a python3 with matplotlib is available.
 TEST(BenchPlot, PlotScriptRunsOnASmallCsv) {
   std::string python;
@@ -425,6 +684,54 @@ TEST(BenchPlot, PlotScriptRunsOnASmallCsv) {
   size_t png = 0;
   for (const auto& e : fs::directory_iterator(dir + "/plots")) png += e.path().extension() == ".png";
   EXPECT_GE(png, 2u) << log;
+  fs::remove_all(dir);
+}
+
+// bench/plot.py on input it cannot use: one line "plot.py: error: ...", exit status 1, no
+// traceback. The input is read before matplotlib is imported, so any python3 will do.
+TEST(BenchPlot, BadInputIsOneLineError) {
+  if (std::system("python3 -c '' >/dev/null 2>&1") != 0) GTEST_SKIP() << "no python3";
+  std::string script = ts::test::sourceDir() + "/bench/plot.py";
+  std::string dir = tempDir("plot_bad");
+  auto cols = ts::benchCsvColumns();
+  std::vector<std::string> good(cols.size(), "1");
+  auto set = [&](std::vector<std::string> f, const std::string& column, const std::string& v) {
+    f[size_t(std::find(cols.begin(), cols.end(), column) - cols.begin())] = v;
+    return ts::csvLine(f);
+  };
+  std::vector<std::string> noFrame;
+  for (const auto& c : cols)
+    if (c != "frame") noFrame.push_back(c);
+  const std::string header = ts::csvLine(cols);
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"missing.csv", "", "no such file"},
+      {"empty.csv", "\n", "empty"},
+      {"nocolumn.csv", ts::csvLine(noFrame) + "\n", "no column frame"},
+      {"text.csv", header + "\n" + set(good, "total_ms", "fast") + "\n", "total_ms is not a number: 'fast'"},
+      {"kernels.csv", header + "\n" + set(good, "kernels", "shade=x") + "\n", "kernel time is not a number"},
+      {"truncated.csv", header + "\n1,2,3\n", "line 2: 3 field(s)"},
+      {"noid.csv", header + "\n" + set(good, "config_id", "") + "\n", "no config_id"},
+      {"junk.csv", header + "\n" + std::string(1 << 20, 'x') + "\n", "junk.csv"},
+      {"bad.json", "{\"rows\": [", "not JSON"},
+      {"rows.json", "{\"rows\": 5}", "no \"rows\" list"},
+      {"row.json", "{\"rows\": [{\"config\": {\"technique\": \"tiled\", \"tile\": \"16x16\"}, \"config_id\": \"a\", \"frame\": 0, \"total_ms\": \"x\"}]}",
+       "total_ms is not a number"},
+  };
+  for (const auto& [name, text, needle] : cases) {
+    std::string path = dir + "/" + name;
+    if (name != "missing.csv") std::ofstream(path, std::ios::binary) << text;
+    std::string cmd = "python3 '" + script + "' '" + path + "' --out '" + dir + "/plots' >'" + dir +
+                      "/log.txt' 2>&1";
+    int rc = std::system(cmd.c_str());
+    std::ifstream logIn(dir + "/log.txt");
+    std::string log((std::istreambuf_iterator<char>(logIn)), std::istreambuf_iterator<char>());
+    EXPECT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 1) << name << ": " << log;
+    EXPECT_EQ(log.rfind("plot.py: error: ", 0), 0u) << name << ": " << log;
+    EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << name << ": " << log;
+    EXPECT_NE(log.find(needle), std::string::npos) << name << ": " << log;
+    EXPECT_LT(log.size(), 300u) << name;
+  }
+  EXPECT_FALSE(fs::exists(dir + "/plots"));
   fs::remove_all(dir);
 }
 

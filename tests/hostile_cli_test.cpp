@@ -17,6 +17,7 @@
 #include "bench/bench_cli.h"
 #include "bench/bench_config.h"
 #include "bench/bench_run.h"
+#include "bench/progress.h"
 #include "gltf_builder.h"
 #include "reference/error_metrics.h"
 #include "render/stats.h"
@@ -326,10 +327,11 @@ TEST(HostileBenchConfig, FuzzerFindingsParseOrFailCleanly) {
   EXPECT_GT(files, 0u);
 }
 
-TEST(HostileBenchConfig, ResumeFromACorruptedCsvIsOneLine) {
+TEST(HostileBenchConfig, ResumeFromACorruptedCsvDropsTheRowInOneLine) {
   if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
   fs::path out = freshDir("resume");
-  // A bench.csv whose one row has a frame beyond int: once "stoi" was the whole message.
+  // A bench.csv whose one row has a frame beyond int: once "stoi" was the whole message, then a
+  // one-line error; now the row is dropped with one warning line and the run goes on.
   const std::vector<std::string> columns = ts::benchCsvColumns();
   std::string header, row;
   for (size_t i = 0; i < columns.size(); ++i) {
@@ -339,9 +341,69 @@ TEST(HostileBenchConfig, ResumeFromACorruptedCsvIsOneLine) {
                                                                   : "");
   }
   std::ofstream(out / "bench.csv") << header << "\n" << row << "\n";
-  expectOneErrorLine("bench --device cpu --resolution 32x18 --frames 1 --no-calibrate --quiet "
-                     "--resume --out " + out.string(),
-                     {"column frame", "99999999999999"});
+  CliRun r = runTileshade("bench --device cpu --resolution 32x18 --technique tiled --frames 1 "
+                          "--warmup 0 --no-calibrate --quiet --resume --out " + out.string(),
+                          Streams::StderrOnly);
+  EXPECT_EQ(r.exitCode(), 0) << r.output;
+  EXPECT_EQ(lines(r.output), 1u) << r.output;
+  EXPECT_EQ(r.output.rfind("tileshade: warning: bench --resume: dropped 1 row(s)", 0), 0u) << r.output;
+  std::ifstream in(out / "bench.csv");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.find("99999999999999"), std::string::npos) << "the dropped row is still there";
+  EXPECT_EQ(lines(text), 2u) << text;  // the header and the one new row
+  fs::remove_all(out);
+}
+
+// ---- issue #16 item 13: bench and CLI messages ------------------------------------------------
+
+TEST(HostileBenchMessages, UnknownDeviceIsRefusedBeforeAnyFileEvenQuiet) {
+  if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
+  fs::path out = freshDir("nodevice");
+  expectOneErrorLine("bench --device cpu,no-such-device --resolution 32x18 --technique tiled "
+                     "--frames 1 --no-calibrate --quiet --out " + (out / "run").string(),
+                     {"no OpenCL device matches 'no-such-device'"});
+  EXPECT_FALSE(fs::exists(out / "run")) << "files written before the device was checked";
+  fs::remove_all(out);
+}
+
+TEST(HostileBenchMessages, QuietNeverHidesAFailure) {
+  ::testing::internal::CaptureStderr();
+  {
+    ts::Progress quiet(3, false);
+    quiet.step("a");
+    quiet.note("bench: configuration failed: why");
+  }
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "bench: configuration failed: why\n");
+}
+
+TEST(HostileBenchMessages, ShardStatesTheLimitItApplies) {
+  if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
+  CliRun r = runTileshade("bench --shard 0/1000000 --list", Streams::StderrOnly);
+  EXPECT_EQ(r.exitCode(), 0) << r.output;
+  expectOneErrorLine("bench --shard 0/1000001 --list", {"n <= 1000000", "'0/1000001'"});
+}
+
+TEST(HostileCli, UnknownSubcommandIsNamed) {
+  if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
+  expectOneErrorLine("renderx", {"unknown subcommand 'renderx'", "render", "bench", "devices"});
+  expectOneErrorLine("scene exportx a b", {"unknown subcommand 'exportx'", "export"});
+  expectOneErrorLine("", {"subcommand is required"});
+}
+
+TEST(HostileCli, NumberErrorsEchoWhatWasTyped) {
+  if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
+  fs::path out = freshDir("typed");
+  for (const char* option : {"--light-range", "--light-threshold", "--exposure"})
+    for (const char* typed : {"1e39", "-1e400", "1e-50", "0x1p200"}) {
+      std::string args = std::string("render ") + option + " " + typed + " --out " + out.string();
+      expectOneErrorLine(args, {option, std::string("'") + typed + "'"});
+      CliRun r = runTileshade(args, Streams::StderrOnly);
+      EXPECT_EQ(r.output.find("inf'"), std::string::npos) << r.output;
+    }
+  EXPECT_TRUE(fs::is_empty(out)) << out;
+  EXPECT_EQ(ts::numberTextProblem("1e-50", ts::NumberRule::AtLeastZero),
+            "expected a finite number >= 0 that is not 0 as a float, got '1e-50'");
+  EXPECT_EQ(ts::numberTextProblem("0.5", ts::NumberRule::AboveZero), "");
   fs::remove_all(out);
 }
 

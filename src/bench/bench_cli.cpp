@@ -227,9 +227,10 @@ CliCommand addBenchCommand(CLI::App& app) {
                          ->capture_default_str()->group(run);
   cmd->add_option("--out", s.out, "output folder: bench.csv, bench.json, summary.csv")
       ->capture_default_str()->group(run);
-  cmd->add_option("--shard", s.shard, "k/n: run configuration i only when i mod n == k")
+  cmd->add_option("--shard", s.shard, "k/n (n <= 1000000): run configuration i only when i mod n == k")
       ->capture_default_str()->group(run);
-  cmd->add_flag("--resume", s.resume, "skip (configuration, frame) rows already in OUT/bench.csv")
+  cmd->add_flag("--resume", s.resume, "skip (configuration, frame) rows already in OUT/bench.csv; rows this run would not "
+                "write (truncated, edited, another sweep's) are dropped and counted on stderr")
       ->group(run);
   cmd->add_flag("--overwrite", s.overwrite, "start over even if OUT/bench.csv exists")->group(run);
   cmd->add_flag("--no-calibrate", s.noCalibrate,
@@ -237,7 +238,7 @@ CliCommand addBenchCommand(CLI::App& app) {
       ->group(run);
   s.calibOpt = cmd->add_option("--calib-mib", s.calibMiB, "size of each buffer of the copy calibration")
                    ->capture_default_str()->group(run);
-  cmd->add_flag("--quiet", s.quiet, "no progress on stderr")->group(run);
+  cmd->add_flag("--quiet", s.quiet, "no progress on stderr (failures are still reported)")->group(run);
   cmd->add_flag("--list", s.list, "print the expanded configurations (and the shard's) and exit")
       ->group(run);
   return {cmd, [state] { runCommand(*state); }};

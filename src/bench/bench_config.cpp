@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <regex>
@@ -354,15 +355,20 @@ std::vector<int> FrameSpec::resolve(int pathLength) const {
 }
 
 Shard Shard::parse(const std::string& value) {
+  // The limit is stated in every refusal (once a 7-digit n was refused as "not k/n").
+  const long long kMaxCount = 1000000;
+  const std::string expected = "expected k/n with 0 <= k < n <= " + std::to_string(kMaxCount) + " (e.g. 0/3)";
   std::smatch m;
   std::string s = trimmed(value);
-  if (!std::regex_match(s, m, std::regex(R"((\d{1,6})/(\d{1,6}))")))
-    badOptionValue("--shard", value, "expected k/n with 0 <= k < n (e.g. 0/3)");
+  if (!std::regex_match(s, m, std::regex(R"((\d+)/(\d+))"))) badOptionValue("--shard", value, expected);
+  auto number = [](const std::string& digits) {
+    return digits.size() > 9 ? LLONG_MAX : std::stoll(digits);
+  };
+  long long index = number(m[1]), count = number(m[2]);
+  if (count < 1 || count > kMaxCount || index >= count) badOptionValue("--shard", value, expected);
   Shard sh;
-  sh.index = std::stoi(m[1]);
-  sh.count = std::stoi(m[2]);
-  if (sh.count < 1 || sh.index >= sh.count)
-    badOptionValue("--shard", value, "expected k/n with 0 <= k < n (e.g. 0/3)");
+  sh.index = int(index);
+  sh.count = int(count);
   return sh;
 }
 

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "bench/bench_frames.h"
+#include "bench/bench_resume.h"
 #include "bench/bench_stats.h"
 #include "bench/progress.h"
 #include "cl/cl_context.h"
@@ -493,62 +494,27 @@ BenchRunResult runBench(const BenchOptions& o) {
     }
   result.selected = entries.size();
 
-  std::error_code ec;
-  fs::create_directories(o.outDir, ec);
-  if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
   const std::string csvPath = o.outDir + "/bench.csv", jsonPath = o.outDir + "/bench.json",
                     summaryPath = o.outDir + "/summary.csv";
-  bool csvExists = fs::exists(csvPath);
+  std::error_code ec;
+  bool csvExists = fs::exists(csvPath, ec);
   if (csvExists && !o.resume && !o.overwrite)
     throw Error(csvPath + " exists: pass --resume to continue that run or --overwrite to start over");
-  if (o.overwrite) {
-    for (const auto& p : {csvPath, jsonPath, summaryPath}) fs::remove(p, ec);
-    csvExists = false;
-  }
+  for (const auto& p : {csvPath, jsonPath, summaryPath})
+    if (fs::exists(p, ec) && !fs::is_regular_file(p, ec)) throw Error(p + " exists and is not a file");
 
-  // What is already there (resume): bench.csv is the record of completed rows; bench.json gives
-  // their full JSON records (rebuilt from the CSV where it lacks one).
-  std::set<std::pair<std::string, int>> done;
-  json rows = json::array(), runs = json::array();
-  if (csvExists) {
-    std::vector<std::string> header;
-    std::vector<std::map<std::string, std::string>> csvRows;
-    readCsv(csvPath, header, csvRows);
-    if (!header.empty() && header != benchCsvColumns())
-      throw Error(csvPath + " has other columns than this version writes; resume into a new --out");
-    std::map<std::pair<std::string, int>, json> byKey;
-    std::vector<std::pair<std::string, int>> order;
-    for (const auto& r : csvRows) {
-      auto id = r.count("config_id") ? r.at("config_id") : "";
-      auto frame = r.count("frame") ? r.at("frame") : "";
-      if (id.empty() || frame.empty()) continue;
-      std::pair<std::string, int> key{
-          id, int(parseInteger(csvPath + " column frame", frame, 0, INT32_MAX))};
-      if (done.insert(key).second) order.push_back(key);
-      byKey[key] = rowFromCsv(r, csvPath);
-    }
-    std::ifstream jin(jsonPath);
-    if (jin) {
-      json old = json::parse(jin, nullptr, false);
-      if (!old.is_discarded()) {
-        if (old.contains("rows"))
-          for (const auto& r : old["rows"]) {
-            if (!r.is_object() || !r.contains("frame") || !r["frame"].is_number_integer()) continue;
-            std::pair<std::string, int> key{str(r, "config_id"), r["frame"].get<int>()};
-            if (byKey.count(key)) byKey[key] = r;
-          }
-        if (old.contains("runs") && old["runs"].is_array()) runs = old["runs"];
-      }
-    }
-    for (const auto& key : order) rows.push_back(byKey[key]);
-  }
+  // Everything that can be refused is refused before any file is written: the devices (one
+  // context each, calibrated later, once, before anything is timed on it), the scenes, the frames.
+  std::map<std::string, std::unique_ptr<ClContext>> contexts;
+  for (const auto& e : entries)
+    if (!contexts.count(e.config.device))
+      contexts.emplace(e.config.device, std::make_unique<ClContext>(e.config.device));
 
-  // Scenes (one per distinct scene definition) and the frames each configuration still needs.
+  // Scenes (one per distinct scene definition) and the frames each configuration times.
   // Per scene definition: the scene (or imported G-buffer), its rasterizers, and its lights with
   // the scene's own ranges (before --light-threshold) for the error reference that every
   // configuration of the scene is measured against (src/bench/bench_frames.h).
   std::map<std::string, BenchScene> scenes;
-  size_t pendingTotal = 0;
   for (auto& e : entries) {
     std::string key = sceneKey(e.config);
     auto it = scenes.find(key);
@@ -558,17 +524,91 @@ BenchRunResult runBench(const BenchOptions& o) {
     else
       it->second.check(e.config);
     e.frames = o.frames.resolve(it->second.pathLength());
+    if (o.error) {
+      auto ef = selectErrorFrames(o.errorFrames, e.frames);
+      e.errorFrames.insert(ef.begin(), ef.end());
+    }
+  }
+
+  // What is already there (resume): bench.csv is the record of completed rows, of which only
+  // those this run would have written itself are kept (bench_resume.h); bench.json gives their
+  // full JSON records (a row whose record disagrees was edited and is dropped; one without a
+  // record, lost when a run was killed between the two writes, is rebuilt from the CSV).
+  std::set<std::pair<std::string, int>> done;
+  json rows = json::array(), runs = json::array();
+  std::vector<std::string> keptLines;
+  if (csvExists && o.resume) {
+    std::map<std::string, ResumeExpectation> expected;
+    for (const auto& e : entries)
+      expected[e.config.id()] = {e.config, contexts.at(e.config.device)->deviceName(),
+                                 {e.frames.begin(), e.frames.end()}, e.errorFrames};
+    ResumeScan scan = scanBenchCsv(csvPath, expected, o.warmup, o.repeat);
+    std::map<std::pair<std::string, int>, json> recorded;
+    std::ifstream jin(jsonPath);
+    if (jin) {
+      json old = json::parse(jin, nullptr, false);
+      if (old.is_discarded() || !old.is_object()) {
+        std::cerr << "tileshade: warning: bench --resume: " << jsonPath
+                  << " is not a bench.json; its rows come back from bench.csv, its earlier runs "
+                     "are lost\n";
+      } else {
+        if (old.contains("rows") && old["rows"].is_array())
+          for (const auto& r : old["rows"]) {
+            if (!r.is_object() || !r.contains("frame") || !r["frame"].is_number_integer()) continue;
+            recorded[{str(r, "config_id"), r["frame"].get<int>()}] = r;
+          }
+        if (old.contains("runs") && old["runs"].is_array()) runs = old["runs"];
+      }
+    }
+    const std::vector<std::string> columns = benchCsvColumns();
+    for (const auto& k : scan.kept) {
+      std::vector<std::string> fields;
+      for (const auto& c : columns) fields.push_back(k.fields.at(c));
+      json row = rowFromCsv(k.fields, csvPath);
+      auto rec = recorded.find({k.configId, k.frame});
+      if (rec != recorded.end()) {
+        std::vector<std::string> fromJson;
+        try {
+          fromJson = csvFieldsOf(rec->second);
+        } catch (const std::exception&) {
+        }
+        if (fromJson != fields) {
+          scan.drop("values that differ from its record in bench.json (edited?)", k.lineNumber);
+          continue;
+        }
+        row = rec->second;
+      }
+      done.insert({k.configId, k.frame});
+      rows.push_back(std::move(row));
+      keptLines.push_back(k.line);
+    }
+    for (const auto& line : scan.describeDrops(csvPath))
+      std::cerr << "tileshade: warning: bench --resume: " << line << "\n";
+  }
+
+  size_t pendingTotal = 0;
+  for (auto& e : entries) {
     std::string id = e.config.id();
     for (int f : e.frames) {
       if (done.count({id, f})) ++result.skippedRows;
       else e.pending.insert(f);
     }
-    if (o.error) {
-      auto ef = selectErrorFrames(o.errorFrames, e.frames);
-      e.errorFrames.insert(ef.begin(), ef.end());
-    }
     pendingTotal += e.pending.size();
   }
+
+  // Now the files: bench.csv starts again from its header and the kept rows (never appended
+  // after rows that were dropped), then grows a row per measurement.
+  fs::create_directories(o.outDir, ec);
+  if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
+  if (o.overwrite)
+    for (const auto& p : {csvPath, jsonPath, summaryPath}) fs::remove(p, ec);
+  {
+    std::string text = csvLine(benchCsvColumns()) + "\n";
+    for (const auto& line : keptLines) text += line + "\n";
+    writeFileAtomically(csvPath, text);
+  }
+  std::ofstream csv(csvPath, std::ios::app);
+  if (!csv) throw Error("cannot write " + csvPath);
 
   std::ostream& log = std::cout;
   if (o.printTable) {
@@ -578,13 +618,6 @@ BenchRunResult runBench(const BenchOptions& o) {
     log << "; " << pendingTotal << " measurement(s) to run";
     if (result.skippedRows) log << ", " << result.skippedRows << " already in " << csvPath;
     log << "\n";
-  }
-
-  std::ofstream csv(csvPath, std::ios::app);
-  if (!csv) throw Error("cannot write " + csvPath);
-  if (!csvExists || fs::file_size(csvPath, ec) == 0) {
-    csv << csvLine(benchCsvColumns()) << "\n";
-    flushChecked(csv, csvPath);
   }
 
   json run = {{"started", nowUtc()},
@@ -612,32 +645,31 @@ BenchRunResult runBench(const BenchOptions& o) {
     writeFileAtomically(jsonPath, doc.dump(1) + "\n");
   };
 
-  // Devices: one context each, calibrated once per run before anything is timed on it.
-  std::map<std::string, std::unique_ptr<ClContext>> contexts;
+  // Each device is calibrated once per run, when it is first used (before anything is timed).
   std::map<std::string, Calibration> calibrations;
+  std::set<std::string> announced;
   auto context = [&](const std::string& spec) -> ClContext& {
-    auto it = contexts.find(spec);
-    if (it != contexts.end()) return *it->second;
-    auto cl = std::make_unique<ClContext>(spec);
+    ClContext& cl = *contexts.at(spec);
+    if (!announced.insert(spec).second) return cl;
     json device = {{"spec", spec.empty() ? "default" : spec},
-                   {"name", cl->deviceName()},
-                   {"type", cl->info().type},
-                   {"compute_units", cl->info().computeUnits}};
+                   {"name", cl.deviceName()},
+                   {"type", cl.info().type},
+                   {"compute_units", cl.info().computeUnits}};
     if (o.calibrate) {
-      Calibration c = calibrate(*cl, o.calibration);
+      Calibration c = calibrate(cl, o.calibration);
       calibrations[spec] = c;
       device["calibration"] = c.toJson();
       if (o.printTable)
-        log << "device: " << cl->deviceName() << "\n"
+        log << "device: " << cl.deviceName() << "\n"
             << "calibration: copy bandwidth " << fixed(c.bandwidthGBs, 1) << " GB/s (median of "
             << c.copyMs.size() << ", " << (c.copyBytes >> 20) << " MiB read + written), peak "
             << fixed(c.peakGflops, 1) << " GFLOP/s (float" << (c.vectorWidth > 1 ? std::to_string(c.vectorWidth) : "")
             << " multiply-add chains, median of " << c.fmaMs.size() << ")\n";
     } else if (o.printTable) {
-      log << "device: " << cl->deviceName() << " (not calibrated: no limit columns)\n";
+      log << "device: " << cl.deviceName() << " (not calibrated: no limit columns)\n";
     }
     run["devices"].push_back(device);
-    return *contexts.emplace(spec, std::move(cl)).first->second;
+    return cl;
   };
 
   Progress progress(pendingTotal, o.progress);

@@ -68,6 +68,39 @@ std::vector<std::string> parseCsvLine(const std::string& line) {
   return out;
 }
 
+bool parseCsvRecord(const std::string& line, std::vector<std::string>& fields) {
+  fields.clear();
+  std::string field;
+  bool quoted = false, wasQuoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        field += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        field += c;
+      }
+    } else if (c == ',') {
+      fields.push_back(field);
+      field.clear();
+      wasQuoted = false;
+    } else if (c == '"') {
+      if (wasQuoted || !field.empty()) return false;  // a quote inside a field
+      quoted = wasQuoted = true;
+    } else if (wasQuoted) {
+      return false;  // text after the closing quote
+    } else {
+      field += c;
+    }
+  }
+  if (quoted) return false;
+  fields.push_back(field);
+  return true;
+}
+
 bool readCsv(const std::string& path, std::vector<std::string>& header,
              std::vector<std::map<std::string, std::string>>& rows) {
   std::ifstream in(path);

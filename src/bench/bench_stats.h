@@ -20,6 +20,9 @@ Summary summarize(std::vector<double> values);
 std::string csvField(const std::string& s);
 std::string csvLine(const std::vector<std::string>& fields);
 std::vector<std::string> parseCsvLine(const std::string& line);
+// The same, strictly: false for an unterminated quote or a quote inside an unquoted field (or
+// text after a closing one), which parseCsvLine reads as best it can.
+bool parseCsvRecord(const std::string& line, std::vector<std::string>& fields);
 
 // Rows of a CSV file as column -> value. The first line is the header; a later line equal to the
 // header is skipped (so `cat a.csv b.csv` of files with the same columns reads back as one table).

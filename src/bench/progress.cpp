@@ -31,8 +31,7 @@ void Progress::step(const std::string& label) {
 }
 
 void Progress::note(const std::string& line) {
-  if (!enabled_) return;
-  if (tty_ && drawn_) std::cerr << "\r\033[K";
+  if (enabled_ && tty_ && drawn_) std::cerr << "\r\033[K";
   std::cerr << line << "\n";
   drawn_ = false;
 }

@@ -9,12 +9,14 @@ namespace ts {
 
 class Progress {
  public:
-  // total: units of work (configuration x frame measurements); enabled = false prints nothing;
+  // total: units of work (configuration x frame measurements); enabled = false prints no progress;
   // name starts the plain log lines ("bench: 3/40 ...").
   Progress(size_t total, bool enabled, std::string name = "bench");
   ~Progress();
   void step(const std::string& label);  // one unit done
-  void note(const std::string& line);   // a message that must not be overwritten by the bar
+  // A message that must not be overwritten by the bar, printed even when the progress is off
+  // (a failure's reason is never hidden).
+  void note(const std::string& line);
   void finish();
 
   static std::string duration(double seconds);  // "1h02m", "3m20s", "12s"

@@ -1,7 +1,6 @@
 #include "util/option_values.h"
 
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -25,10 +24,20 @@ std::string ruleText(NumberRule rule, double max) {
   return s;
 }
 
+// Why v (typed as `text`) is not a number of `rule`, or "".
+std::string numberProblem(double v, const std::string& text, NumberRule rule, double max) {
+  bool ok = std::isfinite(v) && v <= max && (rule == NumberRule::AboveZero ? v > 0.0 : v >= 0.0);
+  if (!ok) return "expected " + ruleText(rule, max) + ", got '" + text + "'";
+  // 1e-50 is not 0 (which often means "keep") nor a positive exposure once it is a float.
+  if (v != 0.0 && float(v) == 0.0f)
+    return "expected " + ruleText(rule, max) + " that is not 0 as a float, got '" + text + "'";
+  return "";
+}
+
 float checkNumberText(const std::string& option, double v, const std::string& text, NumberRule rule,
                       double max) {
-  bool ok = std::isfinite(v) && v <= max && (rule == NumberRule::AboveZero ? v > 0.0 : v >= 0.0);
-  if (!ok) badOptionValue(option, text, "expected " + ruleText(rule, max));
+  std::string why = numberProblem(v, text, rule, max);
+  if (!why.empty()) throw Error(option + ": " + why);
   return float(v);
 }
 
@@ -56,13 +65,18 @@ long long checkInteger(const std::string& option, long long value, long long lo,
   return value;
 }
 
-float parseNumber(const std::string& option, const std::string& text, NumberRule rule, double max) {
+std::string numberTextProblem(const std::string& text, NumberRule rule, double max) {
   std::string s = trimmed(text);
   char* end = nullptr;
-  errno = 0;
   double v = s.empty() ? 0.0 : std::strtod(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size()) badOptionValue(option, text, "expected a number");
-  return checkNumberText(option, v, text, rule, max);
+  if (s.empty() || end != s.c_str() + s.size()) return "expected a number, got '" + text + "'";
+  return numberProblem(v, text, rule, max);
+}
+
+float parseNumber(const std::string& option, const std::string& text, NumberRule rule, double max) {
+  std::string why = numberTextProblem(text, rule, max);
+  if (!why.empty()) throw Error(option + ": " + why);
+  return float(std::strtod(trimmed(text).c_str(), nullptr));
 }
 
 long long parseInteger(const std::string& option, const std::string& text, long long lo,

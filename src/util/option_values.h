@@ -32,6 +32,10 @@ float parseNumber(const std::string& option, const std::string& text, NumberRule
                   double max = 3.4028234663852886e38);
 long long parseInteger(const std::string& option, const std::string& text, long long lo,
                        long long hi);
+// What parseNumber checks, without the option: "" when `text` is such a number, else
+// "expected ..., got 'TEXT'" (for CLI11 validators, which run on the text as typed).
+std::string numberTextProblem(const std::string& text, NumberRule rule,
+                              double max = 3.4028234663852886e38);
 
 // "16" | "32x16", sides 1..kMaxTileSide; option --tile.
 std::pair<int, int> parseTileSize(const std::string& text);

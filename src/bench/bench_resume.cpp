@@ -1,0 +1,220 @@
+#include "bench/bench_resume.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
+#include "bench/bench_run.h"
+#include "bench/bench_stats.h"
+#include "util/error.h"
+#include "util/option_values.h"
+
+namespace ts {
+namespace {
+
+// The type of a bench.csv column after the dimensions, as csvFieldsOf (bench_run.cpp) writes it.
+enum class Kind { Text, Integer, Time, Number, Kernels };
+struct ColumnKind {
+  Kind kind;
+  bool required;  // every row the runner writes has a value
+};
+
+ColumnKind columnKind(const std::string& name) {
+  static const std::map<std::string, ColumnKind> kinds = {
+      {"config_id", {Kind::Text, true}},
+      {"device_name", {Kind::Text, true}},
+      {"lanes_used", {Kind::Integer, true}},
+      {"features_used", {Kind::Text, false}},
+      {"gbuffer_bytes_per_pixel", {Kind::Integer, true}},
+      {"kernel_options", {Kind::Text, false}},
+      {"frame", {Kind::Integer, true}},
+      {"lights", {Kind::Integer, true}},
+      {"geometry_pixels", {Kind::Integer, true}},
+      {"total_ms", {Kind::Time, true}},
+      {"kernels", {Kind::Kernels, true}},
+      {"wall_ms", {Kind::Time, true}},
+      {"upload_ms", {Kind::Time, true}},
+      {"compile_ms", {Kind::Time, true}},
+      {"raster_ms", {Kind::Time, true}},
+      {"warmup", {Kind::Integer, true}},
+      {"repeat", {Kind::Integer, true}},
+      {"lighting_computations", {Kind::Integer, true}},
+      {"evaluations", {Kind::Integer, true}},
+      {"gbuffer_bytes_read", {Kind::Integer, true}},
+      {"nonfinite_pixels", {Kind::Integer, true}},
+      {"list_min", {Kind::Integer, false}},
+      {"list_mean", {Kind::Number, false}},
+      {"list_max", {Kind::Integer, false}},
+      {"min_bytes", {Kind::Integer, true}},
+      {"min_flops", {Kind::Number, true}},
+      {"flops_basis", {Kind::Text, true}},
+      {"bandwidth_gbs", {Kind::Number, false}},
+      {"peak_gflops", {Kind::Number, false}},
+      {"limit_ms", {Kind::Number, false}},
+      {"limit_pct", {Kind::Number, false}},
+      {"reference_contributing", {Kind::Integer, false}},
+      {"notes", {Kind::Text, false}},
+  };
+  auto it = kinds.find(name);
+  if (it != kinds.end()) return it->second;
+  if (name.rfind("err_", 0) == 0) return {Kind::Number, false};
+  throw Error("bench.csv column '" + name + "' has no type (src/bench/bench_resume.cpp)");
+}
+
+// A number as numberText writes it: the whole text, "inf"/"-inf" for infinities.
+bool isNumber(const std::string& s, bool finiteNonNegative) {
+  if (s.empty() || std::isspace((unsigned char)s[0])) return false;
+  char* end = nullptr;
+  double v = std::strtod(s.c_str(), &end);
+  if (end != s.c_str() + s.size() || std::isnan(v)) return false;
+  return !finiteNonNegative || (std::isfinite(v) && v >= 0.0);
+}
+
+// 1 to 18 digits: what rowFromCsv reads back.
+bool isInteger(const std::string& s) {
+  return !s.empty() && s.size() <= 18 &&
+         std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
+}
+
+// "name=ms;name=ms", every time a finite number >= 0.
+bool isKernelList(const std::string& s) {
+  if (s.empty()) return false;
+  for (const auto& item : splitList(s, ';')) {
+    size_t eq = item.find('=');
+    if (eq == 0 || eq == std::string::npos || !isNumber(item.substr(eq + 1), true)) return false;
+  }
+  return true;
+}
+
+bool wellTyped(const std::string& column, const std::string& value) {
+  ColumnKind k = columnKind(column);
+  if (value.empty()) return !k.required;
+  switch (k.kind) {
+    case Kind::Text: return true;
+    case Kind::Integer: return isInteger(value);
+    case Kind::Time: return isNumber(value, true);
+    case Kind::Number: return isNumber(value, false);
+    case Kind::Kernels: return isKernelList(value);
+  }
+  return false;
+}
+
+// Why a parsed row cannot be resumed, or "" when it can.
+std::string unusable(const std::map<std::string, std::string>& r,
+                     const std::map<std::string, ResumeExpectation>& expected, int warmup,
+                     int repeat) {
+  static const std::set<std::string> dims = [] {
+    std::set<std::string> names;
+    for (const auto& d : benchDimensions()) names.insert(d.name);
+    return names;
+  }();
+  for (const auto& [column, value] : r)
+    if (!dims.count(column) && !wellTyped(column, value))
+      return "a value that is missing or not of its column's type";
+  auto it = expected.find(r.at("config_id"));
+  if (it == expected.end()) return "a configuration this sweep (or shard) does not run";
+  const ResumeExpectation& e = it->second;
+  for (const auto& d : benchDimensions())
+    if (r.at(d.name) != d.get(e.config))
+      return "dimension values that do not match the row's config_id";
+  if (r.at("device_name") != e.deviceName) return "measured on another device than --device names now";
+  int frame = int(std::strtol(r.at("frame").c_str(), nullptr, 10));
+  if (r.at("frame").size() > 9 || !e.frames.count(frame)) return "a frame that --frames does not time";
+  if (r.at("warmup") != std::to_string(warmup) || r.at("repeat") != std::to_string(repeat))
+    return "measured with another --warmup or --repeat";
+  if (e.errorFrames.count(frame) && r.at("err_max_abs").empty())
+    return "no error columns where --error wants them";
+  return "";
+}
+
+}  // namespace
+
+void ResumeScan::drop(const std::string& reason, size_t lineNumber) {
+  for (auto& d : drops)
+    if (d.reason == reason) {
+      ++d.rows;
+      return;
+    }
+  drops.push_back({reason, 1, lineNumber});
+}
+
+size_t ResumeScan::droppedRows() const {
+  size_t n = 0;
+  for (const auto& d : drops) n += d.rows;
+  return n;
+}
+
+std::vector<std::string> ResumeScan::describeDrops(const std::string& path) const {
+  std::vector<std::string> out;
+  for (const auto& d : drops)
+    out.push_back("dropped " + std::to_string(d.rows) + " row(s) of " + path + ": " + d.reason +
+                  " (first at line " + std::to_string(d.firstLine) + ")");
+  return out;
+}
+
+ResumeScan scanBenchCsv(const std::string& path,
+                        const std::map<std::string, ResumeExpectation>& expected, int warmup,
+                        int repeat) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read " + path);
+  const std::vector<std::string> columns = benchCsvColumns();
+  const std::string headerLine = csvLine(columns);
+  ResumeScan scan;
+  std::map<std::pair<std::string, int>, size_t> keptAt;  // index into scan.kept
+  std::vector<bool> superseded;
+  std::string line;
+  bool sawHeader = false;
+  for (size_t number = 1; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    if (!sawHeader) {
+      if (line != headerLine)
+        throw Error(path + " has other columns than this version writes; resume into a new --out");
+      sawHeader = true;
+      continue;
+    }
+    if (line == headerLine) continue;  // `cat` of two files
+    std::vector<std::string> fields;
+    if (!parseCsvRecord(line, fields)) {
+      scan.drop("a quote that is not closed or is out of place", number);
+      continue;
+    }
+    if (fields.size() != columns.size()) {
+      scan.drop(fields.size() < columns.size() ? "fewer fields than the header (a truncated row)"
+                                               : "more fields than the header",
+                number);
+      continue;
+    }
+    ResumeScan::Row row;
+    for (size_t i = 0; i < columns.size(); ++i) row.fields[columns[i]] = fields[i];
+    std::string why = unusable(row.fields, expected, warmup, repeat);
+    if (!why.empty()) {
+      scan.drop(why, number);
+      continue;
+    }
+    row.configId = row.fields.at("config_id");
+    row.frame = int(std::strtol(row.fields.at("frame").c_str(), nullptr, 10));
+    row.line = line;
+    row.lineNumber = number;
+    auto key = std::make_pair(row.configId, row.frame);
+    auto old = keptAt.find(key);
+    if (old != keptAt.end()) {
+      scan.drop("a (configuration, frame) measured again later; the last row is kept",
+                scan.kept[old->second].lineNumber);
+      superseded[old->second] = true;
+    }
+    keptAt[key] = scan.kept.size();
+    scan.kept.push_back(std::move(row));
+    superseded.push_back(false);
+  }
+  if (in.bad()) throw Error("cannot read " + path);
+  std::vector<ResumeScan::Row> kept;
+  for (size_t i = 0; i < scan.kept.size(); ++i)
+    if (!superseded[i]) kept.push_back(std::move(scan.kept[i]));
+  scan.kept = std::move(kept);
+  return scan;
+}
+
+}  // namespace ts
