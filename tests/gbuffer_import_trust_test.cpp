@@ -262,6 +262,20 @@ TEST(GBufferImportTrust, ValuesTheGltfPathRefusesAreRefused) {
            {"light range 1e39",
             [](const DumpFiles&, json&, json& l, FloatImage&) { l["lights"][0]["range"] = 1e39; },
             {"lights.json", "light 0", "range", "float range"}},
+           {"znear that rounds to float 0",
+            [](const DumpFiles&, json& d, json&, FloatImage&) { d["camera"]["znear"] = 1e-46; },
+            {"gbuffer.json", "\"znear\"", "1e-46", "smallest normal"}},
+           {"field of view beyond float",
+            [](const DumpFiles&, json& d, json&, FloatImage&) {
+              d["camera"]["tan_half_fov"] = {1e39, 1.0};
+            },
+            {"gbuffer.json", "\"tan_half_fov\"", "3.40282347e+38"}},
+           {"hardware near that rounds to float 0",
+            [](const DumpFiles& f, json& d, json&, FloatImage& image) {
+              toHardwareDepth(f, d, image);
+              d["depth"]["near"] = 1e-46;
+            },
+            {"gbuffer.json", "\"near\"", "smallest normal"}},
            {"light colour 1e36 (x 1/dmin^2 = 1e38)",
             [](const DumpFiles&, json&, json& l, FloatImage&) {
               l["lights"][0]["color"] = {1e36, 0.0, 0.0};

@@ -255,8 +255,20 @@ GBufferDescriptor readGBufferDescriptor(const std::string& dirOrFile) {
     if (!(yfov < 3.14159)) cam.fail(key, "must be below 180 degrees");
     d.tanHalfFovY = std::tan(0.5f * float(yfov));  // as CameraIntrinsics::from
   }
-  if (cam.has("znear")) d.znear = float(cam.positive("znear"));
-  if (cam.has("zfar")) d.zfar = float(cam.positive("zfar"));
+  // The kernels divide by these floats: one that rounds to 0 (1e-46) or inf would break them.
+  auto usableFloat = [](const JsonFields& f, const std::string& key, float v) {
+    if (!(v >= std::numeric_limits<float>::min() && std::isfinite(v)))
+      f.fail(key, "must be a float from 1.17549435e-38 (the smallest normal) to 3.40282347e+38, "
+                  "got " + f.object.at(key).dump());
+    return v;
+  };
+  if (d.tanHalfFovX) usableFloat(cam, "tan_half_fov", *d.tanHalfFovX);
+  usableFloat(cam, cam.has("tan_half_fov") ? "tan_half_fov"
+                   : cam.has("yfov")       ? "yfov"
+                                           : "yfov_degrees",
+              d.tanHalfFovY);
+  if (cam.has("znear")) d.znear = usableFloat(cam, "znear", float(cam.positive("znear")));
+  if (cam.has("zfar")) d.zfar = usableFloat(cam, "zfar", float(cam.positive("zfar")));
   if (d.znear && d.zfar && !(*d.zfar > *d.znear)) cam.fail("zfar", "must be greater than znear");
 
   // Depth
@@ -271,6 +283,7 @@ GBufferDescriptor readGBufferDescriptor(const std::string& dirOrFile) {
                                                             {"hardware", DepthEncoding::Hardware}});
   if (d.depthEncoding == DepthEncoding::Hardware) {
     d.hardwareNear = depth.positive("near");
+    usableFloat(depth, "near", float(d.hardwareNear));
     d.hardwareRange = depth.oneOf<DepthRange>(
         "range", {{"zero_to_one", DepthRange::ZeroToOne},
                   {"minus_one_to_one", DepthRange::MinusOneToOne}});
