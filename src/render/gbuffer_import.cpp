@@ -85,7 +85,6 @@ struct EmptyFrameClues {
   double maxMask = 0.0;
   // A linear / view_z depth of the other sign: the first one
   std::optional<std::tuple<int, int, float>> oppositeSign;
-  ShadingRangeTerms terms;  // of the geometry pixels, then of the lights
 };
 
 // No geometry: the frame would be ambient-black with nothing said. A depth of the other sign is
@@ -154,6 +153,7 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
   const size_t stride = image.channels.size();
   double minDepth = std::numeric_limits<double>::infinity(), maxDepth = 0.0;
   EmptyFrameClues clues;
+  ShadingRangeTerms range;  // what fp32 shading must hold: the surfaces', then the lights' values
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const int row = d.bottomRowFirst ? H - 1 - y : y;
@@ -219,10 +219,10 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
       for (int p = 0; p < 4; ++p)
         (*planes[p])[i] = fixedComponents(GBufferPlane(p), d.model, (*planes[p])[i]);
       checkNormal(d, glm::vec3(g.normal[i]), x, y);
-      clues.terms.addSurface(glm::vec3(g.diffuse[i]),
-                             d.model == ShadingModel::BlinnPhong ? glm::vec3(g.specular[i])
-                                                                 : glm::vec3(0.0f),
-                             glm::vec3(g.emissive[i]));
+      range.addSurface(glm::vec3(g.diffuse[i]),
+                       d.model == ShadingModel::BlinnPhong ? glm::vec3(g.specular[i])
+                                                           : glm::vec3(0.0f),  // ks.R: roughness
+                       glm::vec3(g.emissive[i]));
     }
   if (g.geometryPixels() == 0) reportEmptyFrame(d, clues);
 
@@ -243,10 +243,10 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
   f.gbuffer = std::move(g);
   f.encoded = encode(f.gbuffer, format ? *format : d.layout.value_or(GBufferFormat::FP32));
   LightsFile lights = readLightsFile(d.lightsPath);
-  for (const glm::vec4& c : lights.lights.color) clues.terms.addLight(glm::vec3(c));
-  for (const glm::vec4& c : lights.lights.directionalColor) clues.terms.addLight(glm::vec3(c));
-  clues.terms.ambient = std::max({lights.ambient.x, lights.ambient.y, lights.ambient.z});
-  checkShadingRange(clues.terms, d.path + " with " + d.lightsPath);
+  for (const glm::vec4& c : lights.lights.color) range.addLight(glm::vec3(c));
+  for (const glm::vec4& c : lights.lights.directionalColor) range.addLight(glm::vec3(c));
+  range.ambient = std::max({lights.ambient.x, lights.ambient.y, lights.ambient.z});
+  checkShadingRange(range, d.path + " with " + d.lightsPath);
   f.lights = std::move(lights.lights);
   f.ambient = lights.ambient;
   f.features = SceneFeatures::general(d.model);
