@@ -66,7 +66,10 @@ const DumpFiles& dumpFiles() {
     std::ifstream(dir / "lights.json") >> f.lights;
     f.image = readImage((dir / "gbuffer.exr").string());
     for (float z : f.frame.gbuffer.depth)
-      if (z > 0.0f) f.minDepth = std::min(f.minDepth, double(z)), f.maxDepth = std::max(f.maxDepth, double(z));
+      if (z > 0.0f) {
+        f.minDepth = std::min(f.minDepth, double(z));
+        f.maxDepth = std::max(f.maxDepth, double(z));
+      }
     return f;
   }();
   return files;
@@ -78,8 +81,8 @@ void toHardwareDepth(const DumpFiles& f, json& d, FloatImage& image) {
   const size_t stride = image.channels.size(), pz = f.channel("P.z"), mask = f.channel("mask");
   for (size_t i = 0; i < image.data.size() / stride; ++i) {
     const double depth = -double(image.data[i * stride + pz]);
-    image.data[i * stride + pz] =
-        image.data[i * stride + mask] > 0.5f ? float(far * (depth - n) / (depth * (far - n))) : 1.0f;
+    const bool geometry = image.data[i * stride + mask] > 0.5f;
+    image.data[i * stride + pz] = geometry ? float(far * (depth - n) / (depth * (far - n))) : 1.0f;
   }
   image.channels[pz] = "Z";
   d["depth"] = {{"channel", "Z"}, {"encoding", "hardware"}, {"near", n}, {"far", far},
@@ -364,8 +367,8 @@ TEST(GBufferImportTrust, RenderOptionsThatCannotApplyAreRefused) {
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << option << ": " << r.output;
   }
   // Options that apply keep working.
-  r = test::runTileshade(in + "--technique tiled --technique deferred --gbuffer fp16 --features general "
-                              "--tile 8 --math fast --check --exposure 2");
+  r = test::runTileshade(in + "--technique tiled --technique deferred --gbuffer fp16 "
+                              "--features general --tile 8 --math fast --check --exposure 2");
   EXPECT_EQ(r.status, 0) << r.output;
 }
 

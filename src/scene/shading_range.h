@@ -13,8 +13,8 @@ namespace ts {
 // kernels' intermediate products (C * falloff before * kd) and running sums need headroom.
 constexpr double kShadingRangeLimit = 1e37;
 
-// The largest magnitudes that bound a pixel's value, from a scene's materials and lights or from an
-// imported G-buffer's planes and lights.json: the one range check for every way scene values come in.
+// The largest magnitudes that bound a pixel's value, from a scene's materials and lights or from
+// an imported G-buffer's planes and lights.json: one range check, whichever way values come in.
 struct ShadingRangeTerms {
   double material = 0.0;  // largest kd + ks of one surface (kd: diffuse or base colour)
   double diffuse = 0.0;   // largest kd
