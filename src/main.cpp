@@ -130,7 +130,8 @@ int main(int argc, char** argv) {
       "--gbuffer-in", render.gbufferIn,
       "shade a G-buffer read from files instead of a scene: a folder written by --dump, or a "
       "descriptor .json naming another renderer's EXR channels (docs/output-formats.md); size, "
-      "camera and lights come from the files, the layout too unless --gbuffer is given");
+      "camera, lights and shading model come from the files (the options that set them are "
+      "refused), the layout too unless --gbuffer is given");
   auto* gbufferOpt = renderCmd->add_option("--gbuffer", format,
                         "G-buffer precision: fp32, fp16 or packed (octahedral normals, unorm8 "
                         "colours; see docs/accuracy.md)")
@@ -155,9 +156,10 @@ int main(int argc, char** argv) {
   renderCmd->add_flag("--dump", render.dump,
                       "also write gbuffer.exr (decoded shading inputs), lights.json and "
                       "gbuffer.json (the descriptor --gbuffer-in reads)");
-  // An imported G-buffer brings its own scene, size, frame and lights.
+  // An imported G-buffer brings its own scene, size, frame, lights and shading model.
   for (const char* name : {"--lights", "--light-count", "--light-range", "--light-threshold",
-                           "--seed", "--width", "--height", "--frame"})
+                           "--seed", "--width", "--height", "--frame", "--variant",
+                           "--shading-model"})
     gbufferInOpt->excludes(renderCmd->get_option(name));
   gbufferInOpt->excludes(sceneOpt);
   gbufferInOpt->excludes(rasterOpt);

@@ -2,6 +2,7 @@
 // read back by every technique with --check and --heatmap, and one-line errors.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -123,6 +124,30 @@ TEST(GBufferCli, BadInputFailsWithOneLine) {
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
     EXPECT_NE(r.output.find("error"), std::string::npos) << args << ": " << r.output;
   }
+}
+
+// A GL driver that draws nothing (Mesa's softpipe here: 0 geometry pixels against the software
+// rasterizer's thousands, and --check "max err 0") must not pass for a frame: either it drew,
+// or the render fails naming the driver.
+TEST(GBufferCli, GlDriverThatDrawsNothingIsAnError) {
+  if (!fs::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const fs::path out = fresh("softpipe");
+  const char* before = std::getenv("GALLIUM_DRIVER");
+  const std::string saved = before ? before : "";
+  setenv("GALLIUM_DRIVER", "softpipe", 1);
+  test::CliRun r = runTileshade("render --raster gl --lights few --width 96 --height 54 "
+                                "--device cpu --check --out " + out.string());
+  if (before) setenv("GALLIUM_DRIVER", saved.c_str(), 1);
+  else unsetenv("GALLIUM_DRIVER");
+  if (r.output.find("no OpenGL context") != std::string::npos) GTEST_SKIP() << r.output;
+  if (r.status == 0) {
+    EXPECT_GT(readJson(out / "stats.json").at("geometry_pixels").get<int>(), 0) << r.output;
+    return;
+  }
+  EXPECT_EQ(r.exitCode(), 1) << r.output;
+  EXPECT_NE(r.output.find("tileshade: error: --raster gl: the OpenGL driver"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("drew no pixel"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <memory>
 #include <sstream>
 
+#include "check/foreign_gbuffer.h"
 #include "check/fp32_bound.h"
 #include "check/hard_cases.h"
 #include "cl/cl_context.h"
@@ -101,6 +102,7 @@ std::vector<CheckRow> runHardCases(const CheckOptions& o, std::ostream& out) {
     const SceneFeatures features = analyzeScene(hf.scene, nativeShadingModel(hf.scene));
     for (GBufferFormat format : o.formats) {
       PreparedFrame frame = prepareFrame(hf.scene, 0, hf.width, hf.height, format, features);
+      if (hf.throughImport) frame = throughForeignGBufferFiles(frame, format);
       PreparedFrame referenceFrame =
           hf.referenceScene
               ? prepareFrame(*hf.referenceScene, 0, hf.width, hf.height, format, features)

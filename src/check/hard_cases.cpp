@@ -478,6 +478,16 @@ const std::vector<HardCase>& hardCases() {
        "glTF's model at roughness 0 and 1, metallic 0 and 1: lights at the floor's mirror "
        "directions, grazing it, on it",
        metallicRoughness},
+#ifndef TILESHADE_NO_OIIO  // the files are an EXR
+      {"import-reversed-z",
+       "lights-straddling-near-plane through another renderer's files: reversed-Z depth with an "
+       "infinite far plane, unorm normals, rows bottom first (--gbuffer-in's reader)",
+       [] {
+         HardCaseFrame f = lightsStraddlingNearPlane();
+         f.throughImport = true;
+         return f;
+       }},
+#endif
   };
   return cases;
 }

@@ -26,6 +26,10 @@ struct HardCaseFrame {
   TechniqueConfig config;
   // Lanes widths to run instead of the check's (e.g. every width for the list-overflow case).
   std::vector<int> lanes;
+  // Through the import path: the rasterized frame written as another renderer's files and read
+  // back by --gbuffer-in's reader (src/check/foreign_gbuffer.h); the reference is shaded from
+  // what was read.
+  bool throughImport = false;
 };
 
 struct HardCase {

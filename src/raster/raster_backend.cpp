@@ -42,10 +42,26 @@ SceneRasterizer::SceneRasterizer(const Scene& scene, RasterBackend backend)
 SceneRasterizer::~SceneRasterizer() = default;
 SceneRasterizer::SceneRasterizer(SceneRasterizer&&) noexcept = default;
 
+// Coverage of the two rasterizers differs only on silhouettes (docs/opengl.md), a few pixels of a
+// frame at most where a sliver of geometry is in view.
+constexpr size_t kCoverageSlack = 4;
+
 GBuffer SceneRasterizer::rasterize(const Camera& camera, int width, int height,
                                    const RasterOptions& options) {
-  if (gl_) return gl_->rasterize(camera, width, height, options);
-  return ts::rasterize(scene_, camera, width, height, options);
+  if (!gl_) return ts::rasterize(scene_, camera, width, height, options);
+  GBuffer g = gl_->rasterize(camera, width, height, options);
+  // A driver that draws nothing (Mesa's softpipe on some machines) would give a black frame that
+  // --check calls exact. Only an empty frame pays for the software rasterizer's second opinion.
+  if (g.geometryPixels() == 0) {
+    const size_t covered = ts::rasterize(scene_, camera, width, height, options).geometryPixels();
+    if (covered > kCoverageSlack)
+      throw Error("--raster gl: the OpenGL driver (" + gl_->renderer() + ") drew no pixel of a " +
+                  std::to_string(width) + "x" + std::to_string(height) +
+                  " frame where the software rasterizer covers " + std::to_string(covered) +
+                  ": the driver does not draw (check GALLIUM_DRIVER / LIBGL_ALWAYS_SOFTWARE), or "
+                  "use --raster software");
+  }
+  return g;
 }
 
 std::string SceneRasterizer::description() const {

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <set>
 
 #include "reference/shading_cpu.h"  // TS_DMIN
@@ -104,6 +105,9 @@ struct JsonFields {
     if (!v.is_number()) fail(key, "must be a number, got " + v.dump());
     const double d = v.get<double>();
     if (!std::isfinite(d)) fail(key, "must be finite");
+    // Every number here ends up a float (camera, lights): 1e39 would become inf.
+    if (std::abs(d) > double(std::numeric_limits<float>::max()))
+      fail(key, "must be within float range, got " + v.dump());
     return d;
   }
   double positive(const std::string& key) const {
@@ -119,9 +123,19 @@ struct JsonFields {
     for (int i = 0; i < 3; ++i) {
       if (!v[size_t(i)].is_number() || !std::isfinite(v[size_t(i)].get<double>()))
         fail(key, "must be an array of 3 finite numbers, got " + v.dump());
+      // The kernels read floats: 1e39 would become inf.
+      if (std::abs(v[size_t(i)].get<double>()) > double(std::numeric_limits<float>::max()))
+        fail(key, "must be an array of 3 numbers within float range, got " + v.dump());
       out[i] = v[size_t(i)].get<float>();
     }
     return out;
+  }
+  // A colour (light colour, ambient): as glTF's KHR_lights_punctual, no negative component.
+  glm::vec3 colour(const std::string& key) const {
+    const glm::vec3 c = vec3(key);
+    if (!(c.x >= 0.0f && c.y >= 0.0f && c.z >= 0.0f))
+      fail(key, "must be an array of 3 numbers >= 0, got " + object.at(key).dump());
+    return c;
   }
   std::string string(const std::string& key) const {
     if (!has(key)) fail(key, "is missing");
@@ -241,8 +255,20 @@ GBufferDescriptor readGBufferDescriptor(const std::string& dirOrFile) {
     if (!(yfov < 3.14159)) cam.fail(key, "must be below 180 degrees");
     d.tanHalfFovY = std::tan(0.5f * float(yfov));  // as CameraIntrinsics::from
   }
-  if (cam.has("znear")) d.znear = float(cam.positive("znear"));
-  if (cam.has("zfar")) d.zfar = float(cam.positive("zfar"));
+  // The kernels divide by these floats: one that rounds to 0 (1e-46) or inf would break them.
+  auto usableFloat = [](const JsonFields& f, const std::string& key, float v) {
+    if (!(v >= std::numeric_limits<float>::min() && std::isfinite(v)))
+      f.fail(key, "must be a float from 1.17549435e-38 (the smallest normal) to 3.40282347e+38, "
+                  "got " + f.object.at(key).dump());
+    return v;
+  };
+  if (d.tanHalfFovX) usableFloat(cam, "tan_half_fov", *d.tanHalfFovX);
+  usableFloat(cam, cam.has("tan_half_fov") ? "tan_half_fov"
+                   : cam.has("yfov")       ? "yfov"
+                                           : "yfov_degrees",
+              d.tanHalfFovY);
+  if (cam.has("znear")) d.znear = usableFloat(cam, "znear", float(cam.positive("znear")));
+  if (cam.has("zfar")) d.zfar = usableFloat(cam, "zfar", float(cam.positive("zfar")));
   if (d.znear && d.zfar && !(*d.zfar > *d.znear)) cam.fail("zfar", "must be greater than znear");
 
   // Depth
@@ -257,6 +283,7 @@ GBufferDescriptor readGBufferDescriptor(const std::string& dirOrFile) {
                                                             {"hardware", DepthEncoding::Hardware}});
   if (d.depthEncoding == DepthEncoding::Hardware) {
     d.hardwareNear = depth.positive("near");
+    usableFloat(depth, "near", float(d.hardwareNear));
     d.hardwareRange = depth.oneOf<DepthRange>(
         "range", {{"zero_to_one", DepthRange::ZeroToOne},
                   {"minus_one_to_one", DepthRange::MinusOneToOne}});
@@ -330,7 +357,7 @@ const std::vector<LightField>& lightFields() {
        [](LightRecord& l, const JsonFields& f) { l.position = f.vec3("position"); }},
       {"color", kPoint | kSpot | kDirectional,
        [](const LightRecord& l) { return array3(l.color); },
-       [](LightRecord& l, const JsonFields& f) { l.color = f.vec3("color"); }},
+       [](LightRecord& l, const JsonFields& f) { l.color = f.colour("color"); }},
       {"range", kPoint | kSpot, [](const LightRecord& l) { return json(l.range); },
        [](LightRecord& l, const JsonFields& f) { l.range = float(f.positive("range")); }},
       {"direction", kSpot | kDirectional, [](const LightRecord& l) { return array3(l.direction); },
@@ -413,7 +440,7 @@ LightsFile readLightsFile(const std::string& path) {
     top.fail("dmin", "is " + j.at("dmin").dump() + " but the kernels use " +
                          std::to_string(TS_DMIN));
   LightsFile out;
-  if (top.has("ambient")) out.ambient = top.vec3("ambient");
+  if (top.has("ambient")) out.ambient = top.colour("ambient");
   if (!top.has("lights") || !j.at("lights").is_array()) top.fail("lights", "must be an array");
   size_t index = 0;
   for (const json& lj : j.at("lights")) {

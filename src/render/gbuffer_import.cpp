@@ -2,13 +2,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <iostream>
 #include <limits>
+#include <sstream>
+#include <tuple>
 
 #include "render/image_io.h"
+#include "scene/shading_range.h"
 #include "util/error.h"
 
 namespace ts {
 namespace {
+
+// Values in messages to full precision: 1.0000001 must not read as 1.
+std::string fullPrecision(double v) {
+  std::ostringstream s;
+  s << std::setprecision(9) << v;
+  return s.str();
+}
 
 std::string pixelText(int x, int y) {
   return "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
@@ -36,6 +48,63 @@ double linearDepth(const GBufferDescriptor& d, double v) {
     return 2.0 * n * f / (f + n - ndc * (f - n));
   }
   return n * f / (f - v * (f - n));
+}
+
+// Geometry nearer than the near plane cannot come from a camera with that near plane, and the
+// culling clips light volumes there: every technique but brute would drop the lights that reach
+// it. Within float rounding of the plane (kNearPlaneTolerance) a surface is on it.
+constexpr double kNearPlaneTolerance = 1e-5;
+
+void checkInFrontOfNearPlane(const GBufferDescriptor& d, float depth, int x, int y) {
+  if (!d.znear || double(depth) >= double(*d.znear) * (1.0 - kNearPlaneTolerance)) return;
+  const bool fromHardware = d.depthEncoding == DepthEncoding::Hardware &&
+                            float(d.hardwareNear) == *d.znear;
+  throw Error(d.imagePath + ": depth " + fullPrecision(depth) + " at " + pixelText(x, y) +
+              " is in front of the near plane " + fullPrecision(*d.znear) + " (" + d.path +
+              (fromHardware ? " \"depth\": \"near\"" : " \"camera\": \"znear\"") +
+              "); nothing nearer than the near plane is drawn, and the culling would drop lights "
+              "there: fix it, or leave \"znear\" out to take the nearest surface's depth");
+}
+
+// The kernels renormalise the normal, but the layouts store it as given: fp16 turns x1e6 into inf
+// and x1e-40 into 0. Lengths in [0.5, 2] hold every layout's normals (packed dumps store octahedral
+// vectors, length >= 1/sqrt(3)) and renormalise safely; anything else is a renderer's mistake.
+constexpr float kNormalLengthMin = 0.5f, kNormalLengthMax = 2.0f;
+
+void checkNormal(const GBufferDescriptor& d, glm::vec3 n, int x, int y) {
+  const double length = glm::length(glm::dvec3(n));
+  if (length >= kNormalLengthMin && length <= kNormalLengthMax) return;
+  throw Error(d.imagePath + ": the normal (\"normal\") at " + pixelText(x, y) + " is " +
+              (length == 0.0 ? std::string("zero") : "of length " + fullPrecision(length)) +
+              ", not a unit vector (lengths 0.5 to 2 are accepted and renormalised)");
+}
+
+// What the image held when no pixel turned out to be geometry.
+struct EmptyFrameClues {
+  size_t depthGeometry = 0;  // pixels the depth alone makes geometry
+  double maxMask = 0.0;
+  // A linear / view_z depth of the other sign: the first one
+  std::optional<std::tuple<int, int, float>> oppositeSign;
+};
+
+// No geometry: the frame would be ambient-black with nothing said. A depth of the other sign is
+// a sign mistake (view_z holds negative values in front of the camera); else a warning.
+void reportEmptyFrame(const GBufferDescriptor& d, const EmptyFrameClues& clues) {
+  if (clues.oppositeSign && clues.depthGeometry == 0) {
+    const auto [x, y, v] = *clues.oppositeSign;
+    const bool viewZ = d.depthEncoding == DepthEncoding::ViewZ;
+    throw Error(d.imagePath + ": no pixel is in front of the camera: depth channel '" +
+                d.depthChannel + "' (\"encoding\": \"" + (viewZ ? "view_z" : "linear") +
+                "\", " + (viewZ ? "negative" : "positive") + " in front) holds " +
+                fullPrecision(v) + " at " + pixelText(x, y) + "; is it \"" +
+                (viewZ ? "linear" : "view_z") + "\"?");
+  }
+  std::cerr << "tileshade: warning: " << d.imagePath << ": no pixel holds geometry";
+  if (!d.maskChannel.empty() && clues.depthGeometry > 0)
+    std::cerr << " (mask channel '" << d.maskChannel << "' is at most "
+              << fullPrecision(clues.maxMask) << ", geometry is > 0.5, while depth channel '"
+              << d.depthChannel << "' has " << clues.depthGeometry << " pixels in front)";
+  std::cerr << "; the frame is background only\n";
 }
 
 }  // namespace
@@ -83,6 +152,8 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
   std::vector<glm::vec4>* planes[] = {&g.normal, &g.diffuse, &g.specular, &g.emissive};
   const size_t stride = image.channels.size();
   double minDepth = std::numeric_limits<double>::infinity(), maxDepth = 0.0;
+  EmptyFrameClues clues;
+  ShadingRangeTerms range;  // what fp32 shading must hold: the surfaces', then the lights' values
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const int row = d.bottomRowFirst ? H - 1 - y : y;
@@ -92,8 +163,17 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
       if (std::isnan(raw))
         throw Error(d.imagePath + ": depth channel '" + d.depthChannel + "' is NaN at " +
                     pixelText(x, y));
+      if (d.depthEncoding == DepthEncoding::Hardware && !(raw >= 0.0f && raw <= 1.0f))
+        throw Error(d.imagePath + ": depth channel '" + d.depthChannel + "' holds window depth " +
+                    fullPrecision(raw) + " at " + pixelText(x, y) +
+                    ", outside [0, 1] (a depth buffer holds nothing in front of its near plane "
+                    "or behind its far plane)");
       const double depth = linearDepth(d, raw);
       bool geometry = depth > 0.0 && std::isfinite(depth);
+      clues.depthGeometry += geometry;
+      if (!geometry && std::isfinite(raw) && raw != 0.0f &&
+          (d.depthEncoding == DepthEncoding::ViewZ || d.depthEncoding == DepthEncoding::Linear))
+        if (!clues.oppositeSign) clues.oppositeSign.emplace(x, y, raw);
       if (maskChannel >= 0) {
         const float m = px[maskChannel];
         if (!std::isfinite(m))
@@ -103,7 +183,8 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
           throw Error(d.imagePath + ": mask channel '" + d.maskChannel +
                       "' marks geometry at " + pixelText(x, y) + " but depth channel '" +
                       d.depthChannel + "' gives no depth in front of the camera (" +
-                      std::to_string(raw) + ")");
+                      fullPrecision(raw) + ")");
+        clues.maxMask = std::max(clues.maxMask, double(m));
         geometry = m > 0.5f;
       }
       if (!geometry) continue;
@@ -111,6 +192,7 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
       if (!(g.depth[i] > 0.0f) || !std::isfinite(g.depth[i]))
         throw Error(d.imagePath + ": depth " + std::to_string(depth) + " at " + pixelText(x, y) +
                     " is out of float range");
+      checkInFrontOfNearPlane(d, g.depth[i], x, y);
       minDepth = std::min(minDepth, double(g.depth[i]));
       maxDepth = std::max(maxDepth, double(g.depth[i]));
       for (const GBufferField* f : fallbacks)
@@ -118,19 +200,31 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
           (*planes[int(f->plane)])[i][f->first + c] = f->fallback;
       for (const Source& s : sources)
         for (size_t c = 0; c < s.channels.size(); ++c) {
+          const std::string& name = image.channels[size_t(s.channels[c])];
           float v = px[s.channels[c]];
           if (!std::isfinite(v))
-            throw Error(d.imagePath + ": channel '" + image.channels[size_t(s.channels[c])] +
-                        "' (\"" + s.field->key + "\") is " + (std::isnan(v) ? "NaN" : "infinite") +
-                        " at " + pixelText(x, y));
-          if (s.field->plane == GBufferPlane::Normal && d.normalUnorm) v = 2.0f * v - 1.0f;
+            throw Error(d.imagePath + ": channel '" + name + "' (\"" + s.field->key + "\") is " +
+                        (std::isnan(v) ? "NaN" : "infinite") + " at " + pixelText(x, y));
+          const bool normal = s.field->plane == GBufferPlane::Normal;
+          if (normal && d.normalUnorm && !(v >= 0.0f && v <= 1.0f))
+            throw Error(d.imagePath + ": channel '" + name + "' (\"normal\", \"normal_encoding\": "
+                        "\"unorm\") is " + fullPrecision(v) + " at " + pixelText(x, y) +
+                        ", outside [0, 1]");
+          if (!normal && !(v >= 0.0f))
+            throw Error(d.imagePath + ": channel '" + name + "' (\"" + s.field->key + "\") is " +
+                        fullPrecision(v) + " at " + pixelText(x, y) + ", below 0");
+          if (normal && d.normalUnorm) v = 2.0f * v - 1.0f;
           (*planes[int(s.field->plane)])[i][s.field->first + int(c)] = v;
         }
       for (int p = 0; p < 4; ++p)
         (*planes[p])[i] = fixedComponents(GBufferPlane(p), d.model, (*planes[p])[i]);
-      if (glm::vec3(g.normal[i]) == glm::vec3(0.0f))
-        throw Error(d.imagePath + ": the normal (\"normal\") is zero at " + pixelText(x, y));
+      checkNormal(d, glm::vec3(g.normal[i]), x, y);
+      range.addSurface(glm::vec3(g.diffuse[i]),
+                       d.model == ShadingModel::BlinnPhong ? glm::vec3(g.specular[i])
+                                                           : glm::vec3(0.0f),  // ks.R: roughness
+                       glm::vec3(g.emissive[i]));
     }
+  if (g.geometryPixels() == 0) reportEmptyFrame(d, clues);
 
   PreparedFrame& f = out.frame;
   CameraIntrinsics& in = f.intrinsics;
@@ -149,6 +243,10 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
   f.gbuffer = std::move(g);
   f.encoded = encode(f.gbuffer, format ? *format : d.layout.value_or(GBufferFormat::FP32));
   LightsFile lights = readLightsFile(d.lightsPath);
+  for (const glm::vec4& c : lights.lights.color) range.addLight(glm::vec3(c));
+  for (const glm::vec4& c : lights.lights.directionalColor) range.addLight(glm::vec3(c));
+  range.ambient = std::max({lights.ambient.x, lights.ambient.y, lights.ambient.z});
+  checkShadingRange(range, d.path + " with " + d.lightsPath);
   f.lights = std::move(lights.lights);
   f.ambient = lights.ambient;
   f.features = SceneFeatures::general(d.model);

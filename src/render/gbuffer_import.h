@@ -19,8 +19,11 @@ struct ImportedFrame {
 // it names, and encodes the G-buffer in `format` (default: the descriptor's "layout", else fp32).
 // A `render --dump` folder comes back exactly: the same encoded planes, lights and camera.
 // Throws ts::Error naming the file and the channel or field: a missing channel, an image of the
-// wrong size, a NaN or infinite value on a geometry pixel, NaN depth, a zero normal, a light
-// without a range, ...
+// wrong size, a NaN or infinite value on a geometry pixel, NaN depth, geometry in front of the
+// near plane, a hardware depth outside [0, 1], a normal far from unit length, a negative colour,
+// values beyond the shading range (the glTF path's checkShadingRange), a depth of the wrong sign
+// everywhere, a light without a range, ... A frame without geometry otherwise gets a one-line
+// warning on stderr.
 ImportedFrame importGBuffer(const std::string& dirOrFile,
                             std::optional<GBufferFormat> format = std::nullopt);
 

@@ -119,18 +119,62 @@ int FloatImage::channel(const std::string& name) const {
   return -1;
 }
 
+#ifndef TILESHADE_NO_OIIO
+namespace {
+
+// A crop (data window) inside a larger display window would be read as a full frame with the
+// full frame's field of view: refused rather than guessed at (which pixels are background depends
+// on the depth encoding).
+void refuseCrop(const std::string& path, const OIIO::ImageSpec& spec) {
+  if (spec.x == spec.full_x && spec.y == spec.full_y && spec.width == spec.full_width &&
+      spec.height == spec.full_height)
+    return;
+  auto window = [](int x, int y, int w, int h) {
+    return "(" + std::to_string(x) + ", " + std::to_string(y) + ") " + std::to_string(w) + "x" +
+           std::to_string(h);
+  };
+  throw Error(path + ": its data window " + window(spec.x, spec.y, spec.width, spec.height) +
+              " is not its display window " +
+              window(spec.full_x, spec.full_y, spec.full_width, spec.full_height) +
+              "; cropped images are not read: write the full frame");
+}
+
+// OpenEXR's uint channels (masks, ids) hold integers; 8- and 16-bit channels (PNG, TIFF) hold
+// normalised colours.
+bool isIntegerValued(OIIO::TypeDesc t) {
+  return t.basetype == OIIO::TypeDesc::UINT32 || t.basetype == OIIO::TypeDesc::INT32;
+}
+
+}  // namespace
+#endif
+
 FloatImage readImage(const std::string& path) {
 #ifndef TILESHADE_NO_OIIO
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw Error("cannot read " + path + ": " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
+  refuseCrop(path, spec);
   FloatImage image;
   image.width = spec.width;
   image.height = spec.height;
   image.channels = spec.channelnames;
-  image.data.resize(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+  const size_t pixels = size_t(spec.width) * size_t(spec.height), stride = size_t(spec.nchannels);
+  image.data.resize(pixels * stride);
+  auto fail = [&] { throw Error("cannot read " + path + ": " + in->geterror()); };
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data.data()))
-    throw Error("cannot read " + path + ": " + in->geterror());
+    fail();
+  // OpenImageIO converts 32-bit integer channels to float normalised (uint 1 -> 2.3e-10): a
+  // mask or an id channel means its integer values, so those channels are read again as they are.
+  std::vector<uint32_t> values(pixels);
+  for (int c = 0; c < spec.nchannels; ++c) {
+    const OIIO::TypeDesc type = spec.channelformat(c);
+    if (!isIntegerValued(type)) continue;
+    if (!in->read_image(0, 0, c, c + 1, type, values.data())) fail();
+    for (size_t i = 0; i < pixels; ++i)
+      image.data[i * stride + size_t(c)] = type.basetype == OIIO::TypeDesc::INT32
+                                               ? float(int32_t(values[i]))
+                                               : float(values[i]);
+  }
   in->close();
   return image;
 #else

@@ -17,7 +17,10 @@ struct FloatImage {
 };
 
 // Reads any image OpenImageIO reads (OpenEXR with half, float or uint channels, ...); its first
-// subimage. Throws ts::Error naming the file (unreadable, or a build without OpenImageIO).
+// subimage. OpenEXR's 32-bit uint channels keep their values (1 is 1.0, not
+// 1/2^32); 8- and 16-bit ones (PNG, TIFF) are normalised to [0, 1]. Throws ts::Error
+// naming the file: unreadable, a data window that is not the display window (a crop), or a
+// build without OpenImageIO.
 FloatImage readImage(const std::string& path);
 
 // Writes `channels` named float channels per pixel (interleaved) to an OpenEXR file.

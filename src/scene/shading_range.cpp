@@ -14,35 +14,50 @@ double maxOf(glm::vec3 v) { return std::max({double(v.x), double(v.y), double(v.
 
 }  // namespace
 
-double shadingRangeBound(const Scene& scene) {
-  double material = 0.0, emission = 0.0, diffuse = 0.0;
-  for (const auto& m : scene.materials) {
-    // The terms of both models a material carries (scene.h): the larger is what a pixel may hold.
-    double kd = std::max(maxOf(glm::abs(m.diffuse)), maxOf(glm::abs(m.baseColor)));
-    material = std::max(material, kd + maxOf(glm::abs(m.specular)));
-    emission = std::max(emission, maxOf(glm::abs(m.emissive)));
-    diffuse = std::max(diffuse, kd);
-    if (!std::isfinite(kd + maxOf(m.specular) + maxOf(m.emissive))) return HUGE_VAL;
-  }
-  double lights = 0.0;
-  for (const auto& l : scene.lights) lights += maxOf(glm::abs(l.color));
+void ShadingRangeTerms::addSurface(glm::vec3 kd, glm::vec3 ks, glm::vec3 emissive) {
+  const double d = maxOf(glm::abs(kd));
+  material = std::max(material, d + maxOf(glm::abs(ks)));
+  diffuse = std::max(diffuse, d);
+  emission = std::max(emission, maxOf(glm::abs(emissive)));
+  if (!std::isfinite(d + maxOf(ks) + maxOf(emissive))) material = HUGE_VAL;
+}
+
+void ShadingRangeTerms::addLight(glm::vec3 color) { lights += maxOf(glm::abs(color)); }
+
+ShadingRangeTerms shadingRangeTerms(const Scene& scene) {
+  ShadingRangeTerms t;
+  // The terms of both models a material carries (scene.h): the larger is what a pixel may hold.
+  for (const auto& m : scene.materials)
+    t.addSurface(glm::max(glm::abs(m.diffuse), glm::abs(m.baseColor)), m.specular, m.emissive);
+  for (const auto& l : scene.lights) t.addLight(l.color);
+  t.ambient = maxOf(glm::abs(scene.ambient));
+  return t;
+}
+
+double shadingRangeBound(const ShadingRangeTerms& t) {
   // A light inside a pixel's dmin gives 1/dmin^2 (kernels/shading.h); the sum is over all lights,
   // as if every one reached the same pixel from as close as that.
-  double bound = emission + maxOf(glm::abs(scene.ambient)) * diffuse +
-                 lights / (TS_DMIN * TS_DMIN) * std::max(material, 1.0);
+  double bound = t.emission + t.ambient * t.diffuse +
+                 t.lights / (TS_DMIN * TS_DMIN) * std::max(t.material, 1.0);
   return std::isfinite(bound) ? bound : HUGE_VAL;
 }
 
-void checkShadingRange(const Scene& scene) {
-  double bound = shadingRangeBound(scene);
+double shadingRangeBound(const Scene& scene) { return shadingRangeBound(shadingRangeTerms(scene)); }
+
+void checkShadingRange(const ShadingRangeTerms& terms, const std::string& what) {
+  double bound = shadingRangeBound(terms);
   if (bound <= kShadingRangeLimit) return;
   std::ostringstream s;
-  s << "scene '" << scene.name << "': its light colours and material values can shade a pixel to ";
+  s << what << ": its light colours and material values can shade a pixel to ";
   if (std::isfinite(bound)) s << bound;
   else s << "a value that is not finite";
   s << ", beyond what fp32 shading holds (" << kShadingRangeLimit
     << "); scale the lights' intensities or the materials down";
   throw Error(s.str());
+}
+
+void checkShadingRange(const Scene& scene) {
+  checkShadingRange(shadingRangeTerms(scene), "scene '" + scene.name + "'");
 }
 
 }  // namespace ts
