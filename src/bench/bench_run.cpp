@@ -30,6 +30,8 @@
 #include "util/error.h"
 #include "util/file_write.h"
 #include "util/option_values.h"
+#include "util/short_text.h"
+#include "util/strict_json.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -453,7 +455,7 @@ std::vector<int> selectErrorFrames(const std::string& spec, const std::vector<in
   if (s.empty() || s == "all") return timed;
   if (std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); }) && s.size() < 7) {
     size_t n = std::stoul(s);
-    if (n < 1) throw Error("--error-frames: expected at least 1, got '" + spec + "'");
+    if (n < 1) throw Error("--error-frames: expected at least 1, got '" + shortText(spec) + "'");
     if (n >= timed.size()) return timed;
     std::vector<int> out;
     for (size_t k = 0; k < n; ++k) out.push_back(timed[k * timed.size() / n]);
@@ -465,7 +467,7 @@ std::vector<int> selectErrorFrames(const std::string& spec, const std::vector<in
     listed = f.resolve(1 << 20);
   } catch (const Error&) {
     throw Error("--error-frames: expected all, N (that many of the timed frames), A:B[:S] or "
-                "a;b;c, got '" + spec + "'");
+                "a;b;c, got '" + shortText(spec) + "'");
   }
   std::vector<int> out;
   for (int t : timed)
@@ -527,10 +529,9 @@ BenchRunResult runBench(const BenchOptions& o) {
       if (done.insert(key).second) order.push_back(key);
       byKey[key] = rowFromCsv(r, csvPath);
     }
-    std::ifstream jin(jsonPath);
-    if (jin) {
-      json old = json::parse(jin, nullptr, false);
-      if (!old.is_discarded()) {
+    if (fs::exists(jsonPath, ec)) {
+      json old = readJsonFile(jsonPath, "bench results");
+      if (old.is_object()) {
         if (old.contains("rows"))
           for (const auto& r : old["rows"]) {
             if (!r.is_object() || !r.contains("frame") || !r["frame"].is_number_integer()) continue;

@@ -12,6 +12,7 @@
 #endif
 
 #include "util/error.h"
+#include "util/file_read.h"
 #include "util/file_write.h"
 #include "util/stderr_capture.h"
 
@@ -120,6 +121,7 @@ int FloatImage::channel(const std::string& name) const {
 }
 
 FloatImage readImage(const std::string& path) {
+  checkReadableFile(path, "image");
 #ifndef TILESHADE_NO_OIIO
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw Error("cannot read " + path + ": " + OIIO::geterror());

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -28,6 +27,9 @@
 #include "scene/scene_loader.h"
 #include "util/checked_size.h"
 #include "util/error.h"
+#include "util/file_read.h"
+#include "util/short_text.h"
+#include "util/strict_json.h"
 #include "util/stderr_capture.h"
 
 namespace ts {
@@ -537,7 +539,7 @@ uint32_t GltfLoader::material(int index) {
   } else {
     const auto& mat = m_.materials[size_t(index)];
     const auto& pbr = mat.pbrMetallicRoughness;
-    std::string what = "material '" + mat.name + "'";
+    std::string what = "material '" + ts::shortText(mat.name) + "'";
     std::string at = "materials[" + std::to_string(index) + "]";
     out.name = mat.name;
     // glTF bounds the factors to [0, 1]: values outside are clamped there, with one warning
@@ -1034,8 +1036,7 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
   // The JSON's types and shapes first: tinygltf would drop or truncate what does not fit.
   std::string text;
   if (gltf::jsonText(bytes, size, text)) {
-    nlohmann::json document = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-    if (!document.is_discarded()) gltf::checkJson(document, name);  // else tinygltf says why
+    gltf::checkJson(parseStrictJson(text, "invalid glTF file " + name), name);
   }
   bool binary = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
   tinygltf::TinyGLTF gltf;
@@ -1075,15 +1076,8 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
 }
 
 Scene loadGltf(const std::string& path, std::vector<std::string>* warnings) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw Error("cannot read glTF file " + path + ": no such file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read glTF file " + path + ": cannot open it");
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error("cannot read glTF file " + path + ": read error");
-  return loadGltfFromMemory(bytes.data(), bytes.size(),
+  const std::string bytes = readTextFile(path, "glTF file");
+  return loadGltfFromMemory(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(),
                             std::filesystem::path(path).parent_path().string(), path, warnings);
 }
 
