@@ -1036,7 +1036,7 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
   // The JSON's types and shapes first: tinygltf would drop or truncate what does not fit.
   std::string text;
   if (gltf::jsonText(bytes, size, text)) {
-    gltf::checkJson(parseStrictJson(text, "invalid glTF file " + name), name);
+    gltf::checkJson(parseStrictJson(text, "cannot load glTF file " + name), name);
   }
   bool binary = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
   tinygltf::TinyGLTF gltf;
