@@ -53,13 +53,13 @@ class StrictSax {
     --depth_;
     return dom_.end_array();
   }
-  bool parse_error(std::size_t byte, const std::string&, const nlohmann::detail::exception& e) {
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) {
     // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 2: WHY; last
     // read: 'TOKEN'": the token may be the whole input, so the reason is shortened.
     std::string why = e.what();
     const size_t at = why.find("] ");
     if (at != std::string::npos) why.erase(0, at + 2);
-    fail("not valid JSON (byte " + std::to_string(byte) + ": " + shortText(why, 160) + ")");
+    fail("not valid JSON: " + shortText(why, 160));
   }
 
  private:
