@@ -337,6 +337,34 @@ TEST(JsonInput, AMegabyteUnknownKeyOrValueIsEchoedShort) {
   expectOneShortErrorLine(renderImport(c), {"no channel", "(1048576 bytes)"});
 }
 
+TEST(JsonInput, GltfMessagesEchoLongNamesShort) {
+  const std::string huge(1 << 20, 'g');
+  auto warningsOf = [](const std::string& text) {
+    std::vector<std::string> warnings;
+    ts::loadGltfFromMemory(reinterpret_cast<const unsigned char*>(text.data()), text.size(),
+                           "/nonexistent", "long.gltf", &warnings);
+    return warnings;
+  };
+  // An unsupported required extension and a material whose factor is clamped (a warning each).
+  json doc = ts::test::triangle();
+  doc["extensionsRequired"] = {huge};
+  doc["extensionsUsed"].push_back(huge);
+  doc["materials"] = {{{"name", huge}, {"pbrMetallicRoughness", {{"baseColorFactor", {2, 0, 0, 1}}}}}};
+  doc["meshes"][0]["primitives"][0]["material"] = 0;
+  const std::vector<std::string> warnings = warningsOf(doc.dump());
+  ASSERT_GE(warnings.size(), 2u);
+  size_t named = 0;
+  for (const auto& w : warnings) {
+    EXPECT_LT(w.size(), kShortLine) << w.substr(0, 2000);
+    named += w.find("(1048576 bytes)") != std::string::npos;
+  }
+  EXPECT_EQ(named, 1u);  // the extension's
+  // A value of the wrong type in the JSON checks.
+  doc = ts::test::triangle();
+  doc["scene"] = {{huge, 1}};
+  expectMessage(loadGltfError(doc.dump()), {"hostile.gltf", "scene: expected", " bytes)"});
+}
+
 // ---- directories where files go --------------------------------------------------------------------
 
 TEST(JsonInput, ADirectoryWhereAFileGoesIsOneLineNamingIt) {

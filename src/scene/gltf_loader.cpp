@@ -625,7 +625,7 @@ int GltfLoader::texture(int index, bool srgb, int texCoord, const std::string& w
   } else {
     std::string name = !image.uri.empty() ? image.uri : !image.name.empty() ? image.name
                                                       : "image " + std::to_string(source);
-    textureFailures_.push_back(name + " (" + one.why + ")");
+    textureFailures_.push_back(ts::shortText(name) + " (" + one.why + ")");
   }
   images_[key] = result;
   return result;
@@ -1050,7 +1050,7 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
                                               baseDir);
   if (!ok)
     throw Error("cannot load glTF file " + name + ": " +
-                (err.empty() ? std::string("tinygltf reported no reason") : oneLine(err)));
+                (err.empty() ? std::string("tinygltf reported no reason") : ts::shortText(oneLine(err), 300)));
   std::vector<std::string> found = tinygltfWarnings(warningText);
 
   static const std::set<std::string> fatal = {"KHR_draco_mesh_compression",
@@ -1061,11 +1061,13 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
   std::string approximated;
   for (const auto& e : model.extensionsRequired) {
     if (fatal.count(e))
-      throw Error("cannot load glTF file " + name + ": it requires " + e + ", which is not supported");
-    if (!supported.count(e)) approximated += (approximated.empty() ? "" : ", ") + e;
+      throw Error("cannot load glTF file " + name + ": it requires " + ts::shortText(e) +
+                  ", which is not supported");
+    if (!supported.count(e)) approximated += (approximated.empty() ? "" : ", ") + ts::shortText(e);
   }
   if (!approximated.empty())
-    found.push_back("required extension(s) not supported, loading without them: " + approximated);
+    found.push_back("required extension(s) not supported, loading without them: " +
+                    ts::shortText(approximated, 300));
 
   GltfLoader loader(model, name);
   Scene scene = loader.load();
