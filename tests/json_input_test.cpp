@@ -406,6 +406,17 @@ TEST(JsonInput, ADirectoryWhereAFileGoesIsOneLineNamingIt) {
   ::unsetenv("TILESHADE_KERNEL_DIR");
 }
 
+TEST(JsonInput, AGltfBufferThatIsADirectoryIsOneLineNamingIt) {
+  // tinygltf's own reader sized the directory and reported "out of memory".
+  const fs::path dir = freshDir("gltf_buffer_dir");
+  fs::create_directories(dir / "buf.bin");
+  json doc = ts::test::triangle();
+  doc["buffers"][0] = {{"uri", "buf.bin"}, {"byteLength", 44}};
+  writeText(dir / "scene.gltf", doc.dump());
+  expectMessage(errorOf([&] { ts::loadGltf((dir / "scene.gltf").string()); }),
+                {"scene.gltf", (dir / "buf.bin").string() + ": it is a directory"});
+}
+
 TEST(JsonInput, DuplicateKeysOrNestingInBenchJsonOnResumeAreAnError) {
   if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
   const std::string bench = "bench --technique brute --resolution 64x36 --frames 1 --no-calibrate "

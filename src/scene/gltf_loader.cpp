@@ -1021,6 +1021,20 @@ std::vector<std::string> tinygltfWarnings(const std::string& text) {
   return out;
 }
 
+// tinygltf's reader of the files a uri names (buffers, images), through readTextFile: a directory
+// is "it is a directory", not the out-of-memory of tinygltf's own reader sizing it.
+bool readReferencedFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                        void*) {
+  try {
+    const std::string bytes = readTextFile(path, "file");
+    out->assign(bytes.begin(), bytes.end());
+    return true;
+  } catch (const Error& e) {
+    if (err) *err += e.what();
+    return false;
+  }
+}
+
 void report(const std::string& name, const std::vector<std::string>& lines,
             std::vector<std::string>* warnings) {
   if (warnings) warnings->insert(warnings->end(), lines.begin(), lines.end());
@@ -1041,6 +1055,8 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
   bool binary = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
   tinygltf::TinyGLTF gltf;
   gltf.SetImageLoader(keepEncodedImage, nullptr);
+  gltf.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, readReferencedFile,
+                       &tinygltf::WriteWholeFile, nullptr});
   tinygltf::Model model;
   std::string err, warningText;
   bool ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, &warningText, bytes,
