@@ -201,6 +201,22 @@ TEST(ReadTextFile, DirectoriesAndMissingFilesAreOneLineNamingThePath) {
   EXPECT_EQ(ts::readJsonFile((dir / "f.json").string(), "x").at("a").at(0), 1);
 }
 
+// The fuzzers' seeds (docs/output-formats.md's forms, real dumps) are valid: the fuzzing starts
+// from files that get through every check.
+TEST(JsonInput, FuzzSeedsForTheImportFilesAreValid) {
+  const fs::path seeds = fs::path(ts::test::sourceDir()) / "tests/fuzz/seeds";
+  size_t n = 0;
+  for (const auto& e : fs::directory_iterator(seeds / "gbuffer_descriptor")) {
+    EXPECT_NO_THROW(ts::parseGBufferDescriptor(readText(e.path()), e.path().string())) << e.path();
+    ++n;
+  }
+  for (const auto& e : fs::directory_iterator(seeds / "lights")) {
+    EXPECT_NO_THROW(ts::parseLightsFile(readText(e.path()), e.path().string())) << e.path();
+    ++n;
+  }
+  EXPECT_GE(n, 6u);
+}
+
 // ---- duplicate keys and NUL in each file kind ------------------------------------------------
 
 TEST(JsonInput, DuplicateKeysInLightsJsonAreAnError) {
