@@ -99,7 +99,8 @@ bool binaryBuilt() { return fs::exists(TILESHADE_BINARY); }
 const fs::path& dumpFolder() {
   static const fs::path dir = [] {
     fs::path d = freshDir("dump");
-    CliRun r = runTileshade("render --width 64 --height 36 --device cpu --dump --out " + d.string());
+    CliRun r =
+        runTileshade("render --width 64 --height 36 --device cpu --dump --out " + d.string());
     EXPECT_EQ(r.status, 0) << r.output;
     return d;
   }();

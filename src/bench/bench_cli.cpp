@@ -143,7 +143,8 @@ void applyBenchConfig(const std::string& text, const std::string& source, BenchO
                          : v.get<long long>() >= lo && v.get<long long>() <= hi;
       if (!inRange)
         throw Error("bench config " + source + ": '" + shortText(key) + "' expects an integer in " +
-                    std::to_string(lo) + ".." + std::to_string(hi) + ", got " + shortText(v.dump()));
+                    std::to_string(lo) + ".." + std::to_string(hi) + ", got " +
+                    shortText(v.dump()));
       return v.is_number_unsigned() ? (long long)v.get<unsigned long long>() : v.get<long long>();
     };
     auto frameSpec = [&]() {
@@ -181,7 +182,8 @@ void applyBenchConfig(const std::string& text, const std::string& source, BenchO
         if (d.matchesKey(key)) dim = &d;
       }
       if (!dim)
-        throw Error("bench config " + source + ": unknown field '" + shortText(key) + "' (known: " + known +
+        throw Error("bench config " + source + ": unknown field '" + shortText(key) +
+                    "' (known: " + known +
                     "frames, warmup, repeat, error, error_frames, calib_mib, description)");
       if (!givenOnCommandLine(dim->name)) o.sweep.set(dim->name, jsonValues(key, v));
     }

@@ -26,7 +26,8 @@ std::vector<const HardCase*> selectCases(const std::vector<std::string>& names) 
   for (const auto& n : names) {
     bool known = false;
     for (const auto& c : hardCases()) known = known || c.name == n;
-    if (!known) throw Error("unknown hard case '" + shortText(n) + "' (see `tileshade check --list`)");
+    if (!known) throw Error("unknown hard case '" + shortText(n) +
+                            "' (see `tileshade check --list`)");
   }
   return out;
 }

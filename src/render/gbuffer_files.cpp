@@ -107,7 +107,8 @@ struct JsonFields {
   glm::vec3 vec3(const std::string& key) const {
     if (!has(key)) fail(key, "is missing");
     const json& v = object.at(key);
-    if (!v.is_array() || v.size() != 3) fail(key, "must be an array of 3 numbers, got " + shortText(v.dump()));
+    if (!v.is_array() || v.size() != 3) fail(key, "must be an array of 3 numbers, got " +
+                                             shortText(v.dump()));
     glm::vec3 out;
     for (int i = 0; i < 3; ++i) {
       if (!v[size_t(i)].is_number() || !std::isfinite(v[size_t(i)].get<double>()))

@@ -1066,7 +1066,8 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
                                               baseDir);
   if (!ok)
     throw Error("cannot load glTF file " + name + ": " +
-                (err.empty() ? std::string("tinygltf reported no reason") : ts::shortText(oneLine(err), 300)));
+                (err.empty() ? std::string("tinygltf reported no reason")
+                             : ts::shortText(oneLine(err), 300)));
   std::vector<std::string> found = tinygltfWarnings(warningText);
 
   static const std::set<std::string> fatal = {"KHR_draco_mesh_compression",

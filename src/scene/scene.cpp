@@ -33,7 +33,8 @@ std::string toString(ShadingModel model) {
 ShadingModel parseShadingModel(const std::string& s) {
   if (s == "blinn-phong") return ShadingModel::BlinnPhong;
   if (s == "metallic-roughness") return ShadingModel::MetallicRoughness;
-  throw Error("unknown shading model '" + shortText(s) + "' (known: blinn-phong, metallic-roughness)");
+  throw Error("unknown shading model '" + shortText(s) +
+              "' (known: blinn-phong, metallic-roughness)");
 }
 
 std::string toString(LightType type) {

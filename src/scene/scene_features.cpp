@@ -125,7 +125,8 @@ SceneFeatures chooseFeatures(const std::string& spec, const SceneFeatures& need)
     for (const Flag& flag : kFlags)
       if (item == flag.name) found = &flag;
     if (!found)
-      throw Error("unknown feature '" + shortText(item) + "' in '" + shortText(spec) + "' (known: auto, general, or a "
+      throw Error("unknown feature '" + shortText(item) + "' in '" + shortText(spec) +
+                  "' (known: auto, general, or a "
                   "comma list of " + flagNames() + ")");
     f.*found->member = true;
   }

@@ -149,7 +149,8 @@ std::string TechniqueConfig::kernelOptions() const {
   if (math == "fast") o << " -cl-fast-relaxed-math";
   else if (math == "native") o << " -DTS_NATIVE_MATH";
   else if (math != "precise")
-    throw Error("unknown shading arithmetic '" + shortText(math) + "' (known: precise, fast, native)");
+    throw Error("unknown shading arithmetic '" + shortText(math) +
+                "' (known: precise, fast, native)");
   if (!buildOptions.empty()) o << " " << buildOptions;
   return o.str();
 }
