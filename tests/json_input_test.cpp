@@ -402,6 +402,10 @@ TEST(JsonInput, ADirectoryWhereAFileGoesIsOneLineNamingIt) {
     fs::create_directories(d / file);
     expectOneShortErrorLine(renderImport(d), {(d / file).string() + isDir});
   }
+  // a --gbuffer-in folder without a descriptor
+  fs::create_directories(dir / "no_descriptor");
+  expectOneShortErrorLine(renderImport(dir / "no_descriptor"),
+                          {(dir / "no_descriptor" / "gbuffer.json").string() + " does not exist"});
   // a bench config; bench.csv and bench.json on resume
   fs::create_directories(dir / "config.json");
   expectOneShortErrorLine("bench --list --config " + (dir / "config.json").string(),
