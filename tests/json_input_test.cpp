@@ -425,6 +425,15 @@ TEST(JsonInput, ADirectoryWhereAFileGoesIsOneLineNamingIt) {
   ::setenv("TILESHADE_KERNEL_DIR", kernels.c_str(), 1);
   expectOneShortErrorLine("render" + out, {"kernel source " + kernels.string(), isDir});
   ::unsetenv("TILESHADE_KERNEL_DIR");
+  // a shader source (where an OpenGL context can be made)
+  const CliRun gl = runTileshade("render --raster gl" + out);
+  if (gl.status != 0) GTEST_SKIP() << "no OpenGL here: " << gl.output;
+  const fs::path shaders = dir / "shaders";
+  for (const auto& e : fs::directory_iterator(ts::test::sourceDir() + "/shaders"))
+    fs::create_directories(shaders / e.path().filename());
+  ::setenv("TILESHADE_SHADER_DIR", shaders.c_str(), 1);
+  expectOneShortErrorLine("render --raster gl" + out, {"shader source " + shaders.string(), isDir});
+  ::unsetenv("TILESHADE_SHADER_DIR");
 }
 
 TEST(JsonInput, AGltfBufferThatIsADirectoryIsOneLineNamingIt) {
