@@ -82,4 +82,7 @@ run_fuzzer gltf_fuzzer "$PWD/tests/fuzz/gltf.dict" "$PWD/tests/fuzz/seeds/gltf" 
   "$work/assimp"
 run_fuzzer bench_config_fuzzer "$PWD/tests/fuzz/bench_config.dict" "$PWD/tests/fuzz/seeds/bench_config" \
   "$PWD/bench/configs" "$PWD/tests/data/fuzz"
+run_fuzzer gbuffer_descriptor_fuzzer "$PWD/tests/fuzz/gbuffer_descriptor.dict" \
+  "$PWD/tests/fuzz/seeds/gbuffer_descriptor"
+run_fuzzer lights_fuzzer "$PWD/tests/fuzz/lights.dict" "$PWD/tests/fuzz/seeds/lights"
 stage ""

@@ -13,6 +13,9 @@
 #include "bench/bench_config.h"
 #include "bench/bench_run.h"
 #include "util/error.h"
+#include "util/file_read.h"
+#include "util/short_text.h"
+#include "util/strict_json.h"
 #include "util/option_values.h"
 
 namespace ts {
@@ -55,7 +58,8 @@ std::vector<std::string> jsonValues(const std::string& key, const nlohmann::json
       s << x.get<double>();
       out.push_back(s.str());
     } else {
-      throw Error("bench config: '" + key + "' expects strings or numbers, got " + x.dump());
+      throw Error("bench config: '" + shortText(key) + "' expects strings or numbers, got " +
+                  shortText(x.dump()));
     }
   };
   if (v.is_array()) {
@@ -68,9 +72,7 @@ std::vector<std::string> jsonValues(const std::string& key, const nlohmann::json
 
 // Applies the --config file; command-line options that were given win.
 void applyConfigFile(BenchCliState& s, BenchOptions& o) {
-  std::ifstream in(s.config, std::ios::binary);
-  if (!in) throw Error("cannot read bench config " + s.config);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = readTextFile(s.config, "bench config");
   std::map<std::string, const CLI::Option*> runOptions = {
       {"frames", s.framesOpt}, {"warmup", s.warmupOpt},         {"repeat", s.repeatOpt},
       {"error", s.errorOpt},   {"error_frames", s.errorFramesOpt}, {"calib_mib", s.calibOpt}};
@@ -122,14 +124,15 @@ void runCommand(BenchCliState& s) {
 
 void applyBenchConfig(const std::string& text, const std::string& source, BenchOptions& o,
                       const std::function<bool(const std::string&)>& givenOnCommandLine) {
-  nlohmann::json j = nlohmann::json::parse(text, nullptr, false, true);
-  if (j.is_discarded() || !j.is_object())
+  nlohmann::json j = parseStrictJson(text, "bench config " + shortText(source, 200),
+                                     JsonComments::Allowed);
+  if (!j.is_object())
     throw Error("bench config " + source + " is not a JSON object");
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string& key = it.key();
     const auto& v = it.value();
     auto want = [&](bool ok, const char* what) {
-      if (!ok) throw Error("bench config " + source + ": '" + key + "' expects " + what);
+      if (!ok) throw Error("bench config " + source + ": '" + shortText(key) + "' expects " + what);
     };
     // An integer field within lo..hi (a JSON integer, not truncated to int).
     auto integer = [&](long long lo, long long hi) {
@@ -139,8 +142,9 @@ void applyBenchConfig(const std::string& text, const std::string& source, BenchO
                                (lo <= 0 || v.get<unsigned long long>() >= (unsigned long long)lo)
                          : v.get<long long>() >= lo && v.get<long long>() <= hi;
       if (!inRange)
-        throw Error("bench config " + source + ": '" + key + "' expects an integer in " +
-                    std::to_string(lo) + ".." + std::to_string(hi) + ", got " + v.dump());
+        throw Error("bench config " + source + ": '" + shortText(key) + "' expects an integer in " +
+                    std::to_string(lo) + ".." + std::to_string(hi) + ", got " +
+                    shortText(v.dump()));
       return v.is_number_unsigned() ? (long long)v.get<unsigned long long>() : v.get<long long>();
     };
     auto frameSpec = [&]() {
@@ -178,7 +182,8 @@ void applyBenchConfig(const std::string& text, const std::string& source, BenchO
         if (d.matchesKey(key)) dim = &d;
       }
       if (!dim)
-        throw Error("bench config " + source + ": unknown field '" + key + "' (known: " + known +
+        throw Error("bench config " + source + ": unknown field '" + shortText(key) +
+                    "' (known: " + known +
                     "frames, warmup, repeat, error, error_frames, calib_mib, description)");
       if (!givenOnCommandLine(dim->name)) o.sweep.set(dim->name, jsonValues(key, v));
     }

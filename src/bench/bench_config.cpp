@@ -11,6 +11,7 @@
 
 #include "util/checked_size.h"
 #include "util/error.h"
+#include "util/short_text.h"
 #include "util/option_values.h"
 
 namespace ts {
@@ -214,7 +215,7 @@ const BenchDimension& findDimension(const std::string& name) {
     if (d.matchesKey(name)) return d;
   std::string known;
   for (const auto& d : benchDimensions()) known += (known.empty() ? "" : ", ") + d.name;
-  throw Error("unknown sweep dimension '" + name + "' (known: " + known + ")");
+  throw Error("unknown sweep dimension '" + shortText(name) + "' (known: " + known + ")");
 }
 
 void BenchSweep::set(const std::string& dimension, std::vector<std::string> list) {

@@ -4,11 +4,12 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
+#include <sstream>
 
 #include "bench/bench_run.h"
 #include "bench/bench_stats.h"
 #include "util/error.h"
+#include "util/file_read.h"
 #include "util/option_values.h"
 
 namespace ts {
@@ -157,8 +158,7 @@ std::vector<std::string> ResumeScan::describeDrops(const std::string& path) cons
 ResumeScan scanBenchCsv(const std::string& path,
                         const std::map<std::string, ResumeExpectation>& expected, int warmup,
                         int repeat) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read " + path);
+  std::istringstream in(readTextFile(path, "bench results"));
   const std::vector<std::string> columns = benchCsvColumns();
   const std::string headerLine = csvLine(columns);
   ResumeScan scan;

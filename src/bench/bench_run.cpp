@@ -29,8 +29,11 @@
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
 #include "util/error.h"
+#include "util/file_read.h"
 #include "util/file_write.h"
 #include "util/option_values.h"
+#include "util/short_text.h"
+#include "util/strict_json.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -454,7 +457,7 @@ std::vector<int> selectErrorFrames(const std::string& spec, const std::vector<in
   if (s.empty() || s == "all") return timed;
   if (std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); }) && s.size() < 7) {
     size_t n = std::stoul(s);
-    if (n < 1) throw Error("--error-frames: expected at least 1, got '" + spec + "'");
+    if (n < 1) throw Error("--error-frames: expected at least 1, got '" + shortText(spec) + "'");
     if (n >= timed.size()) return timed;
     std::vector<int> out;
     for (size_t k = 0; k < n; ++k) out.push_back(timed[k * timed.size() / n]);
@@ -466,7 +469,7 @@ std::vector<int> selectErrorFrames(const std::string& spec, const std::vector<in
     listed = f.resolve(1 << 20);
   } catch (const Error&) {
     throw Error("--error-frames: expected all, N (that many of the timed frames), A:B[:S] or "
-                "a;b;c, got '" + spec + "'");
+                "a;b;c, got '" + shortText(spec) + "'");
   }
   std::vector<int> out;
   for (int t : timed)
@@ -501,7 +504,8 @@ BenchRunResult runBench(const BenchOptions& o) {
   if (csvExists && !o.resume && !o.overwrite)
     throw Error(csvPath + " exists: pass --resume to continue that run or --overwrite to start over");
   for (const auto& p : {csvPath, jsonPath, summaryPath})
-    if (fs::exists(p, ec) && !fs::is_regular_file(p, ec)) throw Error(p + " exists and is not a file");
+    if (fs::exists(p, ec) && !fs::is_regular_file(p, ec))
+      throw Error(p + (fs::is_directory(p, ec) ? ": it is a directory" : " exists and is not a file"));
 
   // Everything that can be refused is refused before any file is written: the devices (one
   // context each, calibrated later, once, before anything is timed on it), the scenes, the frames.
@@ -544,10 +548,12 @@ BenchRunResult runBench(const BenchOptions& o) {
                                  {e.frames.begin(), e.frames.end()}, e.errorFrames};
     ResumeScan scan = scanBenchCsv(csvPath, expected, o.warmup, o.repeat);
     std::map<std::pair<std::string, int>, json> recorded;
-    std::ifstream jin(jsonPath);
-    if (jin) {
-      json old = json::parse(jin, nullptr, false);
-      if (old.is_discarded() || !old.is_object()) {
+    if (fs::exists(jsonPath, ec)) {
+      // Cut short (a run killed while writing it) is said and survived; valid JSON that breaks
+      // the strict rules (a key twice, deep nesting) was made by hand and is an error.
+      const std::string text = readTextFile(jsonPath, "bench results");
+      const json old = json::accept(text) ? parseStrictJson(text, jsonPath) : json();
+      if (!old.is_object()) {
         std::cerr << "tileshade: warning: bench --resume: " << jsonPath
                   << " is not a bench.json; its rows come back from bench.csv, its earlier runs "
                      "are lost\n";

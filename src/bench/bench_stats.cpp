@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <filesystem>
+#include <sstream>
+
+#include "util/file_read.h"
 
 namespace ts {
 
@@ -103,8 +106,9 @@ bool parseCsvRecord(const std::string& line, std::vector<std::string>& fields) {
 
 bool readCsv(const std::string& path, std::vector<std::string>& header,
              std::vector<std::map<std::string, std::string>>& rows) {
-  std::ifstream in(path);
-  if (!in) return false;
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return false;
+  std::istringstream in(readTextFile(path, "bench results"));
   std::string line, headerLine;
   header.clear();
   while (std::getline(in, line)) {

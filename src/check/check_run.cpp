@@ -14,6 +14,7 @@
 #include "render/frame_setup.h"
 #include "techniques/technique.h"
 #include "util/error.h"
+#include "util/short_text.h"
 
 namespace ts {
 namespace {
@@ -26,7 +27,8 @@ std::vector<const HardCase*> selectCases(const std::vector<std::string>& names) 
   for (const auto& n : names) {
     bool known = false;
     for (const auto& c : hardCases()) known = known || c.name == n;
-    if (!known) throw Error("unknown hard case '" + n + "' (see `tileshade check --list`)");
+    if (!known) throw Error("unknown hard case '" + shortText(n) +
+                            "' (see `tileshade check --list`)");
   }
   return out;
 }

@@ -5,10 +5,12 @@
 #include <cctype>
 #include <chrono>
 #include <cstdlib>
-#include <fstream>
+#include <filesystem>
 #include <sstream>
 
 #include "util/error.h"
+#include "util/file_read.h"
+#include "util/short_text.h"
 
 namespace ts {
 namespace {
@@ -60,15 +62,13 @@ const DeviceInfo& choose(const std::vector<DeviceInfo>& devices, const std::stri
   }
   for (const auto& d : devices)
     if (lower(d.platform + " " + d.name).find(s) != std::string::npos) return d;
-  throw Error("no OpenCL device matches '" + spec + "' (see `tileshade devices`)");
+  throw Error("no OpenCL device matches '" + shortText(spec) + "' (see `tileshade devices`)");
 }
 
 std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read kernel source " + path + " (set TILESHADE_KERNEL_DIR?)");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  if (!std::filesystem::exists(path))
+    throw Error("cannot read kernel source " + path + " (set TILESHADE_KERNEL_DIR?)");
+  return readTextFile(path, "kernel source");
 }
 
 // Replaces each `#include "file"` line with that file from kernels/ (each file once), so a

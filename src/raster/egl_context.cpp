@@ -10,6 +10,7 @@
 #include <epoxy/gl.h>
 
 #include "util/error.h"
+#include "util/short_text.h"
 
 namespace ts {
 namespace {
@@ -118,7 +119,8 @@ EglContext::EglContext() {
   std::string want;
   if (const char* env = std::getenv("TILESHADE_EGL_PLATFORM"); env && *env) want = env;
   if (!want.empty() && want != "device" && want != "surfaceless")
-    throw Error("TILESHADE_EGL_PLATFORM must be 'device' or 'surfaceless', got '" + want + "'");
+    throw Error("TILESHADE_EGL_PLATFORM must be 'device' or 'surfaceless', got '" +
+                shortText(want) + "'");
 
   std::vector<std::string> failures;
   Attempt got;

@@ -14,6 +14,7 @@
 #include "raster/plane_alloc.h"
 #include "reference/shading_cpu.h"
 #include "util/error.h"
+#include "util/short_text.h"
 
 namespace ts {
 namespace {
@@ -198,7 +199,7 @@ GBufferFormat parseGBufferFormat(const std::string& name) {
   if (name == "fp32") return GBufferFormat::FP32;
   if (name == "fp16") return GBufferFormat::FP16;
   if (name == "packed") return GBufferFormat::PACKED;
-  throw Error("unknown G-buffer format '" + name + "' (expected fp32, fp16 or packed)");
+  throw Error("unknown G-buffer format '" + shortText(name) + "' (expected fp32, fp16 or packed)");
 }
 
 std::string gbufferKernelDefines(GBufferFormat format) {

@@ -2,22 +2,21 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <fstream>
+#include <filesystem>
 #include <regex>
 #include <sstream>
 #include <vector>
 
 #include "util/error.h"
+#include "util/file_read.h"
 
 namespace ts::gl {
 namespace {
 
 std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read shader source " + path + " (set TILESHADE_SHADER_DIR?)");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  if (!std::filesystem::exists(path))
+    throw Error("cannot read shader source " + path + " (set TILESHADE_SHADER_DIR?)");
+  return readTextFile(path, "shader source");
 }
 
 // A driver's multi-line log as one line.

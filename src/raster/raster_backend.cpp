@@ -1,6 +1,7 @@
 #include "raster/raster_backend.h"
 
 #include "util/error.h"
+#include "util/short_text.h"
 #ifndef TILESHADE_NO_GL
 #include "raster/gl_rasterizer.h"
 #endif
@@ -24,7 +25,7 @@ std::string toString(RasterBackend backend) {
 RasterBackend parseRasterBackend(const std::string& name) {
   if (name == "software") return RasterBackend::Software;
   if (name == "gl") return RasterBackend::Gl;
-  throw Error("unknown rasterizer '" + name + "' (expected software or gl)");
+  throw Error("unknown rasterizer '" + shortText(name) + "' (expected software or gl)");
 }
 
 SceneRasterizer::SceneRasterizer(const Scene& scene, RasterBackend backend)

@@ -3,13 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <limits>
 #include <set>
 
 #include "reference/shading_cpu.h"  // TS_DMIN
 #include "util/error.h"
+#include "util/file_read.h"
+#include "util/short_text.h"
+#include "util/strict_json.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -80,15 +82,6 @@ bool isHostDumpChannel(const std::string& channel) {
 
 namespace {
 
-// Reads a JSON file; throws ts::Error naming it when it is missing or not JSON.
-json readJson(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read " + path);
-  json j = json::parse(in, nullptr, false);
-  if (j.is_discarded()) throw Error(path + " is not valid JSON");
-  return j;
-}
-
 // Field access with one-line errors "FILE: "key": expected ...".
 struct JsonFields {
   const std::string& file;
@@ -96,36 +89,37 @@ struct JsonFields {
   std::string prefix;  // e.g. "light 3 (spot): " or "\"depth\": "
 
   [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw Error(file + ": " + prefix + "\"" + key + "\" " + what);
+    throw Error(file + ": " + prefix + "\"" + shortText(key) + "\" " + what);
   }
   bool has(const std::string& key) const { return object.contains(key); }
   double number(const std::string& key) const {
     if (!has(key)) fail(key, "is missing");
     const json& v = object.at(key);
-    if (!v.is_number()) fail(key, "must be a number, got " + v.dump());
+    if (!v.is_number()) fail(key, "must be a number, got " + shortText(v.dump()));
     const double d = v.get<double>();
     if (!std::isfinite(d)) fail(key, "must be finite");
     // Every number here ends up a float (camera, lights): 1e39 would become inf.
     if (std::abs(d) > double(std::numeric_limits<float>::max()))
-      fail(key, "must be within float range, got " + v.dump());
+      fail(key, "must be within float range, got " + shortText(v.dump()));
     return d;
   }
   double positive(const std::string& key) const {
     const double d = number(key);
-    if (!(d > 0.0)) fail(key, "must be > 0, got " + object.at(key).dump());
+    if (!(d > 0.0)) fail(key, "must be > 0, got " + shortText(object.at(key).dump()));
     return d;
   }
   glm::vec3 vec3(const std::string& key) const {
     if (!has(key)) fail(key, "is missing");
     const json& v = object.at(key);
-    if (!v.is_array() || v.size() != 3) fail(key, "must be an array of 3 numbers, got " + v.dump());
+    if (!v.is_array() || v.size() != 3) fail(key, "must be an array of 3 numbers, got " +
+                                             shortText(v.dump()));
     glm::vec3 out;
     for (int i = 0; i < 3; ++i) {
       if (!v[size_t(i)].is_number() || !std::isfinite(v[size_t(i)].get<double>()))
-        fail(key, "must be an array of 3 finite numbers, got " + v.dump());
+        fail(key, "must be an array of 3 finite numbers, got " + shortText(v.dump()));
       // The kernels read floats: 1e39 would become inf.
       if (std::abs(v[size_t(i)].get<double>()) > double(std::numeric_limits<float>::max()))
-        fail(key, "must be an array of 3 numbers within float range, got " + v.dump());
+        fail(key, "must be an array of 3 numbers within float range, got " + shortText(v.dump()));
       out[i] = v[size_t(i)].get<float>();
     }
     return out;
@@ -151,7 +145,7 @@ struct JsonFields {
       if (name == s) return value;
       names += (names.empty() ? "" : ", ") + name;
     }
-    fail(key, "must be one of " + names + ", got \"" + s + "\"");
+    fail(key, "must be one of " + names + ", got \"" + shortText(s) + "\"");
   }
   void onlyKeys(const std::set<std::string>& known) const {
     for (auto it = object.begin(); it != object.end(); ++it)
@@ -188,12 +182,17 @@ GBufferDescriptor readGBufferDescriptor(const std::string& dirOrFile) {
   std::error_code ec;
   const fs::path given(dirOrFile);
   const fs::path path = fs::is_directory(given, ec) ? given / "gbuffer.json" : given;
-  GBufferDescriptor d;
-  d.path = path.string();
   if (!fs::exists(path, ec))
-    throw Error("--gbuffer-in: " + d.path + " does not exist (a folder written by render --dump, "
-                "or a descriptor: docs/output-formats.md)");
-  const json j = readJson(d.path);
+    throw Error("--gbuffer-in: " + path.string() + " does not exist (a folder written by render "
+                "--dump, or a descriptor: docs/output-formats.md)");
+  return parseGBufferDescriptor(readTextFile(path.string(), "G-buffer descriptor"), path.string());
+}
+
+GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::string& file) {
+  const fs::path path(file);
+  GBufferDescriptor d;
+  d.path = file;
+  const json j = parseStrictJson(text, d.path);
   if (!j.is_object()) throw Error(d.path + " must hold a JSON object");
   const JsonFields top{d.path, j, ""};
 
@@ -432,12 +431,16 @@ nlohmann::json lightsJson(const ViewLights& lights, glm::vec3 ambient) {
 }
 
 LightsFile readLightsFile(const std::string& path) {
-  const json j = readJson(path);
+  return parseLightsFile(readTextFile(path, "lights file"), path);
+}
+
+LightsFile parseLightsFile(const std::string& text, const std::string& path) {
+  const json j = parseStrictJson(text, path);
   if (!j.is_object()) throw Error(path + " must hold a JSON object");
   const JsonFields top{path, j, ""};
   top.onlyKeys({"dmin", "ambient", "lights"});
   if (top.has("dmin") && top.number("dmin") != TS_DMIN)
-    top.fail("dmin", "is " + j.at("dmin").dump() + " but the kernels use " +
+    top.fail("dmin", "is " + shortText(j.at("dmin").dump()) + " but the kernels use " +
                          std::to_string(TS_DMIN));
   LightsFile out;
   if (top.has("ambient")) out.ambient = top.colour("ambient");

@@ -88,6 +88,8 @@ struct GBufferDescriptor {
 // Reads DIR/gbuffer.json (or the .json path given). Throws ts::Error naming the file and the
 // field for anything missing, unknown or out of range.
 GBufferDescriptor readGBufferDescriptor(const std::string& dirOrFile);
+// The same from the descriptor's text (`path` for messages and to resolve its file names).
+GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::string& path);
 
 // lights.json <-> the kernels' view-space lights. The light fields, one table (see the .cpp).
 struct LightsFile {
@@ -97,5 +99,6 @@ struct LightsFile {
 nlohmann::json lightsJson(const ViewLights& lights, glm::vec3 ambient);
 // Throws ts::Error naming the file, the light (index and type) and the field.
 LightsFile readLightsFile(const std::string& path);
+LightsFile parseLightsFile(const std::string& text, const std::string& path);
 
 }  // namespace ts

@@ -11,6 +11,7 @@
 #include "render/image_io.h"
 #include "scene/shading_range.h"
 #include "util/error.h"
+#include "util/short_text.h"
 
 namespace ts {
 namespace {
@@ -125,7 +126,7 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
     if (c >= 0) return c;
     std::string all;
     for (const auto& n : image.channels) all += (all.empty() ? "" : ", ") + n;
-    throw Error(d.imagePath + ": no channel '" + name + "' (" + d.path + " \"" + field +
+    throw Error(d.imagePath + ": no channel '" + shortText(name) + "' (" + d.path + " \"" + field +
                 "\"); its channels: " + all);
   };
   const int depthChannel = channel(d.depthChannel, "depth");

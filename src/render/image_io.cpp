@@ -12,6 +12,7 @@
 #endif
 
 #include "util/error.h"
+#include "util/file_read.h"
 #include "util/file_write.h"
 #include "util/stderr_capture.h"
 
@@ -149,6 +150,7 @@ bool isIntegerValued(OIIO::TypeDesc t) {
 #endif
 
 FloatImage readImage(const std::string& path) {
+  checkReadableFile(path, "image");
 #ifndef TILESHADE_NO_OIIO
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw Error("cannot read " + path + ": " + OIIO::geterror());

@@ -7,6 +7,7 @@
 #include "scene/builtin_scenes.h"
 #include "scene/mesh_builder.h"
 #include "util/error.h"
+#include "util/short_text.h"
 
 namespace ts {
 
@@ -162,7 +163,8 @@ std::vector<std::string> atriumLightSets() { return {"small", "big", "mixed"}; }
 Scene makeAtriumScene(const std::string& lightSet, uint32_t seed, int lightCount) {
   std::string set = lightSet.empty() ? "small" : lightSet;
   if (set != "small" && set != "big" && set != "mixed")
-    throw Error("unknown light set '" + lightSet + "' for builtin:atrium (valid: small, big, mixed)");
+    throw Error("unknown light set '" + shortText(lightSet) +
+                "' for builtin:atrium (valid: small, big, mixed)");
   Scene scene;
   scene.name = "atrium";
   scene.ambient = glm::vec3(0.03f);

@@ -9,6 +9,7 @@
 #include "scene/builtin_scenes.h"
 #include "scene/mesh_builder.h"
 #include "util/error.h"
+#include "util/short_text.h"
 
 namespace ts {
 
@@ -282,7 +283,8 @@ std::vector<std::string> streetLightSets() { return {"many", "few"}; }
 Scene makeStreetScene(const std::string& lightSet, uint32_t seed, int lightCount) {
   std::string set = lightSet.empty() ? "many" : lightSet;
   if (set != "many" && set != "few")
-    throw Error("unknown light set '" + lightSet + "' for builtin:street (valid: many, few)");
+    throw Error("unknown light set '" + shortText(lightSet) +
+                "' for builtin:street (valid: many, few)");
   Scene scene;
   scene.name = "street";
   scene.ambient = glm::vec3(0.03f);

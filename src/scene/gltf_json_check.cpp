@@ -9,6 +9,7 @@
 
 #include "util/checked_size.h"
 #include "util/error.h"
+#include "util/short_text.h"
 
 namespace ts::gltf {
 namespace {
@@ -194,8 +195,7 @@ class Checker {
 
   [[noreturn]] void fail(const std::string& at, const std::string& key, const std::string& expected,
                          const json& got) const {
-    std::string text = got.dump(-1, ' ', false, json::error_handler_t::replace);
-    if (text.size() > 40) text = text.substr(0, 37) + "...";
+    const std::string text = shortText(got.dump(-1, ' ', false, json::error_handler_t::replace));
     std::string where = at.empty() ? key : at + "." + key;
     throw Error("invalid glTF file " + name_ + ": " + where + ": expected " + expected + ", got " +
                 text);

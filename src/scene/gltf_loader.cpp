@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -28,6 +27,9 @@
 #include "scene/scene_loader.h"
 #include "util/checked_size.h"
 #include "util/error.h"
+#include "util/file_read.h"
+#include "util/short_text.h"
+#include "util/strict_json.h"
 #include "util/stderr_capture.h"
 
 namespace ts {
@@ -537,7 +539,7 @@ uint32_t GltfLoader::material(int index) {
   } else {
     const auto& mat = m_.materials[size_t(index)];
     const auto& pbr = mat.pbrMetallicRoughness;
-    std::string what = "material '" + mat.name + "'";
+    std::string what = "material '" + ts::shortText(mat.name) + "'";
     std::string at = "materials[" + std::to_string(index) + "]";
     out.name = mat.name;
     // glTF bounds the factors to [0, 1]: values outside are clamped there, with one warning
@@ -623,7 +625,7 @@ int GltfLoader::texture(int index, bool srgb, int texCoord, const std::string& w
   } else {
     std::string name = !image.uri.empty() ? image.uri : !image.name.empty() ? image.name
                                                       : "image " + std::to_string(source);
-    textureFailures_.push_back(name + " (" + one.why + ")");
+    textureFailures_.push_back(ts::shortText(name) + " (" + one.why + ")");
   }
   images_[key] = result;
   return result;
@@ -1019,6 +1021,20 @@ std::vector<std::string> tinygltfWarnings(const std::string& text) {
   return out;
 }
 
+// tinygltf's reader of the files a uri names (buffers, images), through readTextFile: a directory
+// is "it is a directory", not the out-of-memory of tinygltf's own reader sizing it.
+bool readReferencedFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                        void*) {
+  try {
+    const std::string bytes = readTextFile(path, "file");
+    out->assign(bytes.begin(), bytes.end());
+    return true;
+  } catch (const Error& e) {
+    if (err) *err += e.what();
+    return false;
+  }
+}
+
 void report(const std::string& name, const std::vector<std::string>& lines,
             std::vector<std::string>* warnings) {
   if (warnings) warnings->insert(warnings->end(), lines.begin(), lines.end());
@@ -1034,12 +1050,13 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
   // The JSON's types and shapes first: tinygltf would drop or truncate what does not fit.
   std::string text;
   if (gltf::jsonText(bytes, size, text)) {
-    nlohmann::json document = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-    if (!document.is_discarded()) gltf::checkJson(document, name);  // else tinygltf says why
+    gltf::checkJson(parseStrictJson(text, "cannot load glTF file " + name), name);
   }
   bool binary = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
   tinygltf::TinyGLTF gltf;
   gltf.SetImageLoader(keepEncodedImage, nullptr);
+  gltf.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, readReferencedFile,
+                       &tinygltf::WriteWholeFile, nullptr});
   tinygltf::Model model;
   std::string err, warningText;
   bool ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, &warningText, bytes,
@@ -1049,7 +1066,8 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
                                               baseDir);
   if (!ok)
     throw Error("cannot load glTF file " + name + ": " +
-                (err.empty() ? std::string("tinygltf reported no reason") : oneLine(err)));
+                (err.empty() ? std::string("tinygltf reported no reason")
+                             : ts::shortText(oneLine(err), 300)));
   std::vector<std::string> found = tinygltfWarnings(warningText);
 
   static const std::set<std::string> fatal = {"KHR_draco_mesh_compression",
@@ -1060,11 +1078,13 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
   std::string approximated;
   for (const auto& e : model.extensionsRequired) {
     if (fatal.count(e))
-      throw Error("cannot load glTF file " + name + ": it requires " + e + ", which is not supported");
-    if (!supported.count(e)) approximated += (approximated.empty() ? "" : ", ") + e;
+      throw Error("cannot load glTF file " + name + ": it requires " + ts::shortText(e) +
+                  ", which is not supported");
+    if (!supported.count(e)) approximated += (approximated.empty() ? "" : ", ") + ts::shortText(e);
   }
   if (!approximated.empty())
-    found.push_back("required extension(s) not supported, loading without them: " + approximated);
+    found.push_back("required extension(s) not supported, loading without them: " +
+                    ts::shortText(approximated, 300));
 
   GltfLoader loader(model, name);
   Scene scene = loader.load();
@@ -1075,15 +1095,8 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
 }
 
 Scene loadGltf(const std::string& path, std::vector<std::string>* warnings) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw Error("cannot read glTF file " + path + ": no such file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read glTF file " + path + ": cannot open it");
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error("cannot read glTF file " + path + ": read error");
-  return loadGltfFromMemory(bytes.data(), bytes.size(),
+  const std::string bytes = readTextFile(path, "glTF file");
+  return loadGltfFromMemory(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(),
                             std::filesystem::path(path).parent_path().string(), path, warnings);
 }
 

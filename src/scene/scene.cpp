@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "util/error.h"
+#include "util/short_text.h"
 
 namespace ts {
 
@@ -32,7 +33,8 @@ std::string toString(ShadingModel model) {
 ShadingModel parseShadingModel(const std::string& s) {
   if (s == "blinn-phong") return ShadingModel::BlinnPhong;
   if (s == "metallic-roughness") return ShadingModel::MetallicRoughness;
-  throw Error("unknown shading model '" + s + "' (known: blinn-phong, metallic-roughness)");
+  throw Error("unknown shading model '" + shortText(s) +
+              "' (known: blinn-phong, metallic-roughness)");
 }
 
 std::string toString(LightType type) {

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "util/error.h"
+#include "util/short_text.h"
 #include "util/option_values.h"
 
 namespace ts {
@@ -124,7 +125,8 @@ SceneFeatures chooseFeatures(const std::string& spec, const SceneFeatures& need)
     for (const Flag& flag : kFlags)
       if (item == flag.name) found = &flag;
     if (!found)
-      throw Error("unknown feature '" + item + "' in '" + spec + "' (known: auto, general, or a "
+      throw Error("unknown feature '" + shortText(item) + "' in '" + shortText(spec) +
+                  "' (known: auto, general, or a "
                   "comma list of " + flagNames() + ")");
     f.*found->member = true;
   }
@@ -133,7 +135,7 @@ SceneFeatures chooseFeatures(const std::string& spec, const SceneFeatures& need)
     if (need.*flag.member && !(f.*flag.member))
       missing += (missing.empty() ? "" : ", ") + std::string(flag.name);
   if (!missing.empty())
-    throw Error("features '" + spec + "' leave out what the scene needs: " + missing +
+    throw Error("features '" + shortText(spec) + "' leave out what the scene needs: " + missing +
                 " (a pipeline without them would render it wrong; the scene needs: " +
                 need.describe() + ")");
   return f;

@@ -10,6 +10,7 @@
 #include "scene/material_mapping.h"
 #include "scene/mesh_builder.h"
 #include "util/error.h"
+#include "util/short_text.h"
 #include "util/option_values.h"
 
 namespace ts {
@@ -31,7 +32,8 @@ Scene makeBuiltin(const std::string& name, const std::string& lightSet, uint32_t
                   int lightCount) {
   if (name == "street") return makeStreetScene(lightSet, seed, lightCount);
   if (name == "atrium") return makeAtriumScene(lightSet, seed, lightCount);
-  throw Error("unknown built-in scene '" + name + "' (known: " + joined(builtinSceneNames()) + ")");
+  throw Error("unknown built-in scene '" + shortText(name) + "' (known: " +
+              joined(builtinSceneNames()) + ")");
 }
 
 
@@ -80,7 +82,8 @@ void applyVariants(Scene& scene, const std::string& variants, uint32_t seed) {
       scene.lights.push_back(Light::directional(glm::normalize(glm::vec3(0.45f, -0.6f, 0.35f)),
                                                 glm::vec3(0.32f, 0.29f, 0.24f)));
     } else {
-      throw Error("unknown scene variant '" + v + "' (known: " + joined(builtinVariants()) + ")");
+      throw Error("unknown scene variant '" + shortText(v) + "' (known: " +
+                  joined(builtinVariants()) + ")");
     }
   }
   // Materials written for Blinn-Phong also carry metallic-roughness terms (and the other way
@@ -107,7 +110,8 @@ void printSceneWarnings(const std::string& name, const std::vector<std::string>&
 std::vector<std::string> builtinLightSets(const std::string& scene) {
   if (scene == "street") return streetLightSets();
   if (scene == "atrium") return atriumLightSets();
-  throw Error("unknown built-in scene '" + scene + "' (known: " + joined(builtinSceneNames()) + ")");
+  throw Error("unknown built-in scene '" + shortText(scene) + "' (known: " +
+              joined(builtinSceneNames()) + ")");
 }
 
 Scene makeBuiltinScene(const std::string& name, const std::string& lightSet, uint32_t seed) {
@@ -130,7 +134,8 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
     applyVariants(scene, options.variant, options.seed);
   } else if (endsWith(spec, ".gltf") || endsWith(spec, ".glb")) {
     if (!options.lightSet.empty() && options.lightSet != "file")
-      throw Error("light set '" + options.lightSet + "' does not apply to glTF scene " + spec +
+      throw Error("light set '" + shortText(options.lightSet) +
+                  "' does not apply to glTF scene " + spec +
                   " (valid: file, its own KHR_lights_punctual lights)");
     if (!options.variant.empty())
       throw Error("scene variants apply to built-in scenes only, not to " + spec);
@@ -144,7 +149,7 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
     }
     printSceneWarnings(spec, warnings);  // after the last error about the file
   } else {
-    throw Error("unknown scene spec '" + spec + "': use builtin:NAME (" +
+    throw Error("unknown scene spec '" + shortText(spec) + "': use builtin:NAME (" +
                 joined(builtinSceneNames()) + ") or a .gltf/.glb file");
   }
   if (options.lightRange > 0.0f)

@@ -8,6 +8,7 @@
 #include "techniques/technique.h"
 #include "techniques/techniques.h"
 #include "util/error.h"
+#include "util/short_text.h"
 
 namespace ts {
 
@@ -47,7 +48,7 @@ const TechniqueInfo& findTechnique(const std::string& name) {
     if (t.name == name) return t;
   std::ostringstream known;
   for (const auto& n : techniqueNames()) known << (known.tellp() ? ", " : "") << n;
-  throw Error("unknown technique '" + name + "' (known: " + known.str() + ", all)");
+  throw Error("unknown technique '" + shortText(name) + "' (known: " + known.str() + ", all)");
 }
 
 namespace {
@@ -61,7 +62,7 @@ bool isLaneWidth(int n) {
 }
 
 Error badLanes(const std::string& text) {
-  return Error("lanes must be auto, 1, 2, 4, 8 or 16, not '" + text + "'");
+  return Error("lanes must be auto, 1, 2, 4, 8 or 16, not '" + shortText(text) + "'");
 }
 }  // namespace
 
@@ -110,7 +111,7 @@ int knobIndex(const char* const (&names)[N], const std::string& name, const std:
     if (name == names[i]) return int(i);
     known += (i ? ", " : "") + std::string(names[i]);
   }
-  throw Error("unknown " + knob + " '" + name + "' (known: " + known + ")");
+  throw Error("unknown " + knob + " '" + shortText(name) + "' (known: " + known + ")");
 }
 
 template <size_t N>
@@ -148,7 +149,8 @@ std::string TechniqueConfig::kernelOptions() const {
   if (math == "fast") o << " -cl-fast-relaxed-math";
   else if (math == "native") o << " -DTS_NATIVE_MATH";
   else if (math != "precise")
-    throw Error("unknown shading arithmetic '" + math + "' (known: precise, fast, native)");
+    throw Error("unknown shading arithmetic '" + shortText(math) +
+                "' (known: precise, fast, native)");
   if (!buildOptions.empty()) o << " " << buildOptions;
   return o.str();
 }

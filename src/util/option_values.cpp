@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "util/error.h"
+#include "util/short_text.h"
 
 namespace ts {
 namespace {
@@ -44,7 +45,7 @@ float checkNumberText(const std::string& option, double v, const std::string& te
 }  // namespace
 
 void badOptionValue(const std::string& option, const std::string& value, const std::string& what) {
-  throw Error(option + ": " + what + ", got '" + value + "'");
+  throw Error(option + ": " + what + ", got '" + shortText(value) + "'");
 }
 
 std::string trimmed(const std::string& s) {

@@ -1,0 +1,18 @@
+// libFuzzer target: a `--gbuffer-in` descriptor (gbuffer.json) through the strict JSON parser and
+// the descriptor's checks, as `render --gbuffer-in` reads it before it opens the image. Any
+// outcome but success or a ts::Error is a bug.
+#include <cstdint>
+#include <string>
+
+#include "render/gbuffer_files.h"
+#include "util/error.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  try {
+    ts::parseGBufferDescriptor(std::string(reinterpret_cast<const char*>(data), size),
+                               "fuzz/gbuffer.json");
+  } catch (const ts::Error&) {
+    // a clear one-line error: the expected outcome for a bad descriptor
+  }
+  return 0;
+}

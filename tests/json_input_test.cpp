@@ -1,0 +1,462 @@
+// Every JSON input strict, bounded and clear (issue #16 items 6, 9 and 13): duplicate keys, NUL in
+// strings, nesting beyond 64 levels and directories where files go are one short error line in
+// every file tileshade reads (gbuffer.json, lights.json, bench configs, bench.json/bench.csv on
+// resume, glTF and GLB, kernel sources), and no error line echoes more than a short prefix of
+// what the user gave.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/bench_cli.h"
+#include "bench/bench_config.h"
+#include "bench/bench_run.h"
+#include "gltf_builder.h"
+#include "render/gbuffer_files.h"
+#include "scene/scene_loader.h"
+#include "test_support.h"
+#include "util/error.h"
+#include "util/file_read.h"
+#include "util/short_text.h"
+#include "util/strict_json.h"
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+using ts::test::CliRun;
+using ts::test::runTileshade;
+using ts::test::Streams;
+
+// An error line this long or longer echoes too much of its input.
+constexpr size_t kShortLine = 600;
+
+fs::path freshDir(const std::string& name) {
+  fs::path p = fs::temp_directory_path() /
+               ("tileshade_json_input_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+void writeText(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+std::string readText(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::string nested(size_t depth) { return std::string(depth, '[') + std::string(depth, ']'); }
+
+// ts::Error's message from f(), "" when it did not throw.
+template <typename F>
+std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const ts::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// parseStrictJson's message ("" when it parses), source "src".
+std::string errorOfParse(const std::string& text) {
+  return errorOf([&] { ts::parseStrictJson(text, "src"); });
+}
+
+void expectMessage(const std::string& message, const std::vector<std::string>& needles) {
+  EXPECT_FALSE(message.empty()) << "no error";
+  EXPECT_LT(message.size(), kShortLine) << message.substr(0, 2000);
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message.substr(0, 2000);
+  for (const auto& n : needles)
+    EXPECT_NE(message.find(n), std::string::npos) << "'" << n << "' not in: " << message;
+}
+
+// Exit status 1 and one short stderr line "tileshade: error: ..." with every needle.
+void expectOneShortErrorLine(const std::string& args, const std::vector<std::string>& needles) {
+  CliRun r = runTileshade(args, Streams::StderrOnly);
+  EXPECT_EQ(r.exitCode(), 1) << args << "\n" << r.output.substr(0, 2000);
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1)
+      << args << "\n" << r.output.substr(0, 2000);
+  EXPECT_EQ(r.output.rfind("tileshade: error: ", 0), 0u) << args << "\n" << r.output.substr(0, 2000);
+  EXPECT_LT(r.output.size(), kShortLine) << args << "\n" << r.output.substr(0, 2000);
+  for (const auto& n : needles)
+    EXPECT_NE(r.output.find(n), std::string::npos) << args << "\n" << r.output.substr(0, 2000);
+}
+
+bool binaryBuilt() { return fs::exists(TILESHADE_BINARY); }
+
+// One small `render --dump` per test process, copied by each test that breaks it.
+const fs::path& dumpFolder() {
+  static const fs::path dir = [] {
+    fs::path d = freshDir("dump");
+    CliRun r =
+        runTileshade("render --width 64 --height 36 --device cpu --dump --out " + d.string());
+    EXPECT_EQ(r.status, 0) << r.output;
+    return d;
+  }();
+  return dir;
+}
+
+fs::path copyOfDump(const std::string& name) {
+  fs::path d = freshDir(name);
+  fs::remove_all(d);
+  fs::copy(dumpFolder(), d, fs::copy_options::recursive);
+  return d;
+}
+
+std::string renderImport(const fs::path& dir) {
+  return "render --gbuffer-in " + dir.string() + " --device cpu --out " +
+         (dir.parent_path() / (dir.filename().string() + "_out")).string();
+}
+
+// A GLB holding `jsonChunk` (and no BIN chunk).
+std::string glb(std::string jsonChunk) {
+  while (jsonChunk.size() % 4) jsonChunk += ' ';
+  auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  return "glTF" + u32(2) + u32(uint32_t(12 + 8 + jsonChunk.size())) +
+         u32(uint32_t(jsonChunk.size())) + u32(0x4E4F534A) + jsonChunk;
+}
+
+std::string loadGltfError(const std::string& bytes, const std::string& name = "hostile.gltf") {
+  return errorOf([&] {
+    std::vector<std::string> warnings;
+    ts::loadGltfFromMemory(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(),
+                           "/nonexistent", name, &warnings);
+  });
+}
+
+// The triangle's text with `member` (`"key": value`) added at its top level.
+std::string triangleWith(const std::string& member) {
+  std::string text = ts::test::triangle().dump();
+  text.insert(text.size() - 1, "," + member);
+  return text;
+}
+
+// ---- the helpers ---------------------------------------------------------------------------------
+
+TEST(ShortText, KeepsShortTextAndCutsLongTextWithItsLength) {
+  EXPECT_EQ(ts::shortText("tiled"), "tiled");
+  const std::string cut = ts::shortText(std::string(1 << 20, 'k'));
+  EXPECT_EQ(cut, std::string(ts::kShortTextChars, 'k') + "\xE2\x80\xA6 (1048576 bytes)");
+  EXPECT_EQ(ts::shortText("a\nb\tc\x01"), "a\\nb\\tc\\x01");  // one line, whatever the input
+  // A cut never splits a UTF-8 character: "é" (2 bytes) at bytes 59-60 is left out whole.
+  const std::string accents = "a" + std::string(100, 'x').replace(58, 2, "\xC3\xA9");
+  const std::string s = ts::shortText(accents);
+  EXPECT_EQ(s, accents.substr(0, 59) + "\xE2\x80\xA6 (101 bytes)");
+}
+
+TEST(StrictJson, DuplicateKeysAreErrorsAtAnyDepth) {
+  expectMessage(errorOfParse("{\"a\": 1, \"a\": 2}"), {"src: ", "\"a\" appears twice"});
+  expectMessage(errorOfParse("{\"x\": [{\"b\": 1, \"c\": {}, \"b\": 0}]}"),
+                {"\"b\" appears twice"});
+  // The same key in sibling objects is fine.
+  EXPECT_EQ(errorOfParse("[{\"a\": 1}, {\"a\": 2}, {\"o\": {\"a\": 3}, \"a\": 4}]"), "");
+}
+
+TEST(StrictJson, NestingIsRefusedBeyond64LevelsWhileParsing) {
+  EXPECT_EQ(errorOfParse(nested(ts::kMaxJsonDepth)), "");
+  expectMessage(errorOfParse(nested(ts::kMaxJsonDepth + 1)), {"nested deeper than 64"});
+  expectMessage(errorOfParse("{\"a\":" + std::string(100000, '[')), {"nested deeper than 64"});
+  // Objects count too; an unterminated 10 MB nesting is refused at level 65.
+  std::string objects;
+  for (int i = 0; i < 70; ++i) objects += "{\"k\":";
+  expectMessage(errorOfParse(objects), {"nested deeper than 64"});
+  expectMessage(errorOfParse(std::string(10 << 20, '[')), {"nested deeper than 64"});
+}
+
+TEST(StrictJson, NulInAStringOrKeyIsAnError) {
+  expectMessage(errorOfParse(R"({"image": "gbuffer.exr\u0000.png"})"),
+                {"\\u0000", "gbuffer.exr\\x00.png"});
+  expectMessage(errorOfParse(R"({"a\u0000b": 1})"), {"\\u0000"});
+  EXPECT_EQ(errorOfParse(R"({"a": "\u0001 is fine"})"), "");
+}
+
+TEST(StrictJson, SyntaxErrorsAreShortAndSayWhere) {
+  expectMessage(errorOfParse(""), {"src: not valid JSON: ", "line 1, column 1"});
+  expectMessage(errorOfParse("{\"a\": \"" + std::string(1 << 20, 'z')),  // unterminated
+                {"src: not valid JSON"});
+  expectMessage(errorOfParse("{\"a\": " + std::string(1 << 20, '7') + "x}"),
+                {"not valid JSON"});
+  // Comments only where asked for (bench configs).
+  EXPECT_NE(errorOfParse("{\"a\": 1 /* c */}"), "");
+  EXPECT_NO_THROW(ts::parseStrictJson("{\"a\": 1 /* c */}", "src", ts::JsonComments::Allowed));
+}
+
+TEST(ReadTextFile, DirectoriesAndMissingFilesAreOneLineNamingThePath) {
+  const fs::path dir = freshDir("read_dir");
+  expectMessage(errorOf([&] { ts::readTextFile(dir.string(), "bench config"); }),
+                {"cannot read bench config " + dir.string() + ": it is a directory"});
+  expectMessage(errorOf([&] { ts::readTextFile((dir / "none").string(), "lights file"); }),
+                {"cannot read lights file " + (dir / "none").string() + ": no such file"});
+  writeText(dir / "f.json", "{\"a\": [1]}");
+  EXPECT_EQ(ts::readJsonFile((dir / "f.json").string(), "x").at("a").at(0), 1);
+}
+
+// The fuzzers' seeds (docs/output-formats.md's forms, real dumps) are valid: the fuzzing starts
+// from files that get through every check.
+TEST(JsonInput, FuzzSeedsForTheImportFilesAreValid) {
+  const fs::path seeds = fs::path(ts::test::sourceDir()) / "tests/fuzz/seeds";
+  size_t n = 0;
+  for (const auto& e : fs::directory_iterator(seeds / "gbuffer_descriptor")) {
+    EXPECT_NO_THROW(ts::parseGBufferDescriptor(readText(e.path()), e.path().string())) << e.path();
+    ++n;
+  }
+  for (const auto& e : fs::directory_iterator(seeds / "lights")) {
+    EXPECT_NO_THROW(ts::parseLightsFile(readText(e.path()), e.path().string())) << e.path();
+    ++n;
+  }
+  EXPECT_GE(n, 6u);
+}
+
+// ---- duplicate keys and NUL in each file kind ------------------------------------------------
+
+TEST(JsonInput, DuplicateKeysInLightsJsonAreAnError) {
+  // The case of the issue: a second "lights" (empty) silently dropped every light.
+  const std::string twice = R"({"ambient": [0, 0, 0], "lights": [{"type": "point",
+      "position": [0, 0, -2], "color": [1, 1, 1], "range": 3}], "lights": []})";
+  expectMessage(errorOf([&] { ts::parseLightsFile(twice, "x/lights.json"); }),
+                {"x/lights.json", "\"lights\" appears twice"});
+  const std::string inLight = R"({"lights": [{"type": "point", "position": [0, 0, -2],
+      "color": [1, 1, 1], "range": 3, "range": 30}]})";
+  expectMessage(errorOf([&] { ts::parseLightsFile(inLight, "lights.json"); }),
+                {"\"range\" appears twice"});
+}
+
+TEST(JsonInput, DuplicateKeysInTheDescriptorAreAnError) {
+  const std::string text = R"({"tileshade_gbuffer": 1, "image": "a.exr", "image": "b.exr"})";
+  expectMessage(errorOf([&] { ts::parseGBufferDescriptor(text, "d/gbuffer.json"); }),
+                {"d/gbuffer.json", "\"image\" appears twice"});
+  if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
+  const fs::path d = copyOfDump("dup_descriptor");
+  json j = json::parse(readText(d / "gbuffer.json"));
+  std::string s = j.dump();
+  s.insert(s.size() - 1, ",\"camera\": " + j.at("camera").dump());
+  writeText(d / "gbuffer.json", s);
+  expectOneShortErrorLine(renderImport(d), {"gbuffer.json", "\"camera\" appears twice"});
+}
+
+TEST(JsonInput, DuplicateKeysInABenchConfigAreAnError) {
+  ts::BenchOptions o;
+  auto apply = [&](const std::string& text) {
+    return errorOf([&] {
+      ts::applyBenchConfig(text, "c.json", o, [](const std::string&) { return false; });
+    });
+  };
+  expectMessage(apply(R"({"technique": "tiled", "frames": "0", "technique": "brute"})"),
+                {"bench config c.json", "\"technique\" appears twice"});
+  if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
+  const fs::path dir = freshDir("dup_config");
+  writeText(dir / "c.json", R"({"technique": "tiled", /* comments are fine */ "technique": "x"})");
+  expectOneShortErrorLine("bench --list --config " + (dir / "c.json").string(),
+                          {"c.json", "\"technique\" appears twice"});
+}
+
+TEST(JsonInput, DuplicateKeysInGltfAndGlbAreAnError) {
+  const std::string text = triangleWith(R"("scene": 0)");  // "scene" is there already
+  expectMessage(loadGltfError(text), {"hostile.gltf", "\"scene\" appears twice"});
+  expectMessage(loadGltfError(glb(text), "hostile.glb"), {"hostile.glb", "\"scene\" appears twice"});
+  // A node's translation twice: tinygltf would have kept the last one.
+  json doc = ts::test::triangle();
+  std::string nodes = doc.dump();
+  const std::string t = "\"translation\":[0,0.5,2]";
+  ASSERT_NE(nodes.find(t), std::string::npos) << nodes;
+  nodes.replace(nodes.find(t), t.size(), t + ",\"translation\":[9,9,9]");
+  expectMessage(loadGltfError(nodes), {"\"translation\" appears twice"});
+}
+
+TEST(JsonInput, NulInAPathIsAnError) {
+  // gbuffer.json's image, a glTF image uri, a bench config's scene.
+  expectMessage(errorOf([&] {
+                  ts::parseGBufferDescriptor(R"({"image": "gbuffer.exr\u0000.png"})", "gbuffer.json");
+                }),
+                {"gbuffer.json", "\\u0000"});
+  expectMessage(loadGltfError(triangleWith(R"("images": [{"uri": "a.png\u0000.jpg"}])")),
+                {"\\u0000"});
+  ts::BenchOptions o;
+  expectMessage(errorOf([&] {
+                  ts::applyBenchConfig(R"({"scene": "x.gltf\u0000y"})", "c.json", o,
+                                       [](const std::string&) { return false; });
+                }),
+                {"c.json", "\\u0000"});
+}
+
+// ---- deep nesting and long echoes on the command line ---------------------------------------------
+
+TEST(JsonInput, DeepNestingInEveryJsonKindIsOneShortLine) {
+  if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
+  const std::string deep = nested(100000);
+  {
+    const fs::path d = copyOfDump("deep_descriptor");
+    writeText(d / "gbuffer.json", "{\"scene\": " + deep + "}");
+    expectOneShortErrorLine(renderImport(d), {"gbuffer.json", "nested deeper than 64"});
+  }
+  {
+    const fs::path d = copyOfDump("deep_lights");
+    writeText(d / "lights.json", "{\"lights\": " + deep + "}");
+    expectOneShortErrorLine(renderImport(d), {"lights.json", "nested deeper than 64"});
+  }
+  {
+    const fs::path dir = freshDir("deep_config");
+    writeText(dir / "c.json", "{\"technique\": " + deep + "}");
+    expectOneShortErrorLine("bench --list --config " + (dir / "c.json").string(),
+                            {"c.json", "nested deeper than 64"});
+  }
+  {
+    const fs::path dir = freshDir("deep_gltf");
+    writeText(dir / "deep.gltf", triangleWith("\"extras\": " + deep));
+    expectOneShortErrorLine("render --scene " + (dir / "deep.gltf").string() +
+                                " --width 64 --height 36 --device cpu --out " +
+                                (dir / "out").string(),
+                            {"deep.gltf", "nested deeper than 64"});
+  }
+  // At 30,000 levels the old message echoed the whole value.
+  const std::string value = nested(30000);
+  const fs::path d = copyOfDump("deep_value");
+  writeText(d / "lights.json", "{\"dmin\": " + value + "}");
+  expectOneShortErrorLine(renderImport(d), {"lights.json"});
+}
+
+TEST(JsonInput, AMegabyteUnknownKeyOrValueIsEchoedShort) {
+  if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
+  const std::string huge(1 << 20, 'q');
+  const fs::path d = copyOfDump("huge_key");
+  json j = json::parse(readText(d / "gbuffer.json"));
+  j[huge] = 1;
+  writeText(d / "gbuffer.json", j.dump());
+  expectOneShortErrorLine(renderImport(d), {"is not a known field", "(1048576 bytes)"});
+
+  const fs::path dir = freshDir("huge_config");
+  writeText(dir / "key.json", json{{huge, 1}}.dump());
+  expectOneShortErrorLine("bench --list --config " + (dir / "key.json").string(),
+                          {"unknown field", "(1048576 bytes)"});
+  writeText(dir / "value.json", json{{"technique", huge}}.dump());
+  expectOneShortErrorLine("bench --list --config " + (dir / "value.json").string(),
+                          {"(1048576 bytes)"});
+  // An option value (a command line argument is at most 128 KiB).
+  expectOneShortErrorLine("render --technique " + std::string(100000, 't') +
+                              " --width 64 --height 36 --device cpu --out " + (dir / "o").string(),
+                          {"(100000 bytes)"});
+  // A channel name the image lacks.
+  const fs::path c = copyOfDump("huge_channel");
+  j = json::parse(readText(c / "gbuffer.json"));
+  j["depth"]["channel"] = huge;
+  writeText(c / "gbuffer.json", j.dump());
+  expectOneShortErrorLine(renderImport(c), {"no channel", "(1048576 bytes)"});
+}
+
+TEST(JsonInput, GltfMessagesEchoLongNamesShort) {
+  const std::string huge(1 << 20, 'g');
+  auto warningsOf = [](const std::string& text) {
+    std::vector<std::string> warnings;
+    ts::loadGltfFromMemory(reinterpret_cast<const unsigned char*>(text.data()), text.size(),
+                           "/nonexistent", "long.gltf", &warnings);
+    return warnings;
+  };
+  // An unsupported required extension and a material whose factor is clamped (a warning each).
+  json doc = ts::test::triangle();
+  doc["extensionsRequired"] = {huge};
+  doc["extensionsUsed"].push_back(huge);
+  doc["materials"] = {{{"name", huge}, {"pbrMetallicRoughness", {{"baseColorFactor", {2, 0, 0, 1}}}}}};
+  doc["meshes"][0]["primitives"][0]["material"] = 0;
+  const std::vector<std::string> warnings = warningsOf(doc.dump());
+  ASSERT_GE(warnings.size(), 2u);
+  size_t named = 0;
+  for (const auto& w : warnings) {
+    EXPECT_LT(w.size(), kShortLine) << w.substr(0, 2000);
+    named += w.find("(1048576 bytes)") != std::string::npos;
+  }
+  EXPECT_EQ(named, 1u);  // the extension's
+  // A value of the wrong type in the JSON checks.
+  doc = ts::test::triangle();
+  doc["scene"] = {{huge, 1}};
+  expectMessage(loadGltfError(doc.dump()), {"hostile.gltf", "scene: expected", " bytes)"});
+}
+
+// ---- directories where files go --------------------------------------------------------------------
+
+TEST(JsonInput, ADirectoryWhereAFileGoesIsOneLineNamingIt) {
+  if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
+  const std::string isDir = ": it is a directory";
+  const fs::path dir = freshDir("dirs");
+  const std::string out = " --width 64 --height 36 --device cpu --out " + (dir / "out").string();
+  // glTF and GLB scenes
+  for (const char* name : {"scene.gltf", "scene.glb"}) {
+    fs::create_directories(dir / name);
+    expectOneShortErrorLine("render --scene " + (dir / name).string() + out,
+                            {"glTF file " + (dir / name).string() + isDir});
+  }
+  // gbuffer.json inside the --gbuffer-in folder, lights.json, the EXR image
+  for (const char* file : {"gbuffer.json", "lights.json", "gbuffer.exr"}) {
+    const fs::path d = copyOfDump(std::string("dir_") + file);
+    fs::remove(d / file);
+    fs::create_directories(d / file);
+    expectOneShortErrorLine(renderImport(d), {(d / file).string() + isDir});
+  }
+  // a --gbuffer-in folder without a descriptor
+  fs::create_directories(dir / "no_descriptor");
+  expectOneShortErrorLine(renderImport(dir / "no_descriptor"),
+                          {(dir / "no_descriptor" / "gbuffer.json").string() + " does not exist"});
+  // a bench config; bench.csv and bench.json on resume
+  fs::create_directories(dir / "config.json");
+  expectOneShortErrorLine("bench --list --config " + (dir / "config.json").string(),
+                          {"bench config " + (dir / "config.json").string() + isDir});
+  const std::string bench = "bench --technique brute --resolution 64x36 --frames 1 --no-calibrate "
+                            "--quiet --device cpu --resume --out ";
+  for (const char* file : {"bench.csv", "bench.json"}) {
+    const fs::path b = dir / (std::string("resume_") + file);
+    fs::create_directories(b / file);
+    if (std::string(file) == "bench.json") writeText(b / "bench.csv", "");
+    expectOneShortErrorLine(bench + b.string(), {(b / file).string() + isDir});
+  }
+  // a kernel source
+  const fs::path kernels = dir / "kernels";
+  for (const auto& e : fs::directory_iterator(ts::test::sourceDir() + "/kernels"))
+    fs::create_directories(kernels / e.path().filename());
+  ::setenv("TILESHADE_KERNEL_DIR", kernels.c_str(), 1);
+  expectOneShortErrorLine("render" + out, {"kernel source " + kernels.string(), isDir});
+  ::unsetenv("TILESHADE_KERNEL_DIR");
+  // a shader source (where an OpenGL context can be made)
+  const CliRun gl = runTileshade("render --raster gl" + out);
+  if (gl.status != 0) GTEST_SKIP() << "no OpenGL here: " << gl.output;
+  const fs::path shaders = dir / "shaders";
+  for (const auto& e : fs::directory_iterator(ts::test::sourceDir() + "/shaders"))
+    fs::create_directories(shaders / e.path().filename());
+  ::setenv("TILESHADE_SHADER_DIR", shaders.c_str(), 1);
+  expectOneShortErrorLine("render --raster gl" + out, {"shader source " + shaders.string(), isDir});
+  ::unsetenv("TILESHADE_SHADER_DIR");
+}
+
+TEST(JsonInput, AGltfBufferThatIsADirectoryIsOneLineNamingIt) {
+  // tinygltf's own reader sized the directory and reported "out of memory".
+  const fs::path dir = freshDir("gltf_buffer_dir");
+  fs::create_directories(dir / "buf.bin");
+  json doc = ts::test::triangle();
+  doc["buffers"][0] = {{"uri", "buf.bin"}, {"byteLength", 44}};
+  writeText(dir / "scene.gltf", doc.dump());
+  expectMessage(errorOf([&] { ts::loadGltf((dir / "scene.gltf").string()); }),
+                {"scene.gltf", (dir / "buf.bin").string() + ": it is a directory"});
+}
+
+TEST(JsonInput, DuplicateKeysOrNestingInBenchJsonOnResumeAreAnError) {
+  if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
+  const std::string bench = "bench --technique brute --resolution 64x36 --frames 1 --no-calibrate "
+                            "--quiet --device cpu --resume --out ";
+  const fs::path dir = freshDir("resume_json");
+  for (const std::string& text : {std::string(R"({"rows": [], "rows": []})"), nested(100000)}) {
+    writeText(dir / "bench.csv", "");
+    writeText(dir / "bench.json", text);
+    expectOneShortErrorLine(bench + dir.string(), {"bench.json"});
+  }
+}
+
+}  // namespace
