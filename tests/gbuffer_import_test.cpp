@@ -91,14 +91,16 @@ TEST(GBufferImport, DumpRoundTripsExactlyInEveryLayoutForEveryTechnique) {
     // Re-encoding the imported values in their layout gave back the stored codes (above), so
     // every technique shades the same inputs and gives the same image bit for bit (renders are
     // repeatable: tests/repeatability_test.cpp).
-    TechniqueConfig config;
-    config.format = format;
-    config.lanes = 1;
-    for (const auto& name : techniqueNames()) {
-      Technique& t = test::cachedTechnique(name, config);
-      const FrameResult a = test::renderOnly(original, t, false);
-      const FrameResult b = test::renderOnly(imported.frame, t, false);
-      EXPECT_TRUE(sameBits(a.image, b.image)) << name << " " << layout;
+    for (int lanes : {1, 16}) {
+      TechniqueConfig config;
+      config.format = format;
+      config.lanes = lanes;
+      for (const auto& name : techniqueNames()) {
+        Technique& t = test::cachedTechnique(name, config);
+        const FrameResult a = test::renderOnly(original, t, false);
+        const FrameResult b = test::renderOnly(imported.frame, t, false);
+        EXPECT_TRUE(sameBits(a.image, b.image)) << name << " " << layout << " lanes " << lanes;
+      }
     }
   }
 }
