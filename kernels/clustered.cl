@@ -13,6 +13,7 @@
  *                            cluster_count[c]++
  *      exclusive_scan        cluster_offset = exclusive prefix sum of cluster_count; total
  *      bin_clusters (FILL)   the same traversal, writing light indices into the cluster lists
+ *      sort_bins             each cluster's list in light index order (repeatable sums)
  *   3. shade_clustered       per pixel: loop over its cluster's list with the one shading function
  *                            (in lanes: each vector of pixels runs the lists of its slices)
  * Cluster c = tile * SLICES + slice (a tile's slices are adjacent). Clusters without geometry have
@@ -274,6 +275,8 @@ __kernel void bin_clusters(__global const float4 *light_pos_range,
 
 /* exclusive_scan: cluster_offset = exclusive prefix sum of cluster_count (shared with tiled.cl). */
 #include "scan.h"
+/* sort_bins: each cluster's list in light index order, the same on every run (shared too). */
+#include "sort_bins.h"
 
 /* ---- 3. shading --------------------------------------------------------------------------- */
 

@@ -42,8 +42,9 @@ static inline int ts_light_tile_rect(const ts_light_volume *v, float4 camera, fl
 }
 
 /* fill == 0: counts `light` into bin_count[bin].  fill == 1: appends it to the bin's list at
- * bin_offset[bin] + a slot from bin_cursor (zeroed before the pass). Entries past `capacity` are
- * not written; the host sees the total, grows the list and runs the frame again. */
+ * bin_offset[bin] + a slot from bin_cursor (zeroed before the pass), in whatever order the
+ * work-groups run: sort_bins (sort_bins.h) then puts each list in light index order. Entries past
+ * `capacity` are not written; the host sees the total, grows the list and runs the frame again. */
 static inline void ts_bin_light(uint light, int bin, int fill, __global uint *bin_count,
                                 __global const uint *bin_offset, __global uint *bin_cursor,
                                 __global uint *bin_lights, uint capacity) {

@@ -7,6 +7,8 @@
  *                         against the tile's depth range, tile_count[t]++
  *      exclusive_scan     tile_offset = exclusive prefix sum of tile_count; total
  *      bin_lights (FILL)  the same traversal, writing light indices into the tile light list
+ *      sort_bins          each tile's list in light index order (the fill's order is the
+ *                         scheduler's: sorted, a pixel sums its lights alike on every run)
  *   3. shade_tiled        per pixel: loop over its tile's list with the one shading function
  * The grid is the paper's: per-tile (offset, count) + tile light index list + the global light
  * list (the frame's light buffers).
@@ -110,6 +112,8 @@ __kernel void bin_lights(__global const float4 *light_pos_range,
 
 /* exclusive_scan: tile_offset = exclusive prefix sum of tile_count (shared with clustered.cl). */
 #include "scan.h"
+/* sort_bins: each tile's list in light index order, the same on every run (shared too). */
+#include "sort_bins.h"
 
 /* ---- 3. shading --------------------------------------------------------------------------- */
 

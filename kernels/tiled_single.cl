@@ -3,7 +3,10 @@
  * src/techniques/tiled_single.cpp. One work-group per tile does everything in local memory:
  *   1. reduce the tile's geometry depth to [zmin, zmax] (background pixels left out);
  *   2. test every light of the frame against the tile, appending accepted lights to a list in
- *      local memory;
+ *      local memory, in light index order: each batch of tests sets one bit per accepted light
+ *      (atomic_or: the result does not depend on the order) and a light's slot is the count of
+ *      accepted lights before it, so the list, and each pixel's sum, is the same on every run
+ *      and every device (an atomic_inc cursor gave the order the work-items ran in);
  *   3. shade the tile's pixels over that list.
  * Every tile repeats the light tests that the multi-kernel variant (tiled.cl) does once per light
  * rectangle: simple, but redundant per-tile work. The per-tile test is the same as tiled.cl's
@@ -30,6 +33,8 @@
 #include "light_lists.h"
 
 #define GROUP_SIZE (GROUP_W * GROUP_H)
+/* Words of the accept bits of one batch of GROUP_SIZE light tests (one bit per work-item). */
+#define ACCEPT_WORDS ((GROUP_SIZE + 31) / 32)
 /* Pixels of the tile each work-item owns (the tile may be larger than the work-group). */
 #define PIXELS_PER_ITEM (((TILE_W + GROUP_W - 1) / GROUP_W) * ((TILE_H + GROUP_H - 1) / GROUP_H))
 
@@ -182,7 +187,7 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
     ) {
   __local float lmin[GROUP_SIZE];
   __local float lmax[GROUP_SIZE];
-  __local uint list_len;
+  __local uint accept_bits[ACCEPT_WORDS];
   int width = (int)camera.z, height = (int)camera.w;
   int tx = get_group_id(0), ty = get_group_id(1);
   int tile = ty * get_num_groups(0) + tx;
@@ -201,7 +206,6 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   }
   lmin[lid] = zmin;
   lmax[lid] = zmax;
-  if (lid == 0) list_len = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
   /* Tree reduction that also handles group sizes that are not powers of two. */
   for (int active = GROUP_SIZE; active > 1;) {
@@ -233,12 +237,13 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   float3 sum[PIXELS_PER_ITEM];
   for (int k = 0; k < PIXELS_PER_ITEM; ++k) sum[k] = (float3)(0.0f);
 #endif
-  /* list_len counts every light the tile accepted; the list holds those after the first
-   * `accepted`, which earlier chunks have shaded, so emptying the list needs no write. */
-  uint accepted = 0;
+  /* list_len counts every light the tile accepted (the same in every work-item); the list holds
+   * those after the first `accepted`, which earlier chunks have shaded, so emptying the list
+   * needs no write. */
+  uint list_len = 0, accepted = 0;
   int any_geometry = zr.x <= zr.y;
   for (int base = 0; any_geometry && base < light_count; base += GROUP_SIZE) {
-    barrier(CLK_LOCAL_MEM_FENCE); /* the last batch's appends are done */
+    barrier(CLK_LOCAL_MEM_FENCE); /* the last batch's appends (and bit reads) are done */
     uint n = list_len - accepted;
     int flush = n + GROUP_SIZE > LIST_CAPACITY;
 #if TS_LANES == 1
@@ -256,13 +261,25 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
       record_chunk(list, n, accepted, tile, record_stride, tile_lights);
       accepted += n;
     }
-    barrier(CLK_LOCAL_MEM_FENCE); /* every work-item has read list_len and the list */
+    if (lid < ACCEPT_WORDS) accept_bits[lid] = 0u;
+    barrier(CLK_LOCAL_MEM_FENCE); /* every work-item has read the list; the bits are clear */
     int light = base + lid;
+    int accept = 0;
     if (light < light_count) {
       ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, (uint)light);
-      if (light_meets_tile(&v, tx, ty, zr, camera, znear))
-        list[atomic_inc(&list_len) - accepted] = (uint)light;
+      accept = light_meets_tile(&v, tx, ty, zr, camera, znear);
+      if (accept) atomic_or(&accept_bits[lid / 32], 1u << (lid % 32));
     }
+    barrier(CLK_LOCAL_MEM_FENCE); /* every accept bit is set */
+    uint before = 0, batch = 0; /* accepted lights of this batch before this one; in all */
+    for (int w = 0; w < ACCEPT_WORDS; ++w) {
+      uint bits = accept_bits[w];
+      if (w < lid / 32) before += popcount(bits);
+      if (w == lid / 32) before += popcount(bits & ((1u << (lid % 32)) - 1u));
+      batch += popcount(bits);
+    }
+    if (accept) list[list_len + before - accepted] = (uint)light;
+    list_len += batch;
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   uint n = list_len - accepted;

@@ -89,28 +89,18 @@ TEST(GBufferImport, DumpRoundTripsExactlyInEveryLayoutForEveryTechnique) {
     ImportedFrame imported = importGBuffer(dump(original, layout).string());
     expectSameFrame(original, imported.frame, layout);
     // Re-encoding the imported values in their layout gave back the stored codes (above), so
-    // every technique shades the same inputs. Techniques whose frame is deterministic give the
-    // same image bit for bit; tiled and clustered fill their light lists with atomics, so two
-    // renders of one frame already differ in the summation order (last bits): for them the
-    // import must stay within that noise (1e-6 of the peak; fp32 sums of a few hundred terms).
-    TechniqueConfig config;
-    config.format = format;
-    config.lanes = 1;
-    for (const auto& name : techniqueNames()) {
-      Technique& t = test::cachedTechnique(name, config);
-      const FrameResult a = test::renderOnly(original, t, false);
-      const FrameResult b = test::renderOnly(imported.frame, t, false);
-      if (t.repeatable()) {
-        EXPECT_TRUE(sameBits(a.image, b.image)) << name << " " << layout;
-        continue;
+    // every technique shades the same inputs and gives the same image bit for bit (renders are
+    // repeatable: tests/repeatability_test.cpp).
+    for (int lanes : {1, 16}) {
+      TechniqueConfig config;
+      config.format = format;
+      config.lanes = lanes;
+      for (const auto& name : techniqueNames()) {
+        Technique& t = test::cachedTechnique(name, config);
+        const FrameResult a = test::renderOnly(original, t, false);
+        const FrameResult b = test::renderOnly(imported.frame, t, false);
+        EXPECT_TRUE(sameBits(a.image, b.image)) << name << " " << layout << " lanes " << lanes;
       }
-      double peak = 0.0, diff = 0.0;
-      for (size_t i = 0; i < a.image.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-          peak = std::max(peak, double(a.image[i][c]));
-          diff = std::max(diff, std::abs(double(a.image[i][c]) - double(b.image[i][c])));
-        }
-      EXPECT_LE(diff, 1e-6 * peak) << name << " " << layout << " (not deterministic itself)";
     }
   }
 }
@@ -144,10 +134,8 @@ TEST(GBufferImport, OpenGLGBufferDumpedAndImported) {
     expectSameFrame(original, imported.frame, "OpenGL " + toString(format));
     TechniqueConfig config;
     config.format = format;
-    // tiled-single: its light lists are filled in order, so equal input gives equal bits (tiled's
-    // atomics may order a tile's lights differently from one run to the next).
+    // Equal input gives equal bits (any technique: renders are repeatable).
     Technique& t = test::cachedTechnique("tiled-single", config);
-    ASSERT_TRUE(t.repeatable());
     EXPECT_TRUE(sameBits(test::renderOnly(original, t, false).image,
                          test::renderOnly(imported.frame, t, false).image));
   }

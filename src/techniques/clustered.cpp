@@ -50,10 +50,10 @@ class ClusteredTechnique : public Technique {
     clusterBounds_ = cl::Kernel(program_, "cluster_depth_bounds");
     binLights_ = cl::Kernel(program_, "bin_clusters");
     scan_ = cl::Kernel(program_, "exclusive_scan");
+    sort_ = cl::Kernel(program_, "sort_bins");
     shade_ = cl::Kernel(program_, "shade_clustered");
   }
 
-  bool repeatable() const override { return false; }  // lists filled with atomics
   std::string name() const override { return "clustered"; }
   int lanes() const override { return config_.lanes; }
 
@@ -216,8 +216,8 @@ class ClusteredTechnique : public Technique {
     binLights_.setArg(11, clusterCursor_);
     binLights_.setArg(12, clusterLights_);
     binLights_.setArg(13, cl_uint(capacity_));
-    enqueueBinning(cl_, binLights_, 8, frame.lightCount(), scan_, clusterCount_, int(clusters),
-                   clusterOffset_, total_, timer_);
+    enqueueBinning(cl_, {binLights_, 8, scan_, sort_}, frame.lightCount(), clusterCount_,
+                   int(clusters), clusterOffset_, total_, clusterLights_, capacity_, timer_);
 
     // 3. Shading: one work-item per pixel, or in lanes with work-groups inside one tile
     // (shade_clustered then takes the tile, and so its clusters, from the group id).
@@ -249,7 +249,7 @@ class ClusteredTechnique : public Technique {
   ClContext& cl_;
   TechniqueConfig config_;
   cl::Program program_;
-  cl::Kernel frameRange_, pixelSlices_, clusterBounds_, binLights_, scan_, shade_;
+  cl::Kernel frameRange_, pixelSlices_, clusterBounds_, binLights_, scan_, sort_, shade_;
   TileGrid grid_;
   cl::Buffer depthRange_, clusterDepth_, clusterPixels_, tileSlices_, clusterCount_, clusterOffset_,
       clusterCursor_, pixelSlice_, total_, clusterLights_, image_;

@@ -101,15 +101,12 @@ class Technique {
  public:
   virtual ~Technique() = default;
   virtual std::string name() const = 0;
-  // Renders a frame. Throws ts::Error, before any work, when the frame needs what the kernels
-  // were not built for (checkFrameFeatures).
+  // Renders a frame: the same image bit for bit on every call with the same frame (light lists
+  // are in light index order, docs/techniques.md). Throws ts::Error, before any work, when the
+  // frame needs what the kernels were not built for (checkFrameFeatures).
   FrameResult render(DeviceFrame& frame, const FrameRequest& request);
   // Pixels its shading kernel evaluates together per light (TechniqueConfig::lanes as it ran).
   virtual int lanes() const { return 1; }
-  // Whether two renders of one frame give the same bits. Not so where light lists are filled with
-  // atomics (tiled, clustered): a pixel sums its lights in an order that changes from run to run,
-  // so the last bits do.
-  virtual bool repeatable() const { return true; }
   // What its kernels were built for (TechniqueConfig::features).
   const SceneFeatures& features() const { return features_; }
 

@@ -77,15 +77,17 @@ void addDirectionalWork(WorkCounters& c, uint64_t geometryPixels, const DeviceFr
   c.evaluations += work;
 }
 
-void enqueueBinning(ClContext& cl, cl::Kernel& bin, cl_uint fillArg, int lightCount,
-                    cl::Kernel& scan, const cl::Buffer& counts, int bins,
-                    const cl::Buffer& offsets, const cl::Buffer& total, FrameTimer& timer) {
+void enqueueBinning(ClContext& cl, const BinningKernels& kernels, int lightCount,
+                    const cl::Buffer& counts, int bins, const cl::Buffer& offsets,
+                    const cl::Buffer& total, const cl::Buffer& list, size_t capacity,
+                    FrameTimer& timer) {
   cl::CommandQueue& queue = cl.queue();
+  cl::Kernel &bin = kernels.bin, &scan = kernels.scan, &sort = kernels.sort;
   const size_t group = fitGroup(64, 1, groupLimit(cl, bin)).x;  // work-items sharing a light's bins
   const size_t scanGroup = powerOfTwoGroup(256, groupLimit(cl, scan));
   auto binPass = [&](int fill, const char* name) {
     if (lightCount == 0) return;  // OpenCL refuses an empty NDRange
-    bin.setArg(fillArg, fill);
+    bin.setArg(kernels.fillArg, fill);
     queue.enqueueNDRangeKernel(bin, cl::NullRange, cl::NDRange(size_t(lightCount) * group),
                                cl::NDRange(group), nullptr, timer.next(name));
   };
@@ -97,6 +99,15 @@ void enqueueBinning(ClContext& cl, cl::Kernel& bin, cl_uint fillArg, int lightCo
   queue.enqueueNDRangeKernel(scan, cl::NullRange, cl::NDRange(scanGroup), cl::NDRange(scanGroup),
                              nullptr, timer.next("scan"));
   binPass(1, "bin_fill");
+  if (lightCount == 0 || bins == 0) return;  // every list is empty
+  sort.setArg(0, counts);
+  sort.setArg(1, offsets);
+  sort.setArg(2, bins);
+  sort.setArg(3, list);
+  sort.setArg(4, cl_uint(capacity));
+  const size_t sortGroup = fitGroup(64, 1, groupLimit(cl, sort)).x;
+  queue.enqueueNDRangeKernel(sort, cl::NullRange, cl::NDRange(roundUp(size_t(bins), sortGroup)),
+                             cl::NDRange(sortGroup), nullptr, timer.next("bin_sort"));
 }
 
 void reserveList(ClContext& cl, cl::Buffer& list, size_t& capacity, size_t entries) {

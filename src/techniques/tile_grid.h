@@ -51,13 +51,23 @@ glm::vec4 lightNdcBounds(const ViewLights& lights, size_t i, const CameraIntrins
                          int spotCulling);
 
 // The passes that build a binned light list (tiled, clustered), the paper's grid: count each
-// light into its bins, exclusive scan of the counts into offsets (and the total), fill the list.
+// light into its bins, exclusive scan of the counts into offsets (and the total), fill the list,
+// sort each bin's list into light index order (the fill's order changes from run to run).
 // `bin` is launched with one work-group of (up to) 64 per light; its argument `fillArg` selects
 // count (0) or fill (1), its other arguments are set by the caller. `scan` gets (counts, bins,
-// offsets, total) and one work-group of up to 256. Profiled as bin_count, scan, bin_fill.
-void enqueueBinning(ClContext& cl, cl::Kernel& bin, cl_uint fillArg, int lightCount,
-                    cl::Kernel& scan, const cl::Buffer& counts, int bins,
-                    const cl::Buffer& offsets, const cl::Buffer& total, FrameTimer& timer);
+// offsets, total) and one work-group of up to 256; `sort` (kernels/sort_bins.h) gets (counts,
+// offsets, bins, list, capacity), one work-item per bin. Profiled as bin_count, scan, bin_fill,
+// bin_sort.
+struct BinningKernels {
+  cl::Kernel& bin;
+  cl_uint fillArg;
+  cl::Kernel& scan;
+  cl::Kernel& sort;
+};
+void enqueueBinning(ClContext& cl, const BinningKernels& kernels, int lightCount,
+                    const cl::Buffer& counts, int bins, const cl::Buffer& offsets,
+                    const cl::Buffer& total, const cl::Buffer& list, size_t capacity,
+                    FrameTimer& timer);
 
 // The light index list buffer of a binned technique, `capacity` entries: grows `list` to at least
 // `entries` (contents are not kept: the list is rebuilt every frame).

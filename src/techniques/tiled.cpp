@@ -20,10 +20,10 @@ class TiledTechnique : public Technique {
     depthBounds_ = cl::Kernel(program_, "tile_depth_bounds");
     binLights_ = cl::Kernel(program_, "bin_lights");
     scan_ = cl::Kernel(program_, "exclusive_scan");
+    sort_ = cl::Kernel(program_, "sort_bins");
     shade_ = cl::Kernel(program_, "shade_tiled");
   }
 
-  bool repeatable() const override { return false; }  // lists filled with atomics
   std::string name() const override { return "tiled"; }
   int lanes() const override { return config_.lanes; }
 
@@ -110,8 +110,8 @@ class TiledTechnique : public Technique {
     binLights_.setArg(9, tileCursor_);
     binLights_.setArg(10, tileLights_);
     binLights_.setArg(11, cl_uint(capacity_));
-    enqueueBinning(cl_, binLights_, 6, frame.lightCount(), scan_, tileCount_, int(tiles), tileOffset_,
-                   total_, timer_);
+    enqueueBinning(cl_, {binLights_, 6, scan_, sort_}, frame.lightCount(), tileCount_, int(tiles),
+                   tileOffset_, total_, tileLights_, capacity_, timer_);
 
     // 3. Shading: one work-item per pixel.
     cl_uint arg = 0;
@@ -138,7 +138,7 @@ class TiledTechnique : public Technique {
   ClContext& cl_;
   TechniqueConfig config_;
   cl::Program program_;
-  cl::Kernel depthBounds_, binLights_, scan_, shade_;
+  cl::Kernel depthBounds_, binLights_, scan_, sort_, shade_;
   TileGrid grid_;
   cl::Buffer tileDepth_, tileCount_, tileOffset_, tileCursor_, total_, tileLights_, image_;
   size_t capacity_ = 0;
