@@ -20,6 +20,7 @@ done
 scratch=$(mktemp -d "${TMPDIR:-/tmp}/tileshade-install.XXXXXX")
 trap 'rm -rf "$scratch"' EXIT
 device=${TILESHADE_DEVICE:-cpu}
+with_gl=$(sed -n 's/^TILESHADE_WITH_GL:BOOL=//p' "$build/CMakeCache.txt")
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
 # render + check from one installed binary, its output kept for the failure message.
@@ -31,6 +32,14 @@ run_installed() {
   grep -q "tiled" "$out.log" || { cat "$out.log"; fail "$exe render printed no table"; }
   "$exe" check --device "$device" --case resolution-1x1 --technique tiled --gbuffer fp32 \
     --lanes 1 >"$out.check.log" 2>&1 || { cat "$out.check.log"; fail "$exe check"; }
+  [ "$with_gl" = ON ] || return 0
+  # The shaders too; a machine where no OpenGL context can be made says so and goes on (as the
+  # GL tests skip there), but a shader that is not found fails.
+  if ! "$exe" render --device "$device" --raster gl --width 32 --height 18 --technique tiled \
+       --out "$out-gl" >"$out.gl.log" 2>&1; then
+    if grep -q "shader source" "$out.gl.log"; then cat "$out.gl.log"; fail "$exe --raster gl"; fi
+    echo "note: --raster gl not run, no OpenGL context here: $(tail -1 "$out.gl.log")"
+  fi
 }
 
 echo "== cmake --install into a scratch prefix, then moved"
@@ -40,6 +49,9 @@ for f in bin/tileshade share/tileshade/kernels/shading.h share/tileshade/kernels
          share/doc/tileshade/README.md; do
   [ -f "$scratch/prefix/$f" ] || fail "not installed: $f"
 done
+if [ "$with_gl" = ON ]; then
+  [ -f "$scratch/prefix/share/tileshade/shaders/gbuffer.vert" ] || fail "shaders not installed"
+fi
 [ ! -e "$scratch/prefix/include" ] || fail "headers installed (not before the API is designed)"
 mv "$scratch/prefix" "$scratch/moved"
 run_installed "$scratch/moved/bin/tileshade" "$scratch/prefix-out"
@@ -73,7 +85,7 @@ for dep in "ocl-icd-libopencl1" "pocl-opencl-icd | opencl-icd" "libopenimageio2.
            "libc6"; do
   case "$depends" in *"$dep"*) ;; *) fail "Depends lacks '$dep': $depends" ;; esac
 done
-if grep -q "^TILESHADE_WITH_GL:BOOL=ON" "$build/CMakeCache.txt"; then
+if [ "$with_gl" = ON ]; then
   for dep in libepoxy0 libegl1; do
     case "$depends" in *"$dep"*) ;; *) fail "Depends lacks '$dep': $depends" ;; esac
   done
