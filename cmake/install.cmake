@@ -39,7 +39,7 @@ set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 include(CPack)
 
 # The install test (tests/install_test.sh): install, package, run from both with the source tree
-# out of reach. Label `install`; skipped (77) without cpack or dpkg-deb.
+# out of reach. Label `install`; skipped (77) without cpack, dpkg-deb or dpkg-shlibdeps.
 if(TILESHADE_BUILD_TESTS)
   add_test(NAME Install.PrefixAndDebianPackage
            COMMAND bash ${CMAKE_SOURCE_DIR}/tests/install_test.sh ${CMAKE_BINARY_DIR}

@@ -8,18 +8,19 @@
 #     dpkg-deb -x into a scratch root and run from there.
 #  3. with CI=true only (CI runs as root on a throwaway machine): apt-get install of the .deb,
 #     /usr/bin/tileshade render and check, apt-get remove. Never outside CI.
-# Exits 77 (skipped) without cmake, cpack or dpkg-deb.
+# Exits 77 (skipped) without cmake, cpack, dpkg-deb or dpkg-shlibdeps (dpkg-dev).
 set -euo pipefail
 build=$(cd "$1" && pwd)
 cmake=${2:-cmake}
 cpack=${3:-cpack}
-for tool in "$cmake" "$cpack" dpkg-deb; do
+for tool in "$cmake" "$cpack" dpkg-deb dpkg-shlibdeps; do
   command -v "$tool" >/dev/null || { echo "SKIP: $tool not found"; exit 77; }
 done
 
 scratch=$(mktemp -d "${TMPDIR:-/tmp}/tileshade-install.XXXXXX")
 trap 'rm -rf "$scratch"' EXIT
 device=${TILESHADE_DEVICE:-cpu}
+with_oiio=$(sed -n 's/^TILESHADE_WITH_OIIO:BOOL=//p' "$build/CMakeCache.txt")
 with_gl=$(sed -n 's/^TILESHADE_WITH_GL:BOOL=//p' "$build/CMakeCache.txt")
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
@@ -81,15 +82,12 @@ field() { dpkg-deb -f "$deb" "$1"; }
 [ "$(field Package)" = tileshade ] || fail "Package: $(field Package)"
 [ "$(field Version)" = "$version" ] || fail "Version: $(field Version), binary says $version"
 depends=$(field Depends)
-for dep in "ocl-icd-libopencl1" "pocl-opencl-icd | opencl-icd" "libopenimageio2.4" "libstdc++6" \
-           "libc6"; do
+wanted=("ocl-icd-libopencl1" "pocl-opencl-icd | opencl-icd" "libtinygltf" "libstdc++6" "libc6")
+[ "$with_oiio" = ON ] && wanted+=(libopenimageio)
+[ "$with_gl" = ON ] && wanted+=(libepoxy0 libegl1)
+for dep in "${wanted[@]}"; do
   case "$depends" in *"$dep"*) ;; *) fail "Depends lacks '$dep': $depends" ;; esac
 done
-if [ "$with_gl" = ON ]; then
-  for dep in libepoxy0 libegl1; do
-    case "$depends" in *"$dep"*) ;; *) fail "Depends lacks '$dep': $depends" ;; esac
-  done
-fi
 files=$(dpkg-deb -c "$deb" | awk '{print $6}')
 for f in ./usr/bin/tileshade ./usr/share/tileshade/kernels/shading.h \
          ./usr/share/doc/tileshade/copyright ./usr/share/doc/tileshade/LICENSE; do
