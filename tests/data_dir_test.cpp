@@ -68,6 +68,11 @@ TEST(DataDir, InstallTreeWinsInsideABuildFolder) {
             (t.root / "build/stage/share/tileshade/shaders").string());
 }
 
+TEST(DataDir, UnknownExecutableKeepsTheSourceTree) {
+  // Never a path relative to the working directory.
+  EXPECT_EQ(ts::resolveDataDir("", fs::path(), "kernels", "/src/kernels"), "/src/kernels");
+}
+
 TEST(DataDir, ThisTestBinaryFindsTheSourceKernels) {
   const std::string dir = ts::dataDir("TILESHADE_NO_SUCH_VARIABLE", "kernels", TILESHADE_SOURCE_DIR "/kernels");
   EXPECT_TRUE(fs::exists(fs::path(dir) / "shading.h")) << dir;

@@ -27,6 +27,8 @@ bool inBuildFolder(const fs::path& executable) {
 std::string resolveDataDir(const std::string& override, const fs::path& executable,
                            const std::string& name, const std::string& sourceDir) {
   if (!override.empty()) return override;
+  // No /proc (the executable unknown): the source tree, as before there was an install tree.
+  if (executable.empty()) return sourceDir;
   const fs::path installed = (executable.parent_path() / ".." / "share" / "tileshade" / name)
                                  .lexically_normal();
   if (isDirectory(installed)) return installed.string();

@@ -2,7 +2,7 @@
 // Where the binary's data folders (kernels/, shaders/) are, so that an installed tileshade works
 // without its source tree: $TILESHADE_KERNEL_DIR-style override, else the install tree beside the
 // executable (<exe>/../share/tileshade/<name>), else the source tree, but only for a binary run
-// from a build folder (one with a CMakeCache.txt at or above it).
+// from a build folder (one with a CMakeCache.txt at or above it) or when the executable is unknown.
 #include <filesystem>
 #include <string>
 
