@@ -12,6 +12,7 @@
 #include "techniques/technique.h"
 #include "util/error.h"
 #include "util/option_values.h"
+#include "tileshade/version.h"
 
 namespace {
 
@@ -59,6 +60,7 @@ int main(int argc, char** argv) {
   CLI::App app{"tileshade: tiled shading of a G-buffer in OpenCL, and a lab that measures "
                "light-culling techniques for speed and error"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("tileshade ") + TILESHADE_VERSION);
 
   // render
   ts::RenderOptions render;
@@ -186,6 +188,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // One line, like every other bad input (CLI11's default adds a second "Run with --help").

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "util/data_dir.h"
 #include "util/error.h"
 #include "util/file_read.h"
 #include "util/short_text.h"
@@ -130,10 +131,7 @@ std::vector<DeviceInfo> listDevices() {
   return out;
 }
 
-std::string kernelDir() {
-  if (const char* env = std::getenv("TILESHADE_KERNEL_DIR"); env && *env) return env;
-  return TILESHADE_KERNEL_DIR;
-}
+std::string kernelDir() { return dataDir("TILESHADE_KERNEL_DIR", "kernels", TILESHADE_KERNEL_DIR); }
 
 ClContext::ClContext(const std::string& spec) {
   std::string s = spec;

@@ -24,7 +24,8 @@ struct DeviceInfo {
 
 std::vector<DeviceInfo> listDevices();
 
-// Where kernels/ lives: $TILESHADE_KERNEL_DIR, else the source tree this binary was built from.
+// Where kernels/ lives: $TILESHADE_KERNEL_DIR, else <exe>/../share/tileshade/kernels, else (run
+// from a build folder) the source tree this binary was built from (util/data_dir.h).
 std::string kernelDir();
 
 class ClContext {

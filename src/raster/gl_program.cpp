@@ -7,6 +7,7 @@
 #include <sstream>
 #include <vector>
 
+#include "util/data_dir.h"
 #include "util/error.h"
 #include "util/file_read.h"
 
@@ -63,10 +64,7 @@ const char* errorName(GLenum e) {
 
 }  // namespace
 
-std::string shaderDir() {
-  if (const char* env = std::getenv("TILESHADE_SHADER_DIR"); env && *env) return env;
-  return TILESHADE_SHADER_DIR;
-}
+std::string shaderDir() { return dataDir("TILESHADE_SHADER_DIR", "shaders", TILESHADE_SHADER_DIR); }
 
 std::string shaderSource(const std::string& name) {
   const std::string text = readFile(shaderDir() + "/" + name);

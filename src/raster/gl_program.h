@@ -8,7 +8,7 @@
 
 namespace ts::gl {
 
-// $TILESHADE_SHADER_DIR, else the source tree's shaders/ (as kernels/ for OpenCL).
+// $TILESHADE_SHADER_DIR, else the installed or source tree's shaders/ (as kernels/ for OpenCL).
 std::string shaderDir();
 
 // The text of shaderDir()/name with each `#include "other"` line replaced by that file's text.
