@@ -174,7 +174,9 @@ TEST(AccuracyKnobs, PackedDecodeMatchesTheHostForEveryCode) {
     std::memcpy(&e.specular[i * 4], &specular, 4);
     std::memcpy(&e.normal[i * 4], &normal, 4);
     for (int c = 0; c < 4; ++c) {
-      uint16_t h = uint16_t(rng() & 0x7bffu) | uint16_t(rng() & 0x8000u);  // finite halves
+      const uint32_t magnitude = rng();  // one draw per statement (random_draws.h)
+      const uint32_t sign = rng();
+      uint16_t h = uint16_t(magnitude & 0x7bffu) | uint16_t(sign & 0x8000u);  // finite halves
       std::memcpy(&e.emissive[i * 8 + size_t(c) * 2], &h, 2);
     }
   }

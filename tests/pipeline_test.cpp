@@ -16,6 +16,7 @@
 #include "techniques/technique.h"
 #include "reference_check.h"
 #include "test_support.h"
+#include "random_draws.h"
 
 namespace ts {
 namespace {
@@ -198,10 +199,14 @@ std::vector<Light> scatteredLights(const Scene& scene, int n) {
   std::mt19937 rng(2);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<Light> lights;
-  for (int i = 0; i < n; ++i)
-    lights.push_back(Light::point(b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
-                                  glm::vec3(u(rng), u(rng), u(rng)) * size * size * 0.01f,
+  auto draw = [&] { return u(rng); };
+  for (int i = 0; i < n; ++i) {
+    const auto c = test::drawnLastFirst<3>(draw);  // the colour first, as g++ drew the arguments
+    const auto p = test::drawnLastFirst<3>(draw);
+    lights.push_back(Light::point(b.min + glm::vec3(p[0], p[1], p[2]) * b.extent(),
+                                  glm::vec3(c[0], c[1], c[2]) * size * size * 0.01f,
                                   0.25f * size));
+  }
   return lights;
 }
 
