@@ -5,9 +5,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <random>
+
+#include <nlohmann/json.hpp>
 
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
@@ -265,6 +268,17 @@ TEST(CommandLine, RenderWritesImagesStatsAndDump) {
   for (const char* f : {"image.exr", "image.png", "stats.json", "gbuffer.exr", "lights.json"})
     EXPECT_TRUE(std::filesystem::exists(tmp / f)) << f;
   EXPECT_NE(r.output.find("tiled"), std::string::npos);
+  EXPECT_NE(r.output.find("shading err"), std::string::npos) << r.output;
+  // Both windowed errors: from depth in double, and from the kernels' float positions.
+  const nlohmann::json stats = nlohmann::json::parse(std::ifstream(tmp / "stats.json"));
+  const nlohmann::json& t = stats["techniques"][0];
+  for (const char* key : {"error", "error_shading", "error_vs_physical"}) {
+    ASSERT_TRUE(t.contains(key)) << key;
+    EXPECT_LE(t[key]["max_rel_peak"].get<double>(), std::string(key) == "error_vs_physical" ? 1.0
+                                                                                          : 2e-5)
+        << key;
+  }
+  EXPECT_NE(t["error"]["max_rel_peak"], t["error_shading"]["max_rel_peak"]);
 }
 
 }  // namespace
