@@ -38,7 +38,7 @@ NUMERIC = {
     "raster_ms", "warmup", "repeat", "lighting_computations", "evaluations", "gbuffer_bytes_read",
     "nonfinite_pixels", "list_min", "list_mean", "list_max", "min_bytes", "min_flops", "bandwidth_gbs", "peak_gflops",
     "limit_ms", "limit_pct", "reference_contributing", "err_max_abs", "err_rmse", "err_psnr_db",
-    "err_max_rel_peak", "err_p50", "err_p99", "err_p999",
+    "err_max_rel_peak", "err_p50", "err_p99", "err_p999", "err_shading_max_rel_peak",
 }
 MAX_PANELS = 12  # figures per kind, at most
 # Columns every row needs (the figures are keyed and sorted by them).

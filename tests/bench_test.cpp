@@ -297,7 +297,8 @@ TEST(BenchRun, WritesOneRowPerConfigurationAndFrameThenResumes) {
   for (const char* col : {"config_id", "technique", "tile", "gbuffer", "resolution", "frame",
                           "total_ms", "kernels", "wall_ms", "compile_ms", "raster_ms",
                           "lighting_computations", "evaluations", "gbuffer_bytes_read",
-                          "limit_ms", "limit_pct", "flops_basis", "err_rmse", "err_psnr_db"})
+                          "limit_ms", "limit_pct", "flops_basis", "err_rmse", "err_psnr_db",
+                          "err_shading_max_rel_peak"})
     EXPECT_NE(std::find(header.begin(), header.end(), col), header.end()) << col;
   std::set<std::pair<std::string, std::string>> keys;
   for (auto& row : rows) {
@@ -310,6 +311,7 @@ TEST(BenchRun, WritesOneRowPerConfigurationAndFrameThenResumes) {
     bool errorFrame = row["frame"] == "0";
     EXPECT_EQ(row["flops_basis"], errorFrame ? "reference" : "evaluations");
     EXPECT_EQ(row["err_rmse"].empty(), !errorFrame);
+    EXPECT_EQ(row["err_shading_max_rel_peak"].empty(), !errorFrame);
   }
   EXPECT_EQ(keys.size(), 4u);
   std::set<std::string> tiles;
@@ -321,8 +323,11 @@ TEST(BenchRun, WritesOneRowPerConfigurationAndFrameThenResumes) {
   ASSERT_EQ(doc["summaries"].size(), 2u);
   const auto& j = doc["rows"][0];
   for (const char* k : {"technique", "kernels", "total_ms", "lighting_computations", "evaluations",
-                        "gbuffer_bytes_read", "config", "frame", "wall_ms", "limit", "error"})
+                        "gbuffer_bytes_read", "config", "frame", "wall_ms", "limit", "error",
+                        "error_shading"})
     EXPECT_TRUE(j.contains(k)) << k;
+  // The shading-only error (the kernels' float positions) is the fp32 arithmetic's alone.
+  EXPECT_LE(j["error_shading"]["max_rel_peak"].get<double>(), 2e-5);
   EXPECT_GT(doc["runs"][0]["devices"][0]["calibration"]["copy_bandwidth_gbs"].get<double>(), 0.0);
   const auto& s = doc["summaries"][0];
   EXPECT_EQ(s["frames"], 2);

@@ -17,6 +17,7 @@
 #include "util/error.h"
 #include "reference_check.h"
 #include "test_support.h"
+#include "random_draws.h"
 
 namespace ts {
 namespace {
@@ -278,8 +279,11 @@ TEST(SpotCulling, ConesAroundTheCameraMissNothing) {
     Scene scene = builtin(name, name == std::string("street") ? "few" : "small", "");
     Bounds b = scene.bounds();
     for (int cam = 0; cam < 3; ++cam) {
-      glm::vec3 eye = b.min + glm::vec3(u(rng), 0.05f + 0.3f * u(rng), u(rng)) * b.extent();
-      glm::vec3 fwd = glm::normalize(glm::vec3(u(rng) - 0.5f, 0.2f * (u(rng) - 0.5f), u(rng) - 0.5f));
+      auto draw = [&] { return u(rng); };
+      const auto e = test::drawnLastFirst<3>(draw);
+      glm::vec3 eye = b.min + glm::vec3(e[0], 0.05f + 0.3f * e[1], e[2]) * b.extent();
+      const auto d = test::drawnLastFirst<3>(draw);
+      glm::vec3 fwd = glm::normalize(glm::vec3(d[0] - 0.5f, 0.2f * (d[1] - 0.5f), d[2] - 0.5f));
       glm::vec3 side = glm::normalize(glm::cross(fwd, glm::vec3(0, 1, 0)));
       scene.cameraPath = {Camera::lookAt(eye, eye + fwd, {0, 1, 0}, 1.0f, 0.1f, 500.0f)};
       scene.lights.clear();
@@ -295,9 +299,14 @@ TEST(SpotCulling, ConesAroundTheCameraMissNothing) {
       spot(eye + 0.05f * fwd, fwd + 0.2f * side, 60);      // apex at the near plane
       spot(eye + 0.3f * range * fwd, side, 15);            // edge-on, narrow
       spot(eye + 0.5f * range * fwd - 0.4f * range * side, side, 85);  // edge-on, almost flat
-      for (int k = 0; k < 20; ++k)                         // anywhere, any direction
-        spot(b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
-             glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f), 5.0f + 80.0f * u(rng));
+      for (int k = 0; k < 20; ++k) {                       // anywhere, any direction
+        // Last argument first, as g++ drew them (random_draws.h).
+        const float outerDeg = 5.0f + 80.0f * u(rng);
+        const auto a = test::drawnLastFirst<3>(draw);
+        const auto p = test::drawnLastFirst<3>(draw);
+        spot(b.min + glm::vec3(p[0], p[1], p[2]) * b.extent(),
+             glm::vec3(a[0] - 0.5f, a[1] - 0.5f, a[2] - 0.5f), outerDeg);
+      }
       SceneFeatures need = analyzeScene(scene, ShadingModel::BlinnPhong);
       PreparedFrame f = prepareFrame(scene, 0, 128, 80, GBufferFormat::FP32, need);
       ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
@@ -361,8 +370,11 @@ TEST(RealContentInItsOwnModel, EveryTechniqueMatchesTheReference) {
       std::mt19937 rng(4);
       std::uniform_real_distribution<float> u(0.0f, 1.0f);
       for (int i = 0; i < 24; ++i) {
-        glm::vec3 at = b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent();
-        glm::vec3 c = glm::vec3(u(rng), u(rng), u(rng)) * size * size * 0.01f;
+        auto draw = [&] { return u(rng); };
+        const auto p = test::drawnLastFirst<3>(draw);
+        glm::vec3 at = b.min + glm::vec3(p[0], p[1], p[2]) * b.extent();
+        const auto k = test::drawnLastFirst<3>(draw);
+        glm::vec3 c = glm::vec3(k[0], k[1], k[2]) * size * size * 0.01f;
         if (i % 2) scene.lights.push_back(Light::point(at, c, 0.3f * size));
         else scene.lights.push_back(Light::spot(at, glm::vec3(0, -1, 0), c, 0.4f * size, 0.3f, 0.6f));
       }

@@ -11,6 +11,7 @@
 #include "raster/gbuffer.h"
 #include "raster/gbuffer_layout.h"
 #include "util/error.h"
+#include "random_draws.h"
 
 namespace {
 
@@ -275,8 +276,10 @@ TEST(GBufferLayout, PackedOctahedralNormalsWithinTheirBound) {
   std::normal_distribution<double> gauss;
   std::vector<glm::vec3> normals = {{1, 1, 1},   {-1, 1, -1}, {1, -1, 0}, {0, 1, -1e-7f},
                                     {3, 0, -4},  {0.6f, 0.8f, 0},         {-1e-6f, 0, -1}};
-  for (int i = 0; i < 200000; ++i)
-    normals.emplace_back(glm::normalize(glm::dvec3(gauss(rng), gauss(rng), gauss(rng))));
+  for (int i = 0; i < 200000; ++i) {
+    const auto g = ts::test::drawnLastFirst<3>([&] { return gauss(rng); });
+    normals.emplace_back(glm::normalize(glm::dvec3(g[0], g[1], g[2])));
+  }
   double worst = 0.0, worstHost = 0.0;
   for (size_t i = 0; i < normals.size(); ++i) {
     const glm::vec3 n = normals[i];
@@ -312,8 +315,10 @@ TEST(GBufferLayout, PackedColoursAreUnorm8WithinHalfAStep) {
   for (size_t i = 0; i < g.pixelCount(); ++i) {
     g.depth[i] = 2.0f;
     g.normal[i] = glm::vec4(0, 0, 1, 0);
-    g.diffuse[i] = glm::vec4(u(rng), u(rng), u(rng), 1.0f);
-    g.specular[i] = glm::vec4(u(rng), u(rng), u(rng), 32.0f);
+    const auto kd = ts::test::drawnLastFirst<3>([&] { return u(rng); });
+    g.diffuse[i] = glm::vec4(kd[0], kd[1], kd[2], 1.0f);
+    const auto ks = ts::test::drawnLastFirst<3>([&] { return u(rng); });
+    g.specular[i] = glm::vec4(ks[0], ks[1], ks[2], 32.0f);
   }
   // Exact codes, the rounding midpoints and out-of-range values (clamped).
   g.diffuse[0] = glm::vec4(0.0f, 1.0f, 0.5f, 1.0f);       // 0, 255, 127.5 -> 128 (half up)

@@ -5,9 +5,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <random>
+
+#include <nlohmann/json.hpp>
 
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
@@ -16,6 +19,7 @@
 #include "techniques/technique.h"
 #include "reference_check.h"
 #include "test_support.h"
+#include "random_draws.h"
 
 namespace ts {
 namespace {
@@ -198,10 +202,14 @@ std::vector<Light> scatteredLights(const Scene& scene, int n) {
   std::mt19937 rng(2);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<Light> lights;
-  for (int i = 0; i < n; ++i)
-    lights.push_back(Light::point(b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
-                                  glm::vec3(u(rng), u(rng), u(rng)) * size * size * 0.01f,
+  auto draw = [&] { return u(rng); };
+  for (int i = 0; i < n; ++i) {
+    const auto c = test::drawnLastFirst<3>(draw);  // the colour first, as g++ drew the arguments
+    const auto p = test::drawnLastFirst<3>(draw);
+    lights.push_back(Light::point(b.min + glm::vec3(p[0], p[1], p[2]) * b.extent(),
+                                  glm::vec3(c[0], c[1], c[2]) * size * size * 0.01f,
                                   0.25f * size));
+  }
   return lights;
 }
 
@@ -260,6 +268,17 @@ TEST(CommandLine, RenderWritesImagesStatsAndDump) {
   for (const char* f : {"image.exr", "image.png", "stats.json", "gbuffer.exr", "lights.json"})
     EXPECT_TRUE(std::filesystem::exists(tmp / f)) << f;
   EXPECT_NE(r.output.find("tiled"), std::string::npos);
+  EXPECT_NE(r.output.find("shading err"), std::string::npos) << r.output;
+  // Both windowed errors: from depth in double, and from the kernels' float positions.
+  const nlohmann::json stats = nlohmann::json::parse(std::ifstream(tmp / "stats.json"));
+  const nlohmann::json& t = stats["techniques"][0];
+  for (const char* key : {"error", "error_shading", "error_vs_physical"}) {
+    ASSERT_TRUE(t.contains(key)) << key;
+    EXPECT_LE(t[key]["max_rel_peak"].get<double>(), std::string(key) == "error_vs_physical" ? 1.0
+                                                                                          : 2e-5)
+        << key;
+  }
+  EXPECT_NE(t["error"]["max_rel_peak"], t["error_shading"]["max_rel_peak"]);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 
 #include "raster/gbuffer.h"
 #include "util/error.h"
+#include "random_draws.h"
 
 namespace {
 
@@ -507,12 +508,19 @@ Scene randomScene(int triangles, uint32_t seed) {
     // Mostly triangles about a tenth of the view wide at their depth; every 97th one straddles the
     // near plane or lies behind the camera, every 211th is large.
     float z = t % 97 == 0 ? u(rng) * 0.6f : -depth(rng);
-    glm::vec3 c(u(rng) * std::abs(z), u(rng) * std::abs(z), z);
+    auto draw = [&] { return u(rng); };
+    const auto xy = ts::test::drawnLastFirst<2>(draw);
+    glm::vec3 c(xy[0] * std::abs(z), xy[1] * std::abs(z), z);
     float r = size(rng) * (t % 97 == 0 ? 0.2f : 0.06f * std::abs(z)) * (t % 211 == 0 ? 5.0f : 1.0f);
     uint32_t base = uint32_t(s.vertices.size());
-    for (int v = 0; v < 3; ++v)
-      s.vertices.push_back({c + r * glm::vec3(u(rng), u(rng), u(rng)),
-                            glm::normalize(glm::vec3(u(rng), u(rng), 1.0f)), {u(rng), u(rng)}});
+    for (int v = 0; v < 3; ++v) {
+      const auto p = ts::test::drawnLastFirst<3>(draw);
+      const auto n = ts::test::drawnLastFirst<2>(draw);
+      const float uvX = u(rng);  // a braced list's elements were drawn in order
+      const float uvY = u(rng);
+      s.vertices.push_back({c + r * glm::vec3(p[0], p[1], p[2]),
+                            glm::normalize(glm::vec3(n[0], n[1], 1.0f)), {uvX, uvY}});
+    }
     s.indices.insert(s.indices.end(), {base, base + 1, base + 2});
     s.triangleMaterial.push_back(uint32_t(rng() % s.materials.size()));
   }

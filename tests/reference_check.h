@@ -18,6 +18,7 @@
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
 #include "test_support.h"
+#include "random_draws.h"
 
 namespace ts::test {
 
@@ -102,9 +103,11 @@ inline PreparedFrame hugeLightsFrame(int count = 300) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   scene.lights.clear();
-  for (int i = 0; i < count; ++i)
-    scene.lights.push_back(Light::point(b.min + glm::vec3(u(rng), u(rng), u(rng)) * b.extent(),
+  for (int i = 0; i < count; ++i) {
+    const auto p = drawnLastFirst<3>([&] { return u(rng); });
+    scene.lights.push_back(Light::point(b.min + glm::vec3(p[0], p[1], p[2]) * b.extent(),
                                         glm::vec3(0.05f), 1000.0f));
+  }
   return prepareFrame(scene, 0, 96, 64, GBufferFormat::FP32);
 }
 
@@ -123,8 +126,11 @@ inline std::vector<LabelledFrame> randomCameraFrames(uint32_t seed, int cameras 
     Scene scene = builtinScene(name, lights);
     Bounds b = scene.bounds();
     for (int i = 0; i < cameras; ++i) {
-      glm::vec3 eye = b.min + glm::vec3(u(rng), 0.05f + 0.4f * u(rng), u(rng)) * b.extent();
-      glm::vec3 dir(u(rng) - 0.5f, 0.3f * (u(rng) - 0.5f), u(rng) - 0.5f);
+      auto draw = [&] { return u(rng); };
+      const auto e = drawnLastFirst<3>(draw);
+      glm::vec3 eye = b.min + glm::vec3(e[0], 0.05f + 0.4f * e[1], e[2]) * b.extent();
+      const auto d = drawnLastFirst<3>(draw);
+      glm::vec3 dir(d[0] - 0.5f, 0.3f * (d[1] - 0.5f), d[2] - 0.5f);
       scene.cameraPath = {Camera::lookAt(eye, eye + dir, {0, 1, 0}, 1.0f + u(rng), 0.1f, 500.0f)};
       frames.push_back({std::string(name) + " camera " + std::to_string(i),
                         prepareFrame(scene, 0, 160, 96, GBufferFormat::FP32)});

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "reference/shading_cpu.h"
+#include "random_draws.h"
 
 namespace {
 
@@ -134,10 +135,15 @@ dvec3 textbookMr(const MrCase& c) {
 MrCase randomCase(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   MrCase c;
-  c.P = dvec3(4 * u(rng), 4 * u(rng), -3 - 4 * std::abs(u(rng)));
-  c.N = glm::normalize(dvec3(u(rng), u(rng), u(rng)) + glm::normalize(-c.P));
-  c.L = c.P + 4.0 * dvec3(u(rng), u(rng), u(rng));
-  c.base = dvec3(0.5 + 0.5 * u(rng), 0.5 + 0.5 * u(rng), 0.5 + 0.5 * u(rng));
+  auto draw = [&] { return u(rng); };
+  const auto p = ts::test::drawnLastFirst<3>(draw);
+  c.P = dvec3(4 * p[0], 4 * p[1], -3 - 4 * std::abs(p[2]));
+  const auto n = ts::test::drawnLastFirst<3>(draw);
+  c.N = glm::normalize(dvec3(n[0], n[1], n[2]) + glm::normalize(-c.P));
+  const auto l = ts::test::drawnLastFirst<3>(draw);
+  c.L = c.P + 4.0 * dvec3(l[0], l[1], l[2]);
+  const auto k = ts::test::drawnLastFirst<3>(draw);
+  c.base = dvec3(0.5 + 0.5 * k[0], 0.5 + 0.5 * k[1], 0.5 + 0.5 * k[2]);
   c.metallic = 0.5 + 0.5 * u(rng);
   c.roughness = 0.3 + 0.35 * (1 + u(rng));
   return c;
@@ -285,8 +291,11 @@ dvec3 samplePoint(const Cone& c, std::mt19937& rng) {
 Cone randomCone(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Cone c;
-  c.apex = dvec3(6 * u(rng), 4 * u(rng), -8 * std::abs(u(rng)) + 1.0);
-  c.axis = glm::normalize(dvec3(u(rng), u(rng), u(rng)));
+  auto draw = [&] { return u(rng); };
+  const auto p = ts::test::drawnLastFirst<3>(draw);
+  c.apex = dvec3(6 * p[0], 4 * p[1], -8 * std::abs(p[2]) + 1.0);
+  const auto a = ts::test::drawnLastFirst<3>(draw);
+  c.axis = glm::normalize(dvec3(a[0], a[1], a[2]));
   c.range = 0.5 + 5 * std::abs(u(rng));
   c.outer = (1.0 + 89.0 * std::abs(u(rng))) * kPi / 180.0;
   return c;
@@ -339,7 +348,9 @@ TEST(ConeVolumes, PerTileTestsAreConservative) {
       for (int t = 0; t < 20; ++t) {
         int px0 = tile * int(u(rng) * (width / tile)), py0 = tile * int(u(rng) * (height / tile));
         int px1 = std::min(px0 + tile, width), py1 = std::min(py0 + tile, height);
-        double zmin = 0.5 + 12 * u(rng), zmax = zmin + 6 * u(rng) * u(rng);
+        const double zmin = 0.5 + 12 * u(rng);
+        const double spread = 6 * u(rng);  // one draw per statement (random_draws.h)
+        const double zmax = zmin + spread * u(rng);
         bool inside = false;
         for (int k = 0; k < 1500 && !inside; ++k) {
           dvec3 p = samplePoint(c, rng);

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "reference/shading_cpu.h"
+#include "random_draws.h"
 
 namespace {
 
@@ -106,9 +107,13 @@ TEST(Shading, FloatBuildAgreesWithDoubleToFloatRounding) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int i = 0; i < 1000; ++i) {
-    dvec3 P(u(rng) * 5, u(rng) * 5, -3 - 5 * std::abs(u(rng)));
-    dvec3 N = glm::normalize(dvec3(u(rng), u(rng), u(rng)) + dvec3(0, 0, 1.5));
-    dvec3 Lp = P + 3.0 * dvec3(u(rng), u(rng), u(rng));
+    auto draw = [&] { return u(rng); };
+    const auto p = ts::test::drawnLastFirst<3>(draw);
+    dvec3 P(p[0] * 5, p[1] * 5, -3 - 5 * std::abs(p[2]));
+    const auto n = ts::test::drawnLastFirst<3>(draw);
+    dvec3 N = glm::normalize(dvec3(n[0], n[1], n[2]) + dvec3(0, 0, 1.5));
+    const auto l = ts::test::drawnLastFirst<3>(draw);
+    dvec3 Lp = P + 3.0 * dvec3(l[0], l[1], l[2]);
     dvec3 d = ts_point_light(P, N, glm::normalize(-P), dvec3(0.7), dvec3(0.3), 24, Lp,
                              dvec3(2.0), 4.0, TS_MODEL_WINDOWED);
     glm::vec3 Pf(P), Nf(N), Lf(Lp);
@@ -175,7 +180,8 @@ TEST(Culling, SphereBoundsAreConservativeAndTight) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int i = 0; i < 60; ++i) {
-    dvec3 c(10 * u(rng), 6 * u(rng), -1 - 20 * std::abs(u(rng)));
+    const auto p = ts::test::drawnLastFirst<3>([&] { return u(rng); });
+    dvec3 c(10 * p[0], 6 * p[1], -1 - 20 * std::abs(p[2]));
     checkSphereBounds(c, 0.2 + 4 * std::abs(u(rng)), 0.1, 0.9, 0.5);
   }
 }
@@ -231,12 +237,17 @@ TEST(Culling, PerTileTestsAreConservative) {
   for (int i = 0; i < 4000; ++i) {
     int px0 = tile * int(u(rng) * (width / tile)), py0 = tile * int(u(rng) * (height / tile));
     int px1 = std::min(px0 + tile, width), py1 = std::min(py0 + tile, height);
-    double zmin = 1 + 20 * u(rng), zmax = zmin + 10 * u(rng) * u(rng);
-    dvec3 c((u(rng) - 0.5) * 30, (u(rng) - 0.5) * 16, -(u(rng) * 35));
+    const double zmin = 1 + 20 * u(rng);
+    const double spread = 10 * u(rng);  // one draw per statement (random_draws.h)
+    const double zmax = zmin + spread * u(rng);
+    auto draw = [&] { return u(rng); };
+    const auto p = ts::test::drawnLastFirst<3>(draw);
+    dvec3 c((p[0] - 0.5) * 30, (p[1] - 0.5) * 16, -(p[2] * 35));
     double r = 0.2 + 3 * u(rng);
     bool inside = false;  // does a sampled point of the sphere lie in the tile's frustum piece?
     for (int k = 0; k < 3000 && !inside; ++k) {
-      dvec3 d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+      const auto q = ts::test::drawnLastFirst<3>(draw);
+      dvec3 d(q[0] - 0.5, q[1] - 0.5, q[2] - 0.5);
       if (glm::length(d) > 0.5) continue;
       dvec3 p = c + 2.0 * r * d;
       double w = -p.z;

@@ -144,7 +144,7 @@ const std::vector<std::string>& rowColumns() {
       "evaluations", "gbuffer_bytes_read", "nonfinite_pixels", "list_min", "list_mean", "list_max", "min_bytes",
       "min_flops", "flops_basis", "bandwidth_gbs", "peak_gflops", "limit_ms", "limit_pct",
       "reference_contributing", "err_max_abs", "err_rmse", "err_psnr_db", "err_max_rel_peak",
-      "err_p50", "err_p99", "err_p999", "notes"};
+      "err_p50", "err_p99", "err_p999", "err_shading_max_rel_peak", "notes"};
   return cols;
 }
 
@@ -191,6 +191,8 @@ std::vector<std::string> csvFieldsOf(const json& row) {
   f.push_back(numberText(num(limit, "limit_pct")));
   f.push_back(intText(row, "reference_contributing"));
   for (const char* e : kErrorFields) f.push_back(error.empty() ? "" : numberText(num(error, e)));
+  f.push_back(row.contains("error_shading") ? numberText(num(row["error_shading"], "max_rel_peak"))
+                                            : "");
   f.push_back(notes);
   return f;
 }
@@ -250,6 +252,8 @@ json rowFromCsv(const std::map<std::string, std::string>& r, const std::string& 
     for (const char* k : kErrorFields) e[k] = number(std::string("err_") + k);
     row["error"] = e;
   }
+  if (!get("err_shading_max_rel_peak").empty())
+    row["error_shading"] = {{"max_rel_peak", number("err_shading_max_rel_peak")}};
   return row;
 }
 
@@ -739,7 +743,7 @@ BenchRunResult runBench(const BenchOptions& o) {
           it = layouts.emplace(key, encode(prepared.gbuffer, format, features)).first;
         return it->second;
       };
-      std::map<std::pair<int, int>, ReferenceImage> references;
+      std::map<std::pair<int, int>, ReferenceImage> references, shadingReferences;
       // The error reference of every configuration of this frame: the windowed model in double
       // from the fp32 G-buffer and the scene's own light ranges, so storage precision, light
       // ranges, arithmetic and culling all show in err_* (error_vs_stored isolates the last two).
@@ -798,7 +802,7 @@ BenchRunResult runBench(const BenchOptions& o) {
           std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return reps[a].r.totalMs < reps[b].r.totalMs; });
           Timed& m = reps[idx[(idx.size() - 1) / 2]];
 
-          std::optional<ErrorStats> error, errorStored;
+          std::optional<ErrorStats> error, errorStored, errorShading;
           const ReferenceImage* reference = nullptr;
           if (e->errorFrames.count(f)) {
             // The stored values decide the reference; the features' planes do not change them.
@@ -809,6 +813,15 @@ BenchRunResult runBench(const BenchOptions& o) {
                                                           prepared.ambient, tc.shadingModel)).first;
             reference = &it->second;
             errorStored = compareToReference(m.r.image, *reference, kTolerance * reference->peak);
+            // The same values with the kernels' float positions: the shading arithmetic alone.
+            auto shading = shadingReferences.find(key);
+            if (shading == shadingReferences.end())
+              shading = shadingReferences.emplace(key, shadeReference(enc, prepared.intrinsics,
+                                                      prepared.lights, prepared.ambient,
+                                                      tc.shadingModel, 0, {},
+                                                      ReferencePositions::KernelFloat)).first;
+            errorShading = compareToReference(m.r.image, shading->second,
+                                              kTolerance * shading->second.peak);
             // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
             bool same = e->config.format == GBufferFormat::FP32 &&
                         e->config.lightThreshold <= 0.0f && tc.shadingModel == TS_MODEL_WINDOWED;
@@ -853,6 +866,7 @@ BenchRunResult runBench(const BenchOptions& o) {
           row["limit"] = limit;
           if (reference) row["reference_contributing"] = reference->contributing;
           if (errorStored) row["error_vs_stored"] = errorJson(*errorStored);
+          if (errorShading) row["error_shading"] = errorJson(*errorShading);
 
           csv << csvLine(csvFieldsOf(row)) << "\n";
           flushChecked(csv, csvPath);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <mutex>
 #include <thread>
 
@@ -58,13 +59,26 @@ glm::dvec3 directionalContribution(const SurfaceD& s, const shading_d::ts_shadin
                                          shading, 1);
 }
 
+// The kernels' own position of pixel (x, y): ts_view_position in float from the stored depth (as
+// ts_load_surface calls it), widened; the view vector and the Smith view term follow from it.
+void useKernelPosition(SurfaceD& s, const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
+                       int x, int y) {
+  const float depth = gbuffer.depth[size_t(y) * size_t(gbuffer.width) + size_t(x)];
+  s.P = glm::dvec3(shading_f::ts_view_position(x, y, depth, camera.tanHalfFovX,
+                                               camera.tanHalfFovY, camera.width, camera.height));
+  s.V = -s.P / std::sqrt(glm::dot(s.P, s.P));  // as decodeSurface; depth > 0: never zero
+  if (gbuffer.model == ShadingModel::MetallicRoughness)
+    s.viewTerm = shading_d::ts_smith_view_term(s.N, s.V, s.gloss);
+}
+
 bool nonZero(const glm::dvec3& v) { return v.x != 0.0 || v.y != 0.0 || v.z != 0.0; }
 
 }  // namespace
 
 ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
                               const ViewLights& lights, glm::vec3 ambient, int model,
-                              int threads, const RowProgress& progress) {
+                              int threads, const RowProgress& progress,
+                              ReferencePositions positions) {
   ReferenceImage ref;
   ref.width = gbuffer.width;
   ref.height = gbuffer.height;
@@ -76,6 +90,7 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
     for (int x = 0; x < gbuffer.width; ++x) {
       SurfaceD s;
       if (!decodeSurface(gbuffer, camera, x, y, s)) continue;
+      if (positions == ReferencePositions::KernelFloat) useKernelPosition(s, gbuffer, camera, x, y);
       shading_d::ts_shading_point p = shadingPoint(s, shading);
       glm::dvec3 sum(0.0);
       // Punctual lights in list order, then the directional ones, as the kernels add them.

@@ -22,13 +22,24 @@ struct ReferenceImage {
   double peak = 0.0;              // largest channel value
 };
 
+// Where the reference takes a pixel's view-space position from.
+enum class ReferencePositions {
+  // Rebuilt from the stored depth in double: the truth for the stored values. Near a light in or
+  // on a surface, the kernels' float rounding of the position shows in the error against it.
+  FromDepth,
+  // Rebuilt in float exactly as the kernels do (ts_view_position in float, kernels/gbuffer.h),
+  // then shaded in double: isolates the shading arithmetic from the position's rounding.
+  KernelFloat,
+};
+
 // Called from the worker threads (one call at a time) after each image row with the rows done so
 // far and the total, so that a long reference (1e5-1e6 lights) can show progress; may be empty.
 using RowProgress = std::function<void(int rowsDone, int rows)>;
 
 ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
                               const ViewLights& lights, glm::vec3 ambient, int model,
-                              int threads = 0, const RowProgress& progress = {});
+                              int threads = 0, const RowProgress& progress = {},
+                              ReferencePositions positions = ReferencePositions::FromDepth);
 
 // For every geometry pixel and every point or spot light whose reference contribution is non-zero
 // (directional lights are never culled), checks that

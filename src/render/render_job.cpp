@@ -145,17 +145,22 @@ void runRender(const RenderOptions& options) {
   fs::create_directories(o.outDir, ec);
   if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
 
-  // Two references: the windowed model from the very values the kernels read (isolates culling
-  // and arithmetic), and the physical model (no range cut) from the fp32 G-buffer (adds the bias
-  // of the range cut and of the storage precision).
-  std::optional<ReferenceImage> reference, physical;
+  // Three references: the windowed model from the stored values, positions rebuilt from depth in
+  // double (culling, arithmetic and the kernels' float positions); the same with the kernels'
+  // float positions (culling and shading arithmetic only); and the physical model (no range cut)
+  // from the fp32 G-buffer (adds the bias of the range cut and of the storage precision).
+  std::optional<ReferenceImage> reference, shadingOnly, physical;
   ReferenceProgress progress(prepared.encoded.pixelCount(), prepared.lights.size(),
-                             2 + int(techniques.size()), o.height);
+                             3 + int(techniques.size()), o.height);
   if (o.check) {
     outOfMemoryAs("computing the double-precision reference of a " + frameText(o) + " frame", [&] {
       reference = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
                                  prepared.ambient, config.shadingModel, 0,
                                  progress.pass("windowed model"));
+      shadingOnly = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
+                                   prepared.ambient, config.shadingModel, 0,
+                                   progress.pass("windowed model, kernel positions"),
+                                   ReferencePositions::KernelFloat);
       const EncodedGBuffer fp32 = o.format == GBufferFormat::FP32
                                       ? prepared.encoded
                                       : encode(prepared.gbuffer, GBufferFormat::FP32);
@@ -182,7 +187,8 @@ void runRender(const RenderOptions& options) {
   table << std::left << std::setw(18) << "technique" << std::right << std::setw(6) << "lanes"
         << std::setw(10) << "total ms"
         << std::setw(16) << "lighting comp." << std::setw(15) << "evaluations" << std::setw(13)
-        << "max err/peak" << std::setw(8) << "missed" << std::setw(12) << "G-buf MB"
+        << "max err/peak" << std::setw(13) << "shading err" << std::setw(8) << "missed"
+        << std::setw(12) << "G-buf MB"
         << "  per-kernel ms\n";
   for (size_t t = 0; t < techniques.size(); ++t) {
     const std::string& name = techniques[t];
@@ -197,10 +203,11 @@ void runRender(const RenderOptions& options) {
     writeExrRgb(dir + "/image.exr", o.width, o.height, r.image);
     writePngToneMapped(dir + "/image.png", o.width, o.height, r.image, o.exposure);
 
-    std::optional<ErrorStats> error, errorPhysical;
+    std::optional<ErrorStats> error, errorShading, errorPhysical;
     std::optional<uint64_t> missed;
     if (reference) {
       error = compareToReference(r.image, *reference, kReportTolerance * reference->peak);
+      errorShading = compareToReference(r.image, *shadingOnly, kReportTolerance * shadingOnly->peak);
       errorPhysical = compareToReference(r.image, *physical, kReportTolerance * physical->peak);
       if (o.heatmap)
         writeHeatMapPng(dir + "/error.png", o.width, o.height, errorMap(r.image, *reference),
@@ -212,14 +219,19 @@ void runRender(const RenderOptions& options) {
     }
     results.push_back(techniqueJson(name, r, error, missed));
     results.back()["lanes"] = technique->lanes();
+    if (errorShading) results.back()["error_shading"] = errorJson(*errorShading);
     if (errorPhysical) results.back()["error_vs_physical"] = errorJson(*errorPhysical);
 
-    std::ostringstream err;
-    if (error) err << std::scientific << std::setprecision(2) << error->maxRelPeak;
-    else err << "-";
+    auto relPeak = [](const std::optional<ErrorStats>& e) {
+      std::ostringstream text;
+      if (e) text << std::scientific << std::setprecision(2) << e->maxRelPeak;
+      else text << "-";
+      return text.str();
+    };
     table << std::left << std::setw(18) << name << std::right << std::setw(6) << technique->lanes()
           << std::fixed << std::setprecision(3) << std::setw(10) << r.totalMs << std::setw(16) << r.counters.lightingComputations
-          << std::setw(15) << r.counters.evaluations << std::setw(13) << err.str() << std::setw(8)
+          << std::setw(15) << r.counters.evaluations << std::setw(13) << relPeak(error)
+          << std::setw(13) << relPeak(errorShading) << std::setw(8)
           << (missed ? std::to_string(*missed) : std::string("-")) << std::setw(12)
           << std::setprecision(1) << double(r.counters.gbufferBytesRead) / 1e6 << "  "
           << kernelSummary(r)

@@ -113,10 +113,13 @@ std::vector<Light> makeLights(const std::string& set, uint32_t seed, int count) 
     bool big = set == "big" || (set == "mixed" && k % kMixedBigEvery == 0);
     Light l;
     if (big) {
-      // Anywhere in the courtyard or over the aisles, 1.5..10 m up.
+      // Anywhere in the courtyard or over the aisles, 1.5..10 m up. (A braced list's elements are
+      // evaluated in order, unlike a call's arguments.)
       l.position = {rnd.uniform(-13.0f, 13.0f), rnd.uniform(1.5f, 10.0f), rnd.uniform(-9.0f, 9.0f)};
       l.range = rnd.uniform(kBigRange0, kBigRange1);
-      l.color = kBigK * l.range * l.range * hueColor(rnd.uniform(), rnd.uniform(0.1f, 0.4f));
+      const float saturation = rnd.uniform(0.1f, 0.4f);  // first: g++'s old order (SceneRandom)
+      const float hue = rnd.uniform();
+      l.color = kBigK * l.range * l.range * hueColor(hue, saturation);
     } else {
       // 55% in the courtyard, 25% in the ground-floor aisles, 20% in the gallery; near surfaces.
       float region = rnd.uniform();
@@ -131,7 +134,9 @@ std::vector<Light> makeLights(const std::string& set, uint32_t seed, int count) 
                       side * rnd.uniform(7.2f, 10.6f)};
       }
       l.range = rnd.uniform(kSmallRange0, kSmallRange1);
-      l.color = kSmallK * l.range * l.range * hueColor(rnd.uniform(), rnd.uniform(0.4f, 0.9f));
+      const float saturation = rnd.uniform(0.4f, 0.9f);  // first: g++'s old order (SceneRandom)
+      const float hue = rnd.uniform();
+      l.color = kSmallK * l.range * l.range * hueColor(hue, saturation);
     }
     lights.push_back(l);
   }
@@ -223,9 +228,11 @@ Scene makeAtriumScene(const std::string& lightSet, uint32_t seed, int lightCount
     float s = float(side);
     glm::vec3 along{-s, 0.0f, 0.0f};  // normals towards the courtyard
     for (int b : {1, 3, 4, 6}) {
-      float amp = rnd.uniform(0.08f, 0.18f);
-      mb.curtain({bayCenter(b), 7.7f, s * (kHalfZ - 0.6f)}, along, 3.0f,
-                 rnd.uniform(4.2f, 5.4f), amp, rnd.uniform(2.5f, 4.0f), 24, M.cloth[colour++ % 3]);
+      const float amp = rnd.uniform(0.08f, 0.18f);
+      const float waves = rnd.uniform(2.5f, 4.0f);  // before the height: g++'s old order
+      const float height = rnd.uniform(4.2f, 5.4f);
+      mb.curtain({bayCenter(b), 7.7f, s * (kHalfZ - 0.6f)}, along, 3.0f, height, amp, waves, 24,
+                 M.cloth[colour++ % 3]);
     }
     for (int b : {0, 2, 5, 7})
       mb.curtain({bayCenter(b), 15.6f, s * (kHalfZ - 0.45f)}, along, 1.6f, rnd.uniform(3.0f, 3.8f),

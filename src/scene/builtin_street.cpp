@@ -210,7 +210,9 @@ Layout makeLayout(SceneRandom& rnd) {
     r.position = {p.x(z), 0.0f, z};
     r.height = rnd.uniform(1.2f, 3.0f);
     // Face along the path (+Z or -Z), turned a little.
-    r.yaw = (rnd.chance(0.5f) ? 0.0f : kPi) + rnd.uniform(-0.5f, 0.5f);
+    const bool backwards = !rnd.chance(0.5f);
+    const float turn = rnd.uniform(-0.5f, 0.5f);
+    r.yaw = (backwards ? kPi : 0.0f) + turn;
     r.paint = rnd.index(4);
     r.kind = rnd.index(2);
   }
@@ -231,7 +233,9 @@ std::vector<Light> manyLights(const Layout& L, uint32_t seed, int count) {
     Light l;
     float offset = rnd.uniform(-3.0f, 3.0f);
     l.position = {L.paths[path].x(z) + offset, rnd.uniform(1.0f, 6.0f), z};
-    l.color = kManyIntensity * hueColor(rnd.uniform(), rnd.uniform(0.3f, 0.9f));
+    const float saturation = rnd.uniform(0.3f, 0.9f);  // first: g++'s old order (SceneRandom)
+    const float hue = rnd.uniform();
+    l.color = kManyIntensity * hueColor(hue, saturation);
     l.range = kManyRange;
     lights.push_back(l);
   }
@@ -251,7 +255,9 @@ std::vector<Light> fewLights(const Layout& L, uint32_t seed, int count) {
     l.position = r.position + glm::vec3(1.2f * std::cos(a),
                                          r.height + 2.5f + 2.0f * float(k / kRobots),
                                          1.2f * std::sin(a));
-    l.color = kFewIntensity * hueColor(rnd.uniform(), rnd.uniform(0.1f, 0.35f));
+    const float saturation = rnd.uniform(0.1f, 0.35f);  // first: g++'s old order (SceneRandom)
+    const float hue = rnd.uniform();
+    l.color = kFewIntensity * hueColor(hue, saturation);
     l.range = kFewRange;
     lights.push_back(l);
   }

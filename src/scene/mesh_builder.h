@@ -12,7 +12,12 @@
 namespace ts {
 
 // std::mt19937 is fully specified by the standard; the float mapping is ours (not
-// std::uniform_real_distribution, whose algorithm differs between libraries).
+// std::uniform_real_distribution, whose algorithm differs between libraries). Draw each number
+// into a named local, one statement each: C++ leaves the order of a call's arguments (and of the
+// operands of +) unspecified, so two draws in one expression give another scene on another
+// compiler. Where the generators once had such expressions, the locals are drawn in the order
+// g++ on x86-64 evaluated them (arguments right to left), which keeps the scenes as they were;
+// BuiltinScenePins (tests/scene_test.cpp) holds values of each scene.
 class SceneRandom {
  public:
   explicit SceneRandom(uint32_t seed) : rng_(seed) {}
