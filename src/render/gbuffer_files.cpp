@@ -9,6 +9,7 @@
 
 #include "reference/shading_cpu.h"  // TS_DMIN
 #include "util/error.h"
+#include "util/float_limit.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -338,7 +339,7 @@ const std::vector<LightField>& lightFields() {
          l.direction = f.vec3("direction");
          const double len = glm::length(glm::dvec3(l.direction));
          if (std::abs(len - 1.0) > 1e-5)
-           f.fail("direction", "must be a unit vector, its length is " + std::to_string(len));
+           f.fail("direction", "must be a unit vector, its length is " + fullText(len));
        }},
       // Spot cone: the kernels' values, or glTF's angles (read below).
       {"cos_outer", kSpot, [](const LightRecord& l) { return json(l.cosOuter); }, nullptr},
@@ -356,14 +357,23 @@ void readCone(LightRecord& l, const JsonFields& f) {
     f.fail("outer_cone_angle", "(with inner_cone_angle), or cos_outer with cone_scale: give one "
                                "pair");
   if (kernelForm) {
-    l.cosOuter = float(f.number("cos_outer"));
+    // A cos of a float pi/2 cone (-4.4e-8) is a cos of 0 (util/float_limit.h); 1 is a cone
+    // narrower than a float's cos resolves (under 3.5e-4 radians), lighting nothing.
+    const double cosOuter = f.number("cos_outer");
     l.coneScale = float(f.positive("cone_scale"));
-    if (!(l.cosOuter >= 0.0f && l.cosOuter < 1.0f)) f.fail("cos_outer", "must be in [0, 1)");
+    if (!withinFloatRounding(cosOuter, 0.0, 1.0, /*scale=*/1.0))
+      f.fail("cos_outer", "must be in [0, 1], got " + fullText(cosOuter));
+    l.cosOuter = float(std::clamp(cosOuter, 0.0, 1.0));
     return;
   }
-  const double inner = f.number("inner_cone_angle"), outer = f.number("outer_cone_angle");
-  if (!(inner >= 0.0 && inner < outer && outer <= 1.5707963267948966))
-    f.fail("outer_cone_angle", "must satisfy 0 <= inner_cone_angle < outer_cone_angle <= pi/2");
+  double inner = f.number("inner_cone_angle"), outer = f.number("outer_cone_angle");
+  if (!(withinFloatRounding(inner, 0.0, kHalfPi) && withinFloatRounding(outer, 0.0, kHalfPi) &&
+        inner < outer))
+    f.fail("outer_cone_angle", "must satisfy 0 <= inner_cone_angle < outer_cone_angle <= pi/2 (" +
+                                   fullText(kHalfPi) + "), got inner " + fullText(inner) +
+                                   ", outer " + fullText(outer));
+  inner = std::clamp(inner, 0.0, kHalfPi);
+  outer = std::clamp(outer, 0.0, kHalfPi);
   const ViewLights v = toViewSpace(
       {Light::spot(l.position, l.direction, l.color, l.range, float(inner), float(outer))},
       glm::mat4(1.0f));
@@ -409,9 +419,10 @@ LightsFile readLightsFile(const std::string& path) {
   if (!j.is_object()) throw Error(path + " must hold a JSON object");
   const JsonFields top{path, j, ""};
   top.onlyKeys({"dmin", "ambient", "lights"});
-  if (top.has("dmin") && top.number("dmin") != TS_DMIN)
-    top.fail("dmin", "is " + j.at("dmin").dump() + " but the kernels use " +
-                         std::to_string(TS_DMIN));
+  // The kernels' dmin is a float of TS_DMIN: either reads as it.
+  if (top.has("dmin") && !withinFloatRounding(top.number("dmin"), TS_DMIN, TS_DMIN))
+    top.fail("dmin", "is " + fullText(top.number("dmin")) + " but the kernels use " +
+                         fullText(TS_DMIN));
   LightsFile out;
   if (top.has("ambient")) out.ambient = top.vec3("ambient");
   if (!top.has("lights") || !j.at("lights").is_array()) top.fail("lights", "must be an array");

@@ -18,6 +18,7 @@
 #include "scene/scene_loader.h"
 #include "util/error.h"
 #include "util/file_write.h"
+#include "util/float_limit.h"
 #include "util/stderr_capture.h"
 
 namespace ts {
@@ -284,8 +285,9 @@ void exportGltf(const Scene& scene, const std::string& path) {
     light.color = {color.x, color.y, color.z};
     if (l.hasRange()) light.range = l.range;
     if (l.type == LightType::Spot) {
-      light.spot.innerConeAngle = l.innerConeAngle;
-      light.spot.outerConeAngle = l.outerConeAngle;
+      // A float pi/2 is above pi/2, which strict loaders refuse: written as pi/2 itself.
+      light.spot.innerConeAngle = std::min(double(l.innerConeAngle), kHalfPi);
+      light.spot.outerConeAngle = std::min(double(l.outerConeAngle), kHalfPi);
     }
     m.lights.push_back(light);
     tinygltf::Node node;

@@ -28,6 +28,7 @@
 #include "scene/scene_loader.h"
 #include "util/checked_size.h"
 #include "util/error.h"
+#include "util/float_limit.h"
 #include "util/stderr_capture.h"
 
 namespace ts {
@@ -674,9 +675,12 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
   if (light.color.size() >= 3) c = {light.color[0], light.color[1], light.color[2]};
   c *= light.intensity;
   glm::vec3 color = floatVec3(c.x, c.y, c.z, read_, what + ": light colour x intensity");
-  glm::vec3 position = glm::vec3(world[3]);
-  glm::vec3 axis = glm::vec3(-world[2]);
-  float axisLength = glm::length(axis);
+  // The node's world position and axis stay double: a float position 1e5 from the origin is
+  // rounded by up to 4e-3, which the double view transform would then keep (Light::position); a
+  // float length of the axis of a node scaled by 1e30 overflows.
+  const glm::dvec3 position(world[3]);
+  const glm::dvec3 axis(-world[2]);
+  const double axisLength = glm::length(axis);
   float range = light.range > 0.0 ? float(light.range) : rangeFromThreshold(color, gltf::kLightThreshold);
   if (light.type == "point") {
     scene_.lights.push_back(Light::point(position, color, range));
@@ -686,18 +690,23 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
     ++otherLights_;
     return;
   }
-  if (!(axisLength > 0.0f) || !std::isfinite(axisLength))
-    read_.fail(what + ": the " + light.type + " light's node transform has no direction");
-  glm::vec3 direction = axis / axisLength;
+  if (!(axisLength > 0.0) || !std::isfinite(axisLength))
+    read_.fail(what + ": the " + light.type + " light's node transform has a zero scale along "
+               "its -Z axis (no direction)");
+  const glm::vec3 direction(axis / axisLength);
   if (light.type == "directional") {
     scene_.lights.push_back(Light::directional(direction, color));
     return;
   }
+  // A float of pi/2 (what float-based exporters, tileshade's too, write) is taken as pi/2.
   double inner = light.spot.innerConeAngle, outer = light.spot.outerConeAngle;
-  const double halfPi = 1.5707963267948966;
-  if (!(inner >= 0.0 && inner < outer && outer <= halfPi))
+  if (!(withinFloatRounding(inner, 0.0, kHalfPi) && withinFloatRounding(outer, 0.0, kHalfPi) &&
+        inner < outer))
     read_.fail(what + ": spot cone angles must satisfy 0 <= innerConeAngle < outerConeAngle <= "
-               "pi/2, got inner " + std::to_string(inner) + ", outer " + std::to_string(outer));
+               "pi/2 (" + fullText(kHalfPi) + "), got inner " + fullText(inner) + ", outer " +
+               fullText(outer));
+  inner = std::clamp(inner, 0.0, kHalfPi);
+  outer = std::clamp(outer, 0.0, kHalfPi);
   scene_.lights.push_back(
       Light::spot(position, direction, color, range, float(inner), float(outer)));
 }
@@ -869,8 +878,10 @@ void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
       camera_.viewFromWorld = glm::inverse(rigid);
       // yfov, znear > 0 and zfar >= 0 within float's range were checked in the JSON.
       const auto& pc = cam.perspective;
-      if (!(pc.yfov < double(kPi)))
-        read_.fail(what + ": camera yfov " + shortText(pc.yfov) + " is not below pi");
+      // Below pi as the float the camera keeps (a float of 3.14159264 is above pi).
+      if (!(double(float(pc.yfov)) < 3.141592653589793))
+        read_.fail(what + ": camera yfov " + fullText(pc.yfov) + " is not below pi (" +
+                   fullText(3.141592653589793) + ") as a float");
       if (pc.zfar > 0.0 && !(pc.zfar > pc.znear))
         read_.fail(what + ": camera zfar " + shortText(pc.zfar) + " is not beyond znear " +
                    shortText(pc.znear));

@@ -56,7 +56,7 @@ std::string describeLights(const std::vector<Light>& lights) {
   return s + ": " + parts;
 }
 
-Light Light::point(glm::vec3 position, glm::vec3 color, float range) {
+Light Light::point(glm::dvec3 position, glm::vec3 color, float range) {
   Light l;
   l.position = position;
   l.color = color;
@@ -64,7 +64,7 @@ Light Light::point(glm::vec3 position, glm::vec3 color, float range) {
   return l;
 }
 
-Light Light::spot(glm::vec3 position, glm::vec3 direction, glm::vec3 color, float range,
+Light Light::spot(glm::dvec3 position, glm::vec3 direction, glm::vec3 color, float range,
                   float innerConeAngle, float outerConeAngle) {
   Light l = point(position, color, range);
   l.type = LightType::Spot;

@@ -65,16 +65,18 @@ std::string toString(LightType type);  // "point" | "spot" | "directional"
 // lights every surface from `direction`'s opposite, with no position and no range.
 struct Light {
   LightType type = LightType::Point;
-  glm::vec3 position{0.0f};            // world space (point, spot)
+  glm::dvec3 position{0.0};            // world space (point, spot); double until the view
+                                       // transform, as the camera (docs/hard-cases.md)
   glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world space, unit, where the light travels (spot,
                                            // directional): a node's -Z in glTF
   glm::vec3 color{1.0f};
   float range = 1.0f;                  // point, spot: > 0
-  float innerConeAngle = 0.0f;         // spot, radians: 0 <= inner < outer <= pi/2
+  float innerConeAngle = 0.0f;         // spot, radians: 0 <= inner < outer <= pi/2 (a float
+                                       // of pi/2 is 4.4e-8 above it: taken as pi/2)
   float outerConeAngle = 0.7853981634f;  // spot, radians (glTF's default pi/4)
 
-  static Light point(glm::vec3 position, glm::vec3 color, float range);
-  static Light spot(glm::vec3 position, glm::vec3 direction, glm::vec3 color, float range,
+  static Light point(glm::dvec3 position, glm::vec3 color, float range);
+  static Light spot(glm::dvec3 position, glm::vec3 direction, glm::vec3 color, float range,
                     float innerConeAngle, float outerConeAngle);
   static Light directional(glm::vec3 direction, glm::vec3 color);
   bool hasRange() const { return type != LightType::Directional; }
