@@ -377,12 +377,16 @@ TEST(HostileGltf, NoWarningLinePrecedesTheError) {
   std::filesystem::remove(path);
 }
 
+// The triangle textured, its TEXCOORD_0 the positions' first two floats of each vertex.
 json texturedTriangle(const std::string& uri) {
   json doc = triangle();
   doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
   doc["meshes"][0]["primitives"][0]["material"] = 0;
   doc["textures"] = {{{"source", 0}}};
   doc["images"] = {{{"uri", uri}}};
+  doc["accessors"].push_back(
+      {{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC2"}});
+  doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
   return doc;
 }
 
@@ -435,6 +439,95 @@ TEST(HostileGltf, FarOffTextureCoordinatesWrapWithoutOverflow) {
     EXPECT_GE(v.x, 1.0f);
     EXPECT_LE(v.x, 4.0f);
   }
+}
+
+// ---- issue #16: options that were ignored, messages with the wrong cause ----------------------
+
+json texturedTriangleWithUVs() {
+  return texturedTriangle("data:image/png;base64," + base64(pngHeader(2, 2, true)));
+}
+
+std::string warningWith(const Loaded& r, const std::string& fragment) {
+  for (const auto& w : r.warnings)
+    if (w.find(fragment) != std::string::npos) return w;
+  return "";
+}
+
+TEST(HostileGltf, SamplerSettingsThatAreNotModelledAreWarned) {
+  json doc = texturedTriangleWithUVs();
+  doc["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}, {"minFilter", 9984}}};
+  doc["textures"][0]["sampler"] = 0;
+  Loaded r = load(doc);
+  ASSERT_TRUE(r.ok) << r.error;
+  const std::string w = warningWith(r, "sampler setting");
+  EXPECT_NE(w.find("4 sampler setting(s)"), std::string::npos) << w;
+  EXPECT_NE(w.find("samplers[0].wrapS CLAMP_TO_EDGE"), std::string::npos) << w;
+  EXPECT_NE(w.find("samplers[0].magFilter NEAREST"), std::string::npos) << w;
+  doc["samplers"] = {{{"wrapT", 33648}}};
+  Loaded mirrored = load(doc);
+  ASSERT_TRUE(mirrored.ok) << mirrored.error;
+  EXPECT_NE(warningWith(mirrored, "samplers[0].wrapT MIRRORED_REPEAT"), "");
+  // glTF's defaults and the exporter's sampler (REPEAT, LINEAR) say nothing.
+  doc["samplers"] = {{{"wrapS", 10497}, {"magFilter", 9729}, {"minFilter", 9987}}};
+  Loaded plain = load(doc);
+  ASSERT_TRUE(plain.ok) << plain.error;
+  EXPECT_EQ(warningWith(plain, "sampler"), "");
+}
+
+TEST(HostileGltf, KhrTextureTransformIsWarned) {
+  json doc = texturedTriangleWithUVs();
+  doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+      {"KHR_texture_transform", {{"offset", {0.5, 0}}, {"scale", {2, 2}}}}};
+  doc["extensionsUsed"].push_back("KHR_texture_transform");
+  Loaded r = load(doc);
+  ASSERT_TRUE(r.ok) << r.error;
+  const std::string w = warningWith(r, "KHR_texture_transform");
+  EXPECT_NE(w.find("materials[0].pbrMetallicRoughness.baseColorTexture"), std::string::npos) << w;
+}
+
+TEST(HostileGltf, ATexCoordSetThePrimitiveLacksIsAnError) {
+  json doc = texturedTriangleWithUVs();
+  ASSERT_TRUE(load(doc).ok);
+  doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1;
+  expectError(doc, "samples texCoord 1 but the primitive has no TEXCOORD_1");
+  doc = texturedTriangleWithUVs();
+  doc["materials"][0]["emissiveTexture"] = {{"index", 0}, {"texCoord", 3}};
+  expectError(doc, "emissiveTexture samples texCoord 3");
+}
+
+TEST(HostileGltf, ADeepNodeChainIsTooDeepNotACycle) {
+  auto chain = [](int levels) {
+    json doc = triangle();
+    json& nodes = doc["nodes"];
+    nodes[0]["children"] = {3};
+    for (int i = 0; i < levels - 1; ++i) {
+      json n = json::object();
+      if (i + 1 < levels - 1) n["children"] = {int(nodes.size()) + 1};
+      nodes.push_back(n);
+    }
+    return doc;
+  };
+  EXPECT_TRUE(load(chain(1000)).ok) << load(chain(1000)).error;
+  expectError(chain(1001), "deeper than 1000 levels");
+  EXPECT_EQ(load(chain(1001)).error.find("cycle"), std::string::npos);
+}
+
+TEST(HostileGltf, LightsGivenAsAnObjectAreBlamedNotTheNode) {
+  json doc = triangle();
+  doc["extensions"]["KHR_lights_punctual"]["lights"] = {{"type", "point"}};
+  Loaded r = load(doc);
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("extensions.KHR_lights_punctual.lights: expected an array"),
+            std::string::npos) << r.error;
+  EXPECT_EQ(r.error.find("nodes"), std::string::npos) << r.error;
+}
+
+TEST(HostileGltf, AYfovThatRoundsToPiAsAFloatIsRefused) {
+  json doc = triangle();
+  doc["cameras"][0]["perspective"]["yfov"] = 3.14159264;  // below pi; its float is above
+  expectError(doc, "yfov 3.14159264 is not below pi (3.141592653589793) as a float");
+  doc["cameras"][0]["perspective"]["yfov"] = 3.1415925;  // the largest float below pi
+  EXPECT_TRUE(load(doc).ok);
 }
 
 // ---- the fuzzers' findings --------------------------------------------------------------------------

@@ -41,6 +41,13 @@ class Checker {
         if (const json* own = get(*extras, "tileshade"); own && own->is_object())
           numbers(*own, "ambient", at + ".extras.tileshade", 3, kAtLeastZero);
     });
+    // The lights before the nodes that index them: a malformed list is its own error, not a
+    // node's bad index.
+    object(doc_, "extensions", "", [&](const json& e, const std::string& at) {
+      object(e, "KHR_lights_punctual", at, [&](const json& k, const std::string& kat) {
+        objects(k, "lights", kat, [&](const json& l, const std::string& lat) { light(l, lat); });
+      });
+    });
     objects(doc_, "nodes", "", [&](const json& n, const std::string& at) { node(n, at); });
     objects(doc_, "meshes", "", [&](const json& m, const std::string& at) {
       objects(m, "primitives", at, [&](const json& p, const std::string& pat) { primitive(p, pat); });
@@ -77,11 +84,6 @@ class Checker {
       });
     });
     for (const char* key : {"extensionsUsed", "extensionsRequired"}) strings(doc_, key, "");
-    object(doc_, "extensions", "", [&](const json& e, const std::string& at) {
-      object(e, "KHR_lights_punctual", at, [&](const json& k, const std::string& kat) {
-        objects(k, "lights", kat, [&](const json& l, const std::string& lat) { light(l, lat); });
-      });
-    });
   }
 
  private:

@@ -37,6 +37,8 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 constexpr int kOrbitFrames = 240;
+// Node levels tileshade follows (each a recursion of the loader's tree walk).
+constexpr int kMaxNodeDepth = 1000;
 
 // Lines of a message joined with "; ", empty ones dropped.
 std::string oneLine(const std::string& s) {
@@ -495,8 +497,12 @@ class GltfLoader {
  private:
   void visit(int node, const glm::dmat4& parent, int depth);
   void addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& world, const std::string& what);
+  void requireTexCoords(const tinygltf::Primitive& p, const tinygltf::Material& mat, int index,
+                        const std::string& what) const;
   uint32_t material(int gltfMaterial);
-  int texture(int gltfTexture, bool srgb, int texCoord, const std::string& what);
+  int texture(const tinygltf::TextureInfo& info, bool srgb, const std::string& at,
+              const std::string& what);
+  void noteUnmodelledSampling(const tinygltf::TextureInfo& info, const std::string& at);
   void decodeImages();
   void addLight(const tinygltf::Light& light, const glm::dmat4& world, const std::string& what);
   void buildCameraPath();
@@ -510,6 +516,11 @@ class GltfLoader {
   std::map<std::pair<int, bool>, int> images_;
   std::map<std::pair<int, bool>, DecodedImage> decoded_;  // decoded up front, in parallel
   int otherTexCoords_ = 0;  // textures on another UV set than the base colour's
+  // What the texture sampling (bilinear, REPEAT, untransformed UVs: Texture::sample) does not
+  // model, warned once each: "samplers[0].wrapS CLAMP_TO_EDGE", texture references with
+  // KHR_texture_transform.
+  std::set<std::string> unmodelledSamplers_;
+  std::vector<std::string> transformedTextures_;
   int uvSet_ = 0;           // the base colour's UV set of the material being read
   std::vector<std::string> textureFailures_;
   std::vector<std::string> clampedFactors_;  // "materials[2].metallicFactor 1.5"
@@ -570,13 +581,14 @@ uint32_t GltfLoader::material(int index) {
     out.doubleSided = mat.doubleSided;
     uvSet_ = std::max(pbr.baseColorTexture.texCoord, 0);  // the UV set addPrimitive keeps
     if (pbr.baseColorTexture.index >= 0)
-      out.baseColorTexture = texture(pbr.baseColorTexture.index, true, uvSet_, what);
+      out.baseColorTexture = texture(pbr.baseColorTexture, true,
+                                     at + ".pbrMetallicRoughness.baseColorTexture", what);
     if (pbr.metallicRoughnessTexture.index >= 0)
-      out.metallicRoughnessTexture = texture(pbr.metallicRoughnessTexture.index, false,
-                                             pbr.metallicRoughnessTexture.texCoord, what);
+      out.metallicRoughnessTexture =
+          texture(pbr.metallicRoughnessTexture, false,
+                  at + ".pbrMetallicRoughness.metallicRoughnessTexture", what);
     if (mat.emissiveTexture.index >= 0)
-      out.emissiveTexture =
-          texture(mat.emissiveTexture.index, true, mat.emissiveTexture.texCoord, what);
+      out.emissiveTexture = texture(mat.emissiveTexture, true, at + ".emissiveTexture", what);
   }
   fillBlinnPhongTerms(out, dielectricF0);
   // tileshade's exporter marks materials written for Blinn-Phong (their Blinn-Phong terms come
@@ -599,8 +611,11 @@ uint32_t GltfLoader::material(int index) {
 // The scene texture of glTF texture `index` decoded in the given colour space (-1 when it cannot
 // be: the factor alone is used, and load() warns once for all of them). Only the base colour's
 // UV set is kept per vertex; a texture on another set is sampled with it (counted, warned once).
-int GltfLoader::texture(int index, bool srgb, int texCoord, const std::string& what) {
-  if (std::max(texCoord, 0) != uvSet_) ++otherTexCoords_;
+int GltfLoader::texture(const tinygltf::TextureInfo& info, bool srgb, const std::string& at,
+                        const std::string& what) {
+  const int index = info.index;
+  if (std::max(info.texCoord, 0) != uvSet_) ++otherTexCoords_;
+  noteUnmodelledSampling(info, at);
   if (index < 0 || size_t(index) >= m_.textures.size()) {
     textureFailures_.push_back(what + ": texture " + std::to_string(index) + " does not exist");
     return -1;
@@ -628,6 +643,32 @@ int GltfLoader::texture(int index, bool srgb, int texCoord, const std::string& w
   }
   images_[key] = result;
   return result;
+}
+
+// Records what of the texture reference `info` (at `at` in the file) and its sampler the
+// sampling does not model: wrap modes other than REPEAT, NEAREST filtering, KHR_texture_transform.
+void GltfLoader::noteUnmodelledSampling(const tinygltf::TextureInfo& info, const std::string& at) {
+  if (info.extensions.count("KHR_texture_transform")) transformedTextures_.push_back(at);
+  if (info.index < 0 || size_t(info.index) >= m_.textures.size()) return;
+  const int index = m_.textures[size_t(info.index)].sampler;
+  if (index < 0 || size_t(index) >= m_.samplers.size()) return;  // glTF's default: REPEAT, linear
+  const auto& sampler = m_.samplers[size_t(index)];
+  const std::string name = "samplers[" + std::to_string(index) + "].";
+  auto wrap = [&](int mode, const char* key) {
+    if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE)
+      unmodelledSamplers_.insert(name + key + " CLAMP_TO_EDGE");
+    else if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT)
+      unmodelledSamplers_.insert(name + key + " MIRRORED_REPEAT");
+  };
+  wrap(sampler.wrapS, "wrapS");
+  wrap(sampler.wrapT, "wrapT");
+  // Mipmap choices of a LINEAR filter are moot with one level; NEAREST texels are not.
+  if (sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST)
+    unmodelledSamplers_.insert(name + "magFilter NEAREST");
+  if (sampler.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ||
+      sampler.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST ||
+      sampler.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR)
+    unmodelledSamplers_.insert(name + "minFilter NEAREST");
 }
 
 // Decodes every image a material uses (base colour and emissive as sRGB, metallic-roughness as
@@ -711,6 +752,25 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
       Light::spot(position, direction, color, range, float(inner), float(outer)));
 }
 
+// Every UV set the material's textures name must be an attribute of the primitive: without it
+// there is nothing to sample the texture with.
+void GltfLoader::requireTexCoords(const tinygltf::Primitive& p, const tinygltf::Material& mat,
+                                  int index, const std::string& what) const {
+  const std::pair<const tinygltf::TextureInfo*, const char*> used[] = {
+      {&mat.pbrMetallicRoughness.baseColorTexture, "pbrMetallicRoughness.baseColorTexture"},
+      {&mat.pbrMetallicRoughness.metallicRoughnessTexture,
+       "pbrMetallicRoughness.metallicRoughnessTexture"},
+      {&mat.emissiveTexture, "emissiveTexture"}};
+  for (const auto& [info, key] : used) {
+    if (info->index < 0) continue;
+    const std::string set = "TEXCOORD_" + std::to_string(std::max(info->texCoord, 0));
+    if (!p.attributes.count(set))
+      read_.fail(what + ": materials[" + std::to_string(index) + "]." + key + " samples texCoord " +
+                 std::to_string(std::max(info->texCoord, 0)) + " but the primitive has no " + set +
+                 " attribute");
+  }
+}
+
 void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& world,
                               const std::string& what) {
   int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
@@ -731,8 +791,11 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
   if (auto it = p.attributes.find("NORMAL"); it != p.attributes.end())
     N = read_.read(it->second, 3, what + " NORMAL");
   int texCoord = 0;
-  if (p.material >= 0 && size_t(p.material) < m_.materials.size())
-    texCoord = std::max(m_.materials[size_t(p.material)].pbrMetallicRoughness.baseColorTexture.texCoord, 0);
+  if (p.material >= 0 && size_t(p.material) < m_.materials.size()) {
+    const auto& mat = m_.materials[size_t(p.material)];
+    texCoord = std::max(mat.pbrMetallicRoughness.baseColorTexture.texCoord, 0);
+    requireTexCoords(p, mat, p.material, what);
+  }
   if (auto it = p.attributes.find("TEXCOORD_" + std::to_string(texCoord)); it != p.attributes.end())
     UV = read_.read(it->second, 2, what + " TEXCOORD");
   if (N.size() != 0 && N.size() != P.size()) read_.fail(what + ": NORMAL count differs from POSITION");
@@ -831,7 +894,14 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
 
 void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
   if (index < 0 || size_t(index) >= m_.nodes.size()) read_.fail("bad node index " + std::to_string(index));
-  if (depth > 1000 || !visiting_.insert(index).second) read_.fail("node hierarchy has a cycle");
+  // load() has made sure that the hierarchy is a forest, which leaves a cycle with no root:
+  // a node met again on its own path.
+  if (!visiting_.insert(index).second)
+    read_.fail("node hierarchy has a cycle through node " + std::to_string(index));
+  if (depth >= kMaxNodeDepth)
+    read_.fail("node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) +
+               " levels (node " + std::to_string(index) + " is at level " +
+               std::to_string(depth + 1) + ")");
   const auto& node = m_.nodes[size_t(index)];
   std::string what = "node " + std::to_string(index) + " '" + node.name + "'";
   glm::dmat4 world = parent * localMatrix(node, read_, what);
@@ -992,6 +1062,14 @@ Scene GltfLoader::load() {
   if (otherLights_ > 0)
     warn("skipped " + std::to_string(otherLights_) +
          " light(s) of an unknown type (KHR_lights_punctual has point, spot, directional)");
+  if (!unmodelledSamplers_.empty())
+    warn("ignored " + std::to_string(unmodelledSamplers_.size()) + " sampler setting(s), "
+         "textures are sampled bilinearly with REPEAT: " +
+         listed({unmodelledSamplers_.begin(), unmodelledSamplers_.end()}));
+  if (!transformedTextures_.empty())
+    warn("ignored KHR_texture_transform (offset, rotation, scale) on " +
+         std::to_string(transformedTextures_.size()) + " texture reference(s): " +
+         listed(transformedTextures_));
   if (orthographic_ > 0)
     warn("ignored " + std::to_string(orthographic_) +
          " orthographic camera(s): only perspective cameras are supported");
