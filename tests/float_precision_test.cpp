@@ -1,6 +1,7 @@
 // Issue #16 items 10 and 11: values at a limit after a float's rounding (a float pi/2 cone, the
 // float dmin) read back, and far from the origin a glTF scene's lights keep their double world
 // positions until the view transform, so that the scene renders as its twin at the origin.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "gltf_builder.h"
+#include "reference/reference.h"
+#include "render/frame_setup.h"
 #include "render/gbuffer_files.h"
 #include "scene/scene_loader.h"
 #include "techniques/device_frame.h"
@@ -156,6 +159,26 @@ TEST(FloatLimits, LightsBeyondAFloatLimitAreRefusedWithTheLimitInFull) {
   EXPECT_NE(e.find("kernels use 0.1"), std::string::npos) << e;
 }
 
+std::string descriptorError(double yfov) {
+  const fs::path dir = scratch("descriptor");
+  fs::create_directories(dir);
+  std::ofstream(dir / "gbuffer.json") << json{{"tileshade_gbuffer", 1}, {"image", "gbuffer.exr"},
+                                               {"camera", {{"yfov", yfov}}}}.dump();
+  const std::string e = errorOf([&] { readGBufferDescriptor(dir.string()); });
+  fs::remove_all(dir);
+  return e;
+}
+
+TEST(FloatLimits, ADescriptorFieldOfViewIsBelowPiAsAFloat) {
+  // Below pi, but its float (the camera's) is above: the tangent of half of it would be negative.
+  const std::string e = descriptorError(3.14159264);
+  EXPECT_NE(e.find("\"yfov\" must be below 180 degrees (pi = 3.141592653589793) as a float, got "
+                   "3.14159264"), std::string::npos) << e;
+  // The largest float below pi was refused by a limit of 3.14159: now the error is elsewhere.
+  const std::string fine = descriptorError(3.1415925);
+  EXPECT_EQ(fine.find("yfov"), std::string::npos) << fine;
+}
+
 // ---- item 11: far from the origin, light positions stay double -----------------------------------
 
 // triangle() moved by `shift`: the light 0.123456789 off any float's grid (at 1e5 a float's
@@ -193,6 +216,30 @@ TEST(FarFromOrigin, GltfLightPositionsStayDoubleUntilTheViewTransform) {
     const ViewLights t = toViewSpace(twin.lights, twin.camera(0).viewFromWorld);
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(v.positionRange[0][c], t.positionRange[0][c], 2e-7) << far << " axis " << c;
+  }
+}
+
+// The shaded image (the double reference, over the frame's float G-buffer and view-space lights)
+// of the scene far from the origin and of its twin at the origin. The shifts are on a float's
+// grid, so both hold the same vertex floats; only the light is off it. With the light rounded
+// to float at 1e5 (the bug) the images differ by ~1e-3 of the peak.
+TEST(FarFromOrigin, AFarSceneShadesAsItsTwinAtTheOrigin) {
+  auto shade = [](glm::dvec3 shift) {
+    const Scene s = loadDoc(shiftedTriangle(shift));
+    const PreparedFrame f = prepareFrame(s, 0, 64, 36, GBufferFormat::FP32);
+    return shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+  };
+  const ReferenceImage twin = shade(glm::dvec3(0.0));
+  ASSERT_GT(twin.peak, 0.0);
+  for (double far : {1e5, 1e7}) {
+    const ReferenceImage moved = shade(glm::dvec3(far, -0.5 * far, 0.25 * far));
+    ASSERT_EQ(moved.rgb.size(), twin.rgb.size());
+    double worst = 0.0;
+    for (size_t i = 0; i < twin.rgb.size(); ++i)
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(moved.rgb[i][c] - twin.rgb[i][c]));
+    // Up to the float rounding of view-space positions of magnitude ~3 (the G-buffer's depth, the
+    // lights): a few 1e-7, relative.
+    EXPECT_LT(worst / twin.peak, 2e-6) << far;
   }
 }
 

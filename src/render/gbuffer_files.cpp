@@ -239,7 +239,9 @@ GBufferDescriptor readGBufferDescriptor(const std::string& dirOrFile) {
     const std::string key = degrees ? "yfov_degrees" : "yfov";
     double yfov = cam.positive(key);
     if (degrees) yfov *= 3.14159265358979323846 / 180.0;
-    if (!(yfov < 3.14159)) cam.fail(key, "must be below 180 degrees");
+    if (!(double(float(yfov)) < 2.0 * kHalfPi))  // as the float the camera keeps
+      cam.fail(key, "must be below 180 degrees (pi = " + fullText(2.0 * kHalfPi) + ") as a float, "
+                    "got " + fullText(cam.number(key)));
     d.tanHalfFovY = std::tan(0.5f * float(yfov));  // as CameraIntrinsics::from
   }
   if (cam.has("znear")) d.znear = float(cam.positive("znear"));

@@ -32,7 +32,10 @@ inline bool withinFloatRounding(double v, double lo, double hi, double scale) {
 // the values they refuse.
 inline std::string fullText(double v) {
   char buf[40];
-  for (int digits = 1; digits <= 17; ++digits) {
+  // At least the integer part's digits, so that 180 is not "1.8e+02".
+  const double magnitude = std::fabs(v);
+  const int first = magnitude >= 1.0 && magnitude < 1e16 ? int(std::log10(magnitude)) + 1 : 1;
+  for (int digits = first; digits <= 17; ++digits) {
     std::snprintf(buf, sizeof buf, "%.*g", digits, v);
     if (std::strtod(buf, nullptr) == v) break;
   }
