@@ -246,11 +246,13 @@ TEST(FarFromOrigin, AFarSceneShadesAsItsTwinAtTheOrigin) {
 TEST(FarFromOrigin, SunUnderAHugeScaleKeepsItsDirection) {
   json doc = test::triangle();
   doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {{"type", "directional"}};
-  doc["nodes"][1]["scale"] = {1e30, 1e30, 1e30};
-  const Scene s = loadDoc(doc);
-  ASSERT_EQ(s.lights.size(), 1u);
-  EXPECT_FLOAT_EQ(s.lights[0].direction.z, -1.0f);
-  EXPECT_FLOAT_EQ(glm::length(s.lights[0].direction), 1.0f);
+  for (double scale : {1e30, 1e-30, 3e38}) {  // a float length squared overflows or underflows
+    doc["nodes"][1]["scale"] = {scale, scale, scale};
+    const Scene s = loadDoc(doc);
+    ASSERT_EQ(s.lights.size(), 1u);
+    EXPECT_FLOAT_EQ(s.lights[0].direction.z, -1.0f) << scale;
+    EXPECT_FLOAT_EQ(glm::length(s.lights[0].direction), 1.0f) << scale;
+  }
   doc["nodes"][1]["scale"] = {1, 1, 0};
   const std::string e = errorOf([&] { loadDoc(doc); });
   EXPECT_NE(e.find("zero scale"), std::string::npos) << e;
