@@ -512,6 +512,19 @@ TEST(HostileGltf, ADeepNodeChainIsTooDeepNotACycle) {
   EXPECT_EQ(load(chain(1001)).error.find("cycle"), std::string::npos);
 }
 
+TEST(HostileGltf, ANodeCycleIsAnErrorNotDroppedSilently) {
+  json doc = triangle();
+  doc["nodes"].push_back({{"children", {4}}, {"mesh", 0}});  // 3 -> 4 -> 5 -> 3, no root
+  doc["nodes"].push_back({{"children", {5}}});
+  doc["nodes"].push_back({{"children", {3}}});
+  expectError(doc, "node hierarchy has a cycle through node");
+  doc.erase("scenes");
+  doc.erase("scene");
+  expectError(doc, "node hierarchy has a cycle through node");
+  doc["nodes"][5]["children"] = json::array();  // a chain: fine
+  EXPECT_TRUE(load(doc).ok) << load(doc).error;
+}
+
 TEST(HostileGltf, LightsGivenAsAnObjectAreBlamedNotTheNode) {
   json doc = triangle();
   doc["extensions"]["KHR_lights_punctual"]["lights"] = {{"type", "point"}};

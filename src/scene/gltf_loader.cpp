@@ -496,6 +496,7 @@ class GltfLoader {
 
  private:
   void visit(int node, const glm::dmat4& parent, int depth);
+  void failOnCycles() const;
   void addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& world, const std::string& what);
   void requireTexCoords(const tinygltf::Primitive& p, const tinygltf::Material& mat, int index,
                         const std::string& what) const;
@@ -894,8 +895,7 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
 
 void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
   if (index < 0 || size_t(index) >= m_.nodes.size()) read_.fail("bad node index " + std::to_string(index));
-  // load() has made sure that the hierarchy is a forest, which leaves a cycle with no root:
-  // a node met again on its own path.
+  // A guard: failOnCycles() has refused every cycle before the walk.
   if (!visiting_.insert(index).second)
     read_.fail("node hierarchy has a cycle through node " + std::to_string(index));
   if (depth >= kMaxNodeDepth)
@@ -1016,6 +1016,30 @@ void GltfLoader::buildCameraPath() {
                  " in x) is too large to frame with float cameras");
 }
 
+// With at most one parent per node, a cycle of nodes (each the child of the one before) has no
+// root: no walk from the roots would reach it, and its meshes and lights would be dropped without
+// a word. Found by walking up from every node, each node's walk done once (linear).
+void GltfLoader::failOnCycles() const {
+  const size_t n = m_.nodes.size();
+  std::vector<int> parent(n, -1);
+  for (size_t i = 0; i < n; ++i)
+    for (int c : m_.nodes[i].children)
+      if (c >= 0 && size_t(c) < n) parent[size_t(c)] = int(i);
+  enum : char { kUnknown, kOnThisWalk, kReachesARoot };
+  std::vector<char> state(n, kUnknown);
+  for (size_t i = 0; i < n; ++i) {
+    size_t k = i;
+    while (state[k] == kUnknown && parent[k] >= 0) {
+      state[k] = kOnThisWalk;
+      k = size_t(parent[k]);
+    }
+    if (state[k] == kOnThisWalk)
+      read_.fail("node hierarchy has a cycle through node " + std::to_string(k));
+    for (size_t j = i; state[j] == kOnThisWalk; j = size_t(parent[j])) state[j] = kReachesARoot;
+    state[k] = kReachesARoot;
+  }
+}
+
 Scene GltfLoader::load() {
   scene_.name = std::filesystem::path(path_).stem().string();
   scene_.ambient = glm::vec3(0.05f);
@@ -1028,6 +1052,7 @@ Scene GltfLoader::load() {
       if (c >= 0 && size_t(c) < parents.size() && ++parents[size_t(c)] > 1)
         read_.fail("node " + std::to_string(c) + " has more than one parent (glTF node "
                    "hierarchies are trees)");
+  failOnCycles();
   std::vector<int> roots;
   int sceneIndex = m_.defaultScene >= 0 ? m_.defaultScene : (m_.scenes.empty() ? -1 : 0);
   if (sceneIndex >= 0) {
