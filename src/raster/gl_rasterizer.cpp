@@ -23,8 +23,8 @@
 //  - Pixel centres at +0.5 and single-sample rasterization: OpenGL's defaults.
 //  - Normals, facing, materials, textures: shaders/gbuffer.frag (the same rules as resolve(); the
 //    material planes from the shared shaders/material_planes.h). Textures are RGBA32F copies of
-//    ts::Texture (linear, no sRGB conversion on either side), GL_LINEAR without mipmaps and
-//    GL_REPEAT: bilinear with texel centres at half-integers, as Texture::sample.
+//    ts::Texture (linear, no sRGB conversion on either side), GL_LINEAR without mipmaps and the
+//    texture's wrap modes: bilinear with texel centres at half-integers, as Texture::sample.
 //  - Triangle ids: gl_PrimitiveID plus the draw's first triangle (one draw per run of triangles
 //    sharing a material, in scene order).
 // What cannot match bit for bit (float vertex transform, the snapped-triangle attribute
@@ -49,6 +49,15 @@
 
 namespace ts {
 namespace {
+
+GLint glWrap(TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::ClampToEdge: return GL_CLAMP_TO_EDGE;
+    case TextureWrap::MirroredRepeat: return GL_MIRRORED_REPEAT;
+    case TextureWrap::Repeat: break;
+  }
+  return GL_REPEAT;
+}
 
 using Clock = std::chrono::steady_clock;
 
@@ -173,8 +182,8 @@ struct GlRasterizer::State {
                    t.texels.data());
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, glWrap(t.wrapS));
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, glWrap(t.wrapT));
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
       gl::checkErrors("uploading texture " + std::to_string(i) + " of scene '" + scene.name +

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstring>
+#include <map>
 #include <sstream>
 
 #ifndef TILESHADE_NO_OIIO
@@ -122,20 +123,39 @@ void checkExportPath(const std::string& path) {
     throw Error("cannot export to " + path + ": the file name must end in .gltf or .glb");
 }
 
+namespace {
+
+int gltfWrap(TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::ClampToEdge: return TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+    case TextureWrap::MirroredRepeat: return TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT;
+    case TextureWrap::Repeat: break;
+  }
+  return TINYGLTF_TEXTURE_WRAP_REPEAT;
+}
+
+}  // namespace
+
 void exportGltf(const Scene& scene, const std::string& path) {
   checkExportPath(path);
   Writer w;
   tinygltf::Model& m = w.model;
   bool emissiveStrength = false;
 
-  // Textures: embedded PNGs (sRGB) in the buffer, one REPEAT/linear sampler.
-  if (!scene.textures.empty()) {
-    tinygltf::Sampler sampler;
-    sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-    sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-    sampler.wrapS = sampler.wrapT = TINYGLTF_TEXTURE_WRAP_REPEAT;
-    m.samplers.push_back(sampler);
-  }
+  // Textures: embedded PNGs (sRGB) in the buffer, one linear sampler per pair of wrap modes.
+  std::map<std::pair<TextureWrap, TextureWrap>, int> samplers;
+  auto samplerOf = [&](const Texture& t) {
+    auto [it, added] = samplers.emplace(std::make_pair(t.wrapS, t.wrapT), int(m.samplers.size()));
+    if (added) {
+      tinygltf::Sampler sampler;
+      sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+      sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+      sampler.wrapS = gltfWrap(t.wrapS);
+      sampler.wrapT = gltfWrap(t.wrapT);
+      m.samplers.push_back(sampler);
+    }
+    return it->second;
+  };
   for (size_t i = 0; i < scene.textures.size(); ++i) {
     std::vector<unsigned char> png = encodePng(scene.textures[i]);
     tinygltf::Image image;
@@ -144,7 +164,7 @@ void exportGltf(const Scene& scene, const std::string& path) {
     image.bufferView = w.bufferView(png.data(), png.size(), 0);
     m.images.push_back(image);
     tinygltf::Texture tex;
-    tex.sampler = 0;
+    tex.sampler = samplerOf(scene.textures[i]);
     tex.source = int(i);
     m.textures.push_back(tex);
   }

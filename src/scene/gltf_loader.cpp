@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #ifndef TILESHADE_NO_OIIO
 #include <OpenImageIO/filesystem.h>
@@ -503,6 +504,7 @@ class GltfLoader {
   uint32_t material(int gltfMaterial);
   int texture(const tinygltf::TextureInfo& info, bool srgb, const std::string& at,
               const std::string& what);
+  int decodedTexture(const tinygltf::TextureInfo& info, bool srgb, const std::string& what);
   void noteUnmodelledSampling(const tinygltf::TextureInfo& info, const std::string& at);
   void decodeImages();
   void addLight(const tinygltf::Light& light, const glm::dmat4& world, const std::string& what);
@@ -517,11 +519,13 @@ class GltfLoader {
   std::map<std::pair<int, bool>, int> images_;
   std::map<std::pair<int, bool>, DecodedImage> decoded_;  // decoded up front, in parallel
   int otherTexCoords_ = 0;  // textures on another UV set than the base colour's
-  // What the texture sampling (bilinear, REPEAT, untransformed UVs: Texture::sample) does not
-  // model, warned once each: "samplers[0].wrapS CLAMP_TO_EDGE", texture references with
+  // What the texture sampling (bilinear, untransformed UVs: Texture::sample) does not model,
+  // warned once each: "samplers[0].magFilter NEAREST", texture references with
   // KHR_texture_transform.
   std::set<std::string> unmodelledSamplers_;
   std::vector<std::string> transformedTextures_;
+  std::set<int> wrapsGiven_;  // scene textures whose wrap modes a reference has set
+  std::map<std::tuple<int, TextureWrap, TextureWrap>, int> wrapVariants_;  // other wrap modes
   int uvSet_ = 0;           // the base colour's UV set of the material being read
   std::vector<std::string> textureFailures_;
   std::vector<std::string> clampedFactors_;  // "materials[2].metallicFactor 1.5"
@@ -609,14 +613,49 @@ uint32_t GltfLoader::material(int index) {
   return id;
 }
 
-// The scene texture of glTF texture `index` decoded in the given colour space (-1 when it cannot
-// be: the factor alone is used, and load() warns once for all of them). Only the base colour's
-// UV set is kept per vertex; a texture on another set is sampled with it (counted, warned once).
+TextureWrap textureWrap(int gltfWrap) {
+  if (gltfWrap == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return TextureWrap::ClampToEdge;
+  if (gltfWrap == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return TextureWrap::MirroredRepeat;
+  return TextureWrap::Repeat;  // glTF's default and REPEAT (10497)
+}
+
+// The scene texture of the texture reference `info` (at `at` in the file), decoded in the given
+// colour space, with its sampler's wrap modes (-1 when it cannot be decoded: the factor alone is
+// used, and load() warns once for all of them). Only the base colour's UV set is kept per
+// vertex; a texture on another set is sampled with it (counted, warned once).
 int GltfLoader::texture(const tinygltf::TextureInfo& info, bool srgb, const std::string& at,
                         const std::string& what) {
+  noteUnmodelledSampling(info, at);
+  const int decoded = decodedTexture(info, srgb, what);
+  if (decoded < 0) return -1;
+  TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat;
+  const int sampler = m_.textures[size_t(info.index)].sampler;
+  if (sampler >= 0 && size_t(sampler) < m_.samplers.size()) {
+    wrapS = textureWrap(m_.samplers[size_t(sampler)].wrapS);
+    wrapT = textureWrap(m_.samplers[size_t(sampler)].wrapT);
+  }
+  // The first reference of an image gives its wrap modes; a reference with others gets a copy.
+  Texture& first = scene_.textures[size_t(decoded)];
+  if (wrapsGiven_.insert(decoded).second) {
+    first.wrapS = wrapS;
+    first.wrapT = wrapT;
+  }
+  if (first.wrapS == wrapS && first.wrapT == wrapT) return decoded;
+  const auto key = std::make_tuple(decoded, wrapS, wrapT);
+  if (auto it = wrapVariants_.find(key); it != wrapVariants_.end()) return it->second;
+  Texture copy = first;
+  copy.wrapS = wrapS;
+  copy.wrapT = wrapT;
+  scene_.textures.push_back(std::move(copy));
+  return wrapVariants_[key] = int(scene_.textures.size() - 1);
+}
+
+// The scene texture of the image of texture reference `info`, as first decoded (-1 when it
+// cannot be, recorded for load()'s warning).
+int GltfLoader::decodedTexture(const tinygltf::TextureInfo& info, bool srgb,
+                               const std::string& what) {
   const int index = info.index;
   if (std::max(info.texCoord, 0) != uvSet_) ++otherTexCoords_;
-  noteUnmodelledSampling(info, at);
   if (index < 0 || size_t(index) >= m_.textures.size()) {
     textureFailures_.push_back(what + ": texture " + std::to_string(index) + " does not exist");
     return -1;
@@ -647,7 +686,7 @@ int GltfLoader::texture(const tinygltf::TextureInfo& info, bool srgb, const std:
 }
 
 // Records what of the texture reference `info` (at `at` in the file) and its sampler the
-// sampling does not model: wrap modes other than REPEAT, NEAREST filtering, KHR_texture_transform.
+// sampling does not model: NEAREST filtering, KHR_texture_transform.
 void GltfLoader::noteUnmodelledSampling(const tinygltf::TextureInfo& info, const std::string& at) {
   if (info.extensions.count("KHR_texture_transform")) transformedTextures_.push_back(at);
   if (info.index < 0 || size_t(info.index) >= m_.textures.size()) return;
@@ -655,14 +694,6 @@ void GltfLoader::noteUnmodelledSampling(const tinygltf::TextureInfo& info, const
   if (index < 0 || size_t(index) >= m_.samplers.size()) return;  // glTF's default: REPEAT, linear
   const auto& sampler = m_.samplers[size_t(index)];
   const std::string name = "samplers[" + std::to_string(index) + "].";
-  auto wrap = [&](int mode, const char* key) {
-    if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE)
-      unmodelledSamplers_.insert(name + key + " CLAMP_TO_EDGE");
-    else if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT)
-      unmodelledSamplers_.insert(name + key + " MIRRORED_REPEAT");
-  };
-  wrap(sampler.wrapS, "wrapS");
-  wrap(sampler.wrapT, "wrapT");
   // Mipmap choices of a LINEAR filter are moot with one level; NEAREST texels are not.
   if (sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST)
     unmodelledSamplers_.insert(name + "magFilter NEAREST");
@@ -1089,7 +1120,7 @@ Scene GltfLoader::load() {
          " light(s) of an unknown type (KHR_lights_punctual has point, spot, directional)");
   if (!unmodelledSamplers_.empty())
     warn("ignored " + std::to_string(unmodelledSamplers_.size()) + " sampler setting(s), "
-         "textures are sampled bilinearly with REPEAT: " +
+         "textures are sampled bilinearly: " +
          listed({unmodelledSamplers_.begin(), unmodelledSamplers_.end()}));
   if (!transformedTextures_.empty())
     warn("ignored KHR_texture_transform (offset, rotation, scale) on " +

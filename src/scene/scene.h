@@ -9,13 +9,18 @@
 
 namespace ts {
 
-// Linear-RGB texture, sampled bilinearly with wrap-around (glTF's default REPEAT sampler).
+// How a texture coordinate outside [0, 1] maps into the texture: glTF's (and OpenGL's) wrap modes.
+enum class TextureWrap { Repeat = 0, ClampToEdge = 1, MirroredRepeat = 2 };
+
+// Linear-RGB texture, sampled bilinearly with its sampler's wrap modes (glTF's default: REPEAT).
 struct Texture {
   int width = 0;
   int height = 0;
   std::vector<glm::vec4> texels;  // row-major, row 0 = top (v = 0), linear RGBA
   bool srgb = true;  // colour (base colour, emissive: sRGB-encoded in files) or data
                      // (metallic-roughness: stored as is)
+  TextureWrap wrapS = TextureWrap::Repeat;  // along u
+  TextureWrap wrapT = TextureWrap::Repeat;  // along v
   glm::vec4 sample(glm::vec2 uv) const;
 };
 
