@@ -498,6 +498,9 @@ TEST(HostileGltf, SamplerFiltersThatAreNotModelledAreWarned) {
   EXPECT_NE(w.find("samplers[0].magFilter NEAREST"), std::string::npos) << w;
   EXPECT_NE(w.find("samplers[0].minFilter NEAREST"), std::string::npos) << w;
   EXPECT_EQ(w.find("wrap"), std::string::npos) << w;
+  // A value outside the specification's enumeration is an error, not the default.
+  doc["samplers"][0]["wrapS"] = 33072;
+  expectError(doc, "samplers[0].wrapS: expected one of 33071, 33648, 10497, got 33072");
   // glTF's defaults and the exporter's sampler (REPEAT, LINEAR) say nothing.
   doc["samplers"] = {{{"wrapS", 10497}, {"magFilter", 9729}, {"minFilter", 9987}}};
   Loaded plain = load(doc);

@@ -69,6 +69,13 @@ class Checker {
       index(t, "source", at, count("images"));
       index(t, "sampler", at, count("samplers"));
     });
+    // The enumerations of the specification: another value would be sampled as the default.
+    objects(doc_, "samplers", "", [&](const json& s, const std::string& at) {
+      oneOf(s, "magFilter", at, {9728, 9729});
+      oneOf(s, "minFilter", at, {9728, 9729, 9984, 9985, 9986, 9987});
+      oneOf(s, "wrapS", at, {33071, 33648, 10497});
+      oneOf(s, "wrapT", at, {33071, 33648, 10497});
+    });
     objects(doc_, "images", "", [&](const json& i, const std::string& at) {
       string(i, "uri", at);
       string(i, "mimeType", at);
