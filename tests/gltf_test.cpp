@@ -506,8 +506,8 @@ TEST(GltfExport, TexturesRoundTripAsSrgbPng) {
   }
 }
 
-// glTF sampler wrap modes (issue #16 item 5): kept per scene texture through export and load; a
-// second reference to the same image with other wrap modes gets its own copy.
+// glTF sampler wrap modes and filters (issue #16 item 5): kept per scene texture through export
+// and load; a second reference to the same image with another sampler gets its own copy.
 TEST(GltfExport, TextureWrapModesRoundTrip) {
   Scene s;
   s.name = "wrapped";
@@ -524,6 +524,7 @@ TEST(GltfExport, TextureWrapModesRoundTrip) {
   t.wrapT = ts::TextureWrap::MirroredRepeat;
   s.textures = {t, t};
   s.textures[1].wrapS = ts::TextureWrap::Repeat;
+  s.textures[1].nearest = true;
   for (glm::vec3 p : {glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0)}) {
     ts::Vertex v;
     v.position = p;
@@ -544,6 +545,8 @@ TEST(GltfExport, TextureWrapModesRoundTrip) {
   EXPECT_EQ(diffuse.wrapT, ts::TextureWrap::MirroredRepeat);
   EXPECT_EQ(emissive.wrapS, ts::TextureWrap::Repeat);
   EXPECT_EQ(emissive.wrapT, ts::TextureWrap::MirroredRepeat);
+  EXPECT_FALSE(diffuse.nearest);
+  EXPECT_TRUE(emissive.nearest);
 
   // Both references on one image, with their own samplers.
   std::ifstream in(dir.file("wrap.gltf"));

@@ -474,6 +474,28 @@ TEST(HostileGltf, TextureWrapModesFollowOpenGL) {
   EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.5f), 2.0f);
 }
 
+TEST(HostileGltf, TheNearestFilterPicksTheTexelUnderTheCoordinate) {
+  ts::Texture t;
+  t.width = 2;
+  t.height = 1;
+  t.texels = {glm::vec4(1.0f), glm::vec4(3.0f)};
+  t.nearest = true;
+  auto at = [&](ts::TextureWrap wrap, float u) {
+    t.wrapS = wrap;
+    return t.sample({u, 0.5f}).x;
+  };
+  using W = ts::TextureWrap;
+  EXPECT_FLOAT_EQ(at(W::Repeat, 0.49f), 1.0f);
+  EXPECT_FLOAT_EQ(at(W::Repeat, 0.51f), 3.0f);
+  EXPECT_FLOAT_EQ(at(W::Repeat, -0.25f), 3.0f);
+  EXPECT_FLOAT_EQ(at(W::ClampToEdge, -3.0f), 1.0f);
+  EXPECT_FLOAT_EQ(at(W::ClampToEdge, 3.0f), 3.0f);
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.25f), 3.0f);
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.75f), 1.0f);
+  t.nearest = false;
+  EXPECT_FLOAT_EQ(at(W::Repeat, 0.5f), 2.0f);  // the bilinear blend, for contrast
+}
+
 // ---- issue #16: options that were ignored, messages with the wrong cause ----------------------
 
 json texturedTriangleWithUVs() {
@@ -486,23 +508,32 @@ std::string warningWith(const Loaded& r, const std::string& fragment) {
   return "";
 }
 
-TEST(HostileGltf, SamplerFiltersThatAreNotModelledAreWarned) {
+TEST(HostileGltf, MinificationFiltersUnlikeTheMagnificationOneAreWarned) {
   json doc = texturedTriangleWithUVs();
-  doc["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}, {"minFilter", 9984}}};
-  doc["textures"][0]["sampler"] = 0;
+  doc["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}, {"minFilter", 9984}},
+                     {{"minFilter", 9986}},
+                     {{"magFilter", 9728}, {"minFilter", 9987}}};
+  doc["textures"] = {{{"source", 0}, {"sampler", 0}}, {{"source", 0}, {"sampler", 1}},
+                     {{"source", 0}, {"sampler", 2}}};
+  doc["materials"][0]["emissiveTexture"] = {{"index", 1}};
+  doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 2}};
   Loaded r = load(doc);
   ASSERT_TRUE(r.ok) << r.error;
-  // The wrap modes are modelled (TextureWrapModesFollowOpenGL); the filters are not.
+  // Wrap modes and the magnification filter are modelled (TextureWrapModesFollowOpenGL,
+  // TheNearestFilterPicksTheTexelUnderTheCoordinate); sampler 0's NEAREST minification is the
+  // same choice; the other two minify otherwise than they magnify.
   const std::string w = warningWith(r, "sampler setting");
   EXPECT_NE(w.find("2 sampler setting(s)"), std::string::npos) << w;
-  EXPECT_NE(w.find("samplers[0].magFilter NEAREST"), std::string::npos) << w;
-  EXPECT_NE(w.find("samplers[0].minFilter NEAREST"), std::string::npos) << w;
-  EXPECT_EQ(w.find("wrap"), std::string::npos) << w;
+  EXPECT_NE(w.find("samplers[1].minFilter NEAREST (magFilter LINEAR)"), std::string::npos) << w;
+  EXPECT_NE(w.find("samplers[2].minFilter LINEAR (magFilter NEAREST)"), std::string::npos) << w;
+  EXPECT_EQ(w.find("samplers[0]"), std::string::npos) << w;
   // A value outside the specification's enumeration is an error, not the default.
   doc["samplers"][0]["wrapS"] = 33072;
   expectError(doc, "samplers[0].wrapS: expected one of 33071, 33648, 10497, got 33072");
-  // glTF's defaults and the exporter's sampler (REPEAT, LINEAR) say nothing.
-  doc["samplers"] = {{{"wrapS", 10497}, {"magFilter", 9729}, {"minFilter", 9987}}};
+  // glTF's defaults, the exporter's samplers and NEAREST throughout say nothing.
+  doc["samplers"] = {{{"wrapS", 10497}, {"magFilter", 9729}, {"minFilter", 9987}},
+                     json::object(),
+                     {{"magFilter", 9728}, {"minFilter", 9728}}};
   Loaded plain = load(doc);
   ASSERT_TRUE(plain.ok) << plain.error;
   EXPECT_EQ(warningWith(plain, "sampler"), "");

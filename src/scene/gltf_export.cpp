@@ -5,6 +5,7 @@
 #include <cstring>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 #ifndef TILESHADE_NO_OIIO
 #include <OpenImageIO/filesystem.h>
@@ -142,14 +143,15 @@ void exportGltf(const Scene& scene, const std::string& path) {
   tinygltf::Model& m = w.model;
   bool emissiveStrength = false;
 
-  // Textures: embedded PNGs (sRGB) in the buffer, one linear sampler per pair of wrap modes.
-  std::map<std::pair<TextureWrap, TextureWrap>, int> samplers;
+  // Textures: embedded PNGs (sRGB) in the buffer, one sampler per wrap modes and filter.
+  std::map<std::tuple<TextureWrap, TextureWrap, bool>, int> samplers;
   auto samplerOf = [&](const Texture& t) {
-    auto [it, added] = samplers.emplace(std::make_pair(t.wrapS, t.wrapT), int(m.samplers.size()));
+    auto [it, added] =
+        samplers.emplace(std::make_tuple(t.wrapS, t.wrapT, t.nearest), int(m.samplers.size()));
     if (added) {
       tinygltf::Sampler sampler;
-      sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-      sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+      sampler.magFilter = sampler.minFilter =
+          t.nearest ? TINYGLTF_TEXTURE_FILTER_NEAREST : TINYGLTF_TEXTURE_FILTER_LINEAR;
       sampler.wrapS = gltfWrap(t.wrapS);
       sampler.wrapT = gltfWrap(t.wrapT);
       m.samplers.push_back(sampler);

@@ -519,13 +519,14 @@ class GltfLoader {
   std::map<std::pair<int, bool>, int> images_;
   std::map<std::pair<int, bool>, DecodedImage> decoded_;  // decoded up front, in parallel
   int otherTexCoords_ = 0;  // textures on another UV set than the base colour's
-  // What the texture sampling (bilinear, untransformed UVs: Texture::sample) does not model,
-  // warned once each: "samplers[0].magFilter NEAREST", texture references with
-  // KHR_texture_transform.
+  // What the texture sampling (one level, the magnification filter, untransformed UVs:
+  // Texture::sample) does not model, warned once each: "samplers[0].minFilter NEAREST (magFilter
+  // LINEAR)", texture references with KHR_texture_transform.
   std::set<std::string> unmodelledSamplers_;
   std::vector<std::string> transformedTextures_;
-  std::set<int> wrapsGiven_;  // scene textures whose wrap modes a reference has set
-  std::map<std::tuple<int, TextureWrap, TextureWrap>, int> wrapVariants_;  // other wrap modes
+  std::set<int> samplingGiven_;  // scene textures whose sampling a reference has set
+  // (scene texture, wrapS, wrapT, nearest) -> its copy sampled so
+  std::map<std::tuple<int, TextureWrap, TextureWrap, bool>, int> samplingVariants_;
   int uvSet_ = 0;           // the base colour's UV set of the material being read
   std::vector<std::string> textureFailures_;
   std::vector<std::string> clampedFactors_;  // "materials[2].metallicFactor 1.5"
@@ -620,34 +621,39 @@ TextureWrap textureWrap(int gltfWrap) {
 }
 
 // The scene texture of the texture reference `info` (at `at` in the file), decoded in the given
-// colour space, with its sampler's wrap modes (-1 when it cannot be decoded: the factor alone is
-// used, and load() warns once for all of them). Only the base colour's UV set is kept per
-// vertex; a texture on another set is sampled with it (counted, warned once).
+// colour space, with its sampler's wrap modes and magnification filter (-1 when it cannot be
+// decoded: the factor alone is used, and load() warns once for all of them). Only the base
+// colour's UV set is kept per vertex; a texture on another set is sampled with it (counted,
+// warned once).
 int GltfLoader::texture(const tinygltf::TextureInfo& info, bool srgb, const std::string& at,
                         const std::string& what) {
   noteUnmodelledSampling(info, at);
   const int decoded = decodedTexture(info, srgb, what);
   if (decoded < 0) return -1;
   TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat;
+  bool nearest = false;
   const int sampler = m_.textures[size_t(info.index)].sampler;
   if (sampler >= 0 && size_t(sampler) < m_.samplers.size()) {
     wrapS = textureWrap(m_.samplers[size_t(sampler)].wrapS);
     wrapT = textureWrap(m_.samplers[size_t(sampler)].wrapT);
+    nearest = m_.samplers[size_t(sampler)].magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
   }
-  // The first reference of an image gives its wrap modes; a reference with others gets a copy.
+  // The first reference of an image gives its sampling; a reference with another gets a copy.
   Texture& first = scene_.textures[size_t(decoded)];
-  if (wrapsGiven_.insert(decoded).second) {
+  if (samplingGiven_.insert(decoded).second) {
     first.wrapS = wrapS;
     first.wrapT = wrapT;
+    first.nearest = nearest;
   }
-  if (first.wrapS == wrapS && first.wrapT == wrapT) return decoded;
-  const auto key = std::make_tuple(decoded, wrapS, wrapT);
-  if (auto it = wrapVariants_.find(key); it != wrapVariants_.end()) return it->second;
+  if (first.wrapS == wrapS && first.wrapT == wrapT && first.nearest == nearest) return decoded;
+  const auto key = std::make_tuple(decoded, wrapS, wrapT, nearest);
+  if (auto it = samplingVariants_.find(key); it != samplingVariants_.end()) return it->second;
   Texture copy = first;
   copy.wrapS = wrapS;
   copy.wrapT = wrapT;
+  copy.nearest = nearest;
   scene_.textures.push_back(std::move(copy));
-  return wrapVariants_[key] = int(scene_.textures.size() - 1);
+  return samplingVariants_[key] = int(scene_.textures.size() - 1);
 }
 
 // The scene texture of the image of texture reference `info`, as first decoded (-1 when it
@@ -686,7 +692,8 @@ int GltfLoader::decodedTexture(const tinygltf::TextureInfo& info, bool srgb,
 }
 
 // Records what of the texture reference `info` (at `at` in the file) and its sampler the
-// sampling does not model: NEAREST filtering, KHR_texture_transform.
+// sampling does not model: a minification filter unlike the magnification one,
+// KHR_texture_transform.
 void GltfLoader::noteUnmodelledSampling(const tinygltf::TextureInfo& info, const std::string& at) {
   if (info.extensions.count("KHR_texture_transform")) transformedTextures_.push_back(at);
   if (info.index < 0 || size_t(info.index) >= m_.textures.size()) return;
@@ -694,13 +701,17 @@ void GltfLoader::noteUnmodelledSampling(const tinygltf::TextureInfo& info, const
   if (index < 0 || size_t(index) >= m_.samplers.size()) return;  // glTF's default: REPEAT, linear
   const auto& sampler = m_.samplers[size_t(index)];
   const std::string name = "samplers[" + std::to_string(index) + "].";
-  // Mipmap choices of a LINEAR filter are moot with one level; NEAREST texels are not.
-  if (sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST)
-    unmodelledSamplers_.insert(name + "magFilter NEAREST");
-  if (sampler.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ||
-      sampler.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST ||
-      sampler.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR)
-    unmodelledSamplers_.insert(name + "minFilter NEAREST");
+  // Sampling uses the magnification filter (one level, as OpenGL's textureLod(.., 0)): a
+  // minification filter that would choose texels differently is not modelled. Its mipmap choice
+  // is moot with one level.
+  const bool nearestMag = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+  const int min = sampler.minFilter;
+  const bool nearestMin = min == TINYGLTF_TEXTURE_FILTER_NEAREST ||
+                          min == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST ||
+                          min == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR;
+  if (min >= 0 && nearestMin != nearestMag)
+    unmodelledSamplers_.insert(name + "minFilter " + (nearestMin ? "NEAREST" : "LINEAR") +
+                               " (magFilter " + (nearestMag ? "NEAREST" : "LINEAR") + ")");
 }
 
 // Decodes every image a material uses (base colour and emissive as sRGB, metallic-roughness as
@@ -1120,7 +1131,7 @@ Scene GltfLoader::load() {
          " light(s) of an unknown type (KHR_lights_punctual has point, spot, directional)");
   if (!unmodelledSamplers_.empty())
     warn("ignored " + std::to_string(unmodelledSamplers_.size()) + " sampler setting(s), "
-         "textures are sampled bilinearly: " +
+         "textures are sampled with their magnification filter: " +
          listed({unmodelledSamplers_.begin(), unmodelledSamplers_.end()}));
   if (!transformedTextures_.empty())
     warn("ignored KHR_texture_transform (offset, rotation, scale) on " +

@@ -23,7 +23,7 @@ float texelCoordinate(float s, int n, TextureWrap wrap) {
   return (s - std::floor(s)) * float(n);
 }
 
-// Texel index i of an axis of n texels, wrapped as OpenGL does (its wrap(i) for LINEAR filtering).
+// Texel index i of an axis of n texels, wrapped as OpenGL does (its wrap(i)).
 int wrapIndex(int i, int n, TextureWrap wrap) {
   switch (wrap) {
     case TextureWrap::ClampToEdge: return std::clamp(i, 0, n - 1);
@@ -40,14 +40,17 @@ int wrapIndex(int i, int n, TextureWrap wrap) {
 
 glm::vec4 Texture::sample(glm::vec2 uv) const {
   if (width <= 0 || height <= 0) return glm::vec4(1.0f);
+  auto at = [&](int x, int y) { return texels[size_t(y) * size_t(width) + size_t(x)]; };
+  const float u = texelCoordinate(uv.x, width, wrapS), v = texelCoordinate(uv.y, height, wrapT);
+  if (nearest)
+    return at(wrapIndex(int(std::floor(u)), width, wrapS),
+              wrapIndex(int(std::floor(v)), height, wrapT));
   // Texel centres at half-integers.
-  float fx = texelCoordinate(uv.x, width, wrapS) - 0.5f;
-  float fy = texelCoordinate(uv.y, height, wrapT) - 0.5f;
+  float fx = u - 0.5f, fy = v - 0.5f;
   float x0f = std::floor(fx), y0f = std::floor(fy);
   float tx = fx - x0f, ty = fy - y0f;
   int x0 = wrapIndex(int(x0f), width, wrapS), x1 = wrapIndex(int(x0f) + 1, width, wrapS);
   int y0 = wrapIndex(int(y0f), height, wrapT), y1 = wrapIndex(int(y0f) + 1, height, wrapT);
-  auto at = [&](int x, int y) { return texels[size_t(y) * size_t(width) + size_t(x)]; };
   glm::vec4 top = glm::mix(at(x0, y0), at(x1, y0), tx);
   glm::vec4 bottom = glm::mix(at(x0, y1), at(x1, y1), tx);
   return glm::mix(top, bottom, ty);

@@ -12,7 +12,8 @@ namespace ts {
 // How a texture coordinate outside [0, 1] maps into the texture: glTF's (and OpenGL's) wrap modes.
 enum class TextureWrap { Repeat = 0, ClampToEdge = 1, MirroredRepeat = 2 };
 
-// Linear-RGB texture, sampled bilinearly with its sampler's wrap modes (glTF's default: REPEAT).
+// Linear-RGB texture, sampled with its sampler's wrap modes and magnification filter (glTF's
+// defaults: REPEAT, bilinear), at one level (no mipmaps).
 struct Texture {
   int width = 0;
   int height = 0;
@@ -21,6 +22,7 @@ struct Texture {
                      // (metallic-roughness: stored as is)
   TextureWrap wrapS = TextureWrap::Repeat;  // along u
   TextureWrap wrapT = TextureWrap::Repeat;  // along v
+  bool nearest = false;  // filter NEAREST (the texel under uv), else LINEAR (bilinear)
   glm::vec4 sample(glm::vec2 uv) const;
 };
 
