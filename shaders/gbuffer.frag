@@ -32,8 +32,8 @@ uniform int u_firstTriangle;                 // of this draw: gl_PrimitiveID cou
 uniform sampler2D u_texture[4];              // by TS_TEXTURE_* slot
 uniform bool u_hasTexture[4];
 
-// Bilinear, REPEAT, level 0 (the sampler state set in gl_rasterizer.cpp); textureLod because the
-// call sits in non-uniform control flow.
+// Level 0 with the texture's filter and wrap modes (the sampler state set in gl_rasterizer.cpp);
+// textureLod because the call sits in non-uniform control flow.
 #define TS_SAMPLE(slot) (u_hasTexture[slot] ? textureLod(u_texture[slot], v_uv, 0.0) : vec4(1.0))
 #include "material_planes.h"
 

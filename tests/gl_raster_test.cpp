@@ -12,6 +12,7 @@
 #include <iostream>
 #include <map>
 #include <random>
+#include <tuple>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -391,6 +392,99 @@ TEST(GlRaster, FacingNormalsAndMaterialTermsMatchSoftware) {
     o.fragmentCounts = true;
     return o;
   }()), Error);
+}
+
+// glTF's wrap modes on both sides (issue #16 item 5): quads whose UVs run from -1.3 to 2.4, one
+// per pair of modes, within the per-pixel bound (the texel Lipschitz constant covers a mirrored
+// or clamped neighbour: it is one of the REPEAT neighbours or the texel itself).
+TEST(GlRaster, TextureWrapModesMatchSoftware) {
+  REQUIRE_GL();
+  const int W = 96, H = 40;
+  const Camera cam = lookingDownZ();
+  const CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
+  using Wrap = TextureWrap;
+  const std::pair<Wrap, Wrap> modes[] = {{Wrap::ClampToEdge, Wrap::MirroredRepeat},
+                                         {Wrap::MirroredRepeat, Wrap::ClampToEdge},
+                                         {Wrap::Repeat, Wrap::MirroredRepeat}};
+  Texture texture;
+  texture.width = 5;
+  texture.height = 3;
+  texture.srgb = false;
+  std::mt19937 rng(16);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int i = 0; i < 15; ++i) texture.texels.emplace_back(unit(rng), unit(rng), unit(rng), 1.0f);
+  Scene s;
+  s.name = "wrap modes";
+  for (size_t k = 0; k < 3; ++k) {
+    Texture t = texture;
+    std::tie(t.wrapS, t.wrapT) = modes[k];
+    s.textures.push_back(t);
+    Material m;
+    m.diffuse = glm::vec3(1.0f);
+    m.diffuseTexture = int(k);
+    s.materials.push_back(m);
+    const double x0 = 2.0 + 31.0 * double(k), x1 = x0 + 29.0, y0 = 2.0, y1 = 38.0;
+    auto vertex = [&](double x, double y) {
+      const glm::vec2 uv(float(-1.3 + 3.7 * (x - x0) / (x1 - x0)),
+                         float(-1.2 + 3.5 * (y - y0) / (y1 - y0)));
+      return Vertex{unproject(in, x, y, 3.0), glm::vec3(0.0f, 0.0f, 1.0f), uv};
+    };
+    const uint32_t base = uint32_t(s.vertices.size());
+    for (auto [x, y] : {std::pair{x0, y0}, {x0, y1}, {x1, y0}, {x1, y1}})
+      s.vertices.push_back(vertex(x, y));
+    s.indices.insert(s.indices.end(), {base, base + 1, base + 2, base + 2, base + 1, base + 3});
+    s.triangleMaterial.insert(s.triangleMaterial.end(), {uint32_t(k), uint32_t(k)});
+  }
+  GlRasterizer gl(s);
+  const FrameFigures f = compareFrame(s, gl, cam, W, H, ShadingModel::BlinnPhong, "wrap modes");
+  EXPECT_GT(f.c.bothCovered, 3000u) << f.c.summary();
+}
+
+// The NEAREST filter on both sides: flat quads at constant depth with 2 pixels per texel, so that
+// every pixel centre lies a quarter texel from the nearest texel edge (far beyond what the two
+// interpolations differ by) and both pick the same texel; with a LINEAR OpenGL the blend of a
+// quarter texel would exceed the bound.
+TEST(GlRaster, TheNearestFilterMatchesSoftware) {
+  REQUIRE_GL();
+  const int W = 72, H = 40;
+  const Camera cam = lookingDownZ();
+  const CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
+  using Wrap = TextureWrap;
+  Texture texture;
+  texture.width = 8;
+  texture.height = 6;
+  texture.srgb = false;
+  texture.nearest = true;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int i = 0; i < 48; ++i) texture.texels.emplace_back(unit(rng), unit(rng), unit(rng), 1.0f);
+  Scene s;
+  s.name = "nearest";
+  const std::pair<Wrap, Wrap> modes[] = {{Wrap::Repeat, Wrap::ClampToEdge},
+                                         {Wrap::MirroredRepeat, Wrap::Repeat}};
+  for (size_t k = 0; k < 2; ++k) {
+    Texture t = texture;
+    std::tie(t.wrapS, t.wrapT) = modes[k];
+    s.textures.push_back(t);
+    Material m;
+    m.diffuse = glm::vec3(1.0f);
+    m.diffuseTexture = int(k);
+    s.materials.push_back(m);
+    const double x0 = 2.0 + 36.0 * double(k), x1 = x0 + 32.0, y0 = 2.0, y1 = 38.0;
+    // u * 8 = (x - x0) / 2 - 6, v * 6 = (y - y0) / 2 - 5: texel coordinates -6..10 and -5..13.
+    auto vertex = [&](double x, double y) {
+      const glm::vec2 uv(float(((x - x0) / 2.0 - 6.0) / 8.0), float(((y - y0) / 2.0 - 5.0) / 6.0));
+      return Vertex{unproject(in, x, y, 3.0), glm::vec3(0.0f, 0.0f, 1.0f), uv};
+    };
+    const uint32_t base = uint32_t(s.vertices.size());
+    for (auto [x, y] : {std::pair{x0, y0}, {x0, y1}, {x1, y0}, {x1, y1}})
+      s.vertices.push_back(vertex(x, y));
+    s.indices.insert(s.indices.end(), {base, base + 1, base + 2, base + 2, base + 1, base + 3});
+    s.triangleMaterial.insert(s.triangleMaterial.end(), {uint32_t(k), uint32_t(k)});
+  }
+  GlRasterizer gl(s);
+  const FrameFigures f = compareFrame(s, gl, cam, W, H, ShadingModel::BlinnPhong, "nearest");
+  EXPECT_GT(f.c.bothCovered, 2000u) << f.c.summary();
 }
 
 TEST(GlRaster, OddSizesAndFarPlane) {

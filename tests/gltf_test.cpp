@@ -506,6 +506,62 @@ TEST(GltfExport, TexturesRoundTripAsSrgbPng) {
   }
 }
 
+// glTF sampler wrap modes and filters (issue #16 item 5): kept per scene texture through export
+// and load; a second reference to the same image with another sampler gets its own copy.
+TEST(GltfExport, TextureWrapModesRoundTrip) {
+  Scene s;
+  s.name = "wrapped";
+  ts::Material m;
+  m.diffuseTexture = 0;
+  m.emissive = glm::vec3(0.5f);
+  m.emissiveTexture = 1;
+  s.materials.push_back(m);
+  ts::Texture t;
+  t.width = 2;
+  t.height = 2;
+  t.texels = {glm::vec4(0.2f), glm::vec4(0.4f), glm::vec4(0.6f), glm::vec4(0.8f)};
+  t.wrapS = ts::TextureWrap::ClampToEdge;
+  t.wrapT = ts::TextureWrap::MirroredRepeat;
+  s.textures = {t, t};
+  s.textures[1].wrapS = ts::TextureWrap::Repeat;
+  s.textures[1].nearest = true;
+  for (glm::vec3 p : {glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0)}) {
+    ts::Vertex v;
+    v.position = p;
+    v.normal = {0, 0, 1};
+    v.uv = {2.0f * p.x - 0.5f, 1.5f * p.y};
+    s.vertices.push_back(v);
+  }
+  s.indices = {0, 1, 2};
+  s.triangleMaterial = {0};
+  s.cameraPath.push_back(ts::Camera::lookAt({0.3, 0.3, 3}, {0.3, 0.3, 0}, {0, 1, 0}, 1.0f, 0.1f, 10.0f));
+  TempDir dir;
+  ts::exportGltf(s, dir.file("wrap.gltf"));
+  Scene l = ts::loadGltf(dir.file("wrap.gltf"));
+  ASSERT_EQ(l.textures.size(), 2u);
+  const ts::Texture& diffuse = l.textures[size_t(l.materials[0].baseColorTexture)];
+  const ts::Texture& emissive = l.textures[size_t(l.materials[0].emissiveTexture)];
+  EXPECT_EQ(diffuse.wrapS, ts::TextureWrap::ClampToEdge);
+  EXPECT_EQ(diffuse.wrapT, ts::TextureWrap::MirroredRepeat);
+  EXPECT_EQ(emissive.wrapS, ts::TextureWrap::Repeat);
+  EXPECT_EQ(emissive.wrapT, ts::TextureWrap::MirroredRepeat);
+  EXPECT_FALSE(diffuse.nearest);
+  EXPECT_TRUE(emissive.nearest);
+
+  // Both references on one image, with their own samplers.
+  std::ifstream in(dir.file("wrap.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["textures"][1]["source"] = doc["textures"][0]["source"];
+  doc["materials"][0]["emissiveTexture"]["index"] = 1;
+  dir.write("shared.gltf", doc.dump());
+  Scene shared = ts::loadGltf(dir.file("shared.gltf"));
+  ASSERT_EQ(shared.textures.size(), 2u);
+  EXPECT_NE(shared.materials[0].baseColorTexture, shared.materials[0].emissiveTexture);
+  EXPECT_EQ(shared.textures[size_t(shared.materials[0].emissiveTexture)].wrapS,
+            ts::TextureWrap::Repeat);
+  EXPECT_EQ(shared.textures[0].texels, shared.textures[1].texels);
+}
+
 // ---- real content ------------------------------------------------------------------------------
 
 TEST(GltfReal, CrytekSponza) {

@@ -377,12 +377,16 @@ TEST(HostileGltf, NoWarningLinePrecedesTheError) {
   std::filesystem::remove(path);
 }
 
+// The triangle textured, its TEXCOORD_0 the positions' first two floats of each vertex.
 json texturedTriangle(const std::string& uri) {
   json doc = triangle();
   doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
   doc["meshes"][0]["primitives"][0]["material"] = 0;
   doc["textures"] = {{{"source", 0}}};
   doc["images"] = {{{"uri", uri}}};
+  doc["accessors"].push_back(
+      {{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC2"}});
+  doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
   return doc;
 }
 
@@ -429,12 +433,179 @@ TEST(HostileGltf, FarOffTextureCoordinatesWrapWithoutOverflow) {
   t.width = 2;
   t.height = 2;
   t.texels = {glm::vec4(1), glm::vec4(2), glm::vec4(3), glm::vec4(4)};
-  for (float u : {1e10f, -1e10f, 3e38f, -3e38f}) {
-    glm::vec4 v = t.sample({u, 0.25f});
-    EXPECT_TRUE(std::isfinite(v.x)) << u;
-    EXPECT_GE(v.x, 1.0f);
-    EXPECT_LE(v.x, 4.0f);
+  for (auto wrap : {ts::TextureWrap::Repeat, ts::TextureWrap::ClampToEdge,
+                    ts::TextureWrap::MirroredRepeat}) {
+    t.wrapS = t.wrapT = wrap;
+    for (float u : {1e10f, -1e10f, 3e38f, -3e38f}) {
+      glm::vec4 v = t.sample({u, 0.25f});
+      EXPECT_TRUE(std::isfinite(v.x)) << u;
+      EXPECT_GE(v.x, 1.0f);
+      EXPECT_LE(v.x, 4.0f);
+    }
   }
+}
+
+// OpenGL's wrap functions for LINEAR filtering on two texels [1, 3] along u (centres at u = 0.25
+// and 0.75): REPEAT blends across the edge, CLAMP_TO_EDGE holds the edge texel, MIRRORED_REPEAT
+// reflects every period of 1.
+TEST(HostileGltf, TextureWrapModesFollowOpenGL) {
+  ts::Texture t;
+  t.width = 2;
+  t.height = 1;
+  t.texels = {glm::vec4(1.0f), glm::vec4(3.0f)};
+  auto at = [&](ts::TextureWrap wrap, float u) {
+    t.wrapS = wrap;
+    return t.sample({u, 0.5f}).x;
+  };
+  using W = ts::TextureWrap;
+  EXPECT_FLOAT_EQ(at(W::Repeat, 0.0f), 2.0f);
+  EXPECT_FLOAT_EQ(at(W::Repeat, 1.25f), 1.0f);
+  EXPECT_FLOAT_EQ(at(W::ClampToEdge, 0.0f), 1.0f);
+  EXPECT_FLOAT_EQ(at(W::ClampToEdge, -7.0f), 1.0f);
+  EXPECT_FLOAT_EQ(at(W::ClampToEdge, 1.0f), 3.0f);
+  EXPECT_FLOAT_EQ(at(W::ClampToEdge, 9.0f), 3.0f);
+  EXPECT_FLOAT_EQ(at(W::ClampToEdge, 0.5f), 2.0f);
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 0.0f), 1.0f);
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.0f), 3.0f);   // the edge of the mirror
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.25f), 3.0f);  // = u 0.75
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.75f), 1.0f);  // = u 0.25
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, -0.25f), 1.0f);  // = u 0.25
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 2.75f), 3.0f);   // period 2
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.5f), 2.0f);
+}
+
+TEST(HostileGltf, TheNearestFilterPicksTheTexelUnderTheCoordinate) {
+  ts::Texture t;
+  t.width = 2;
+  t.height = 1;
+  t.texels = {glm::vec4(1.0f), glm::vec4(3.0f)};
+  t.nearest = true;
+  auto at = [&](ts::TextureWrap wrap, float u) {
+    t.wrapS = wrap;
+    return t.sample({u, 0.5f}).x;
+  };
+  using W = ts::TextureWrap;
+  EXPECT_FLOAT_EQ(at(W::Repeat, 0.49f), 1.0f);
+  EXPECT_FLOAT_EQ(at(W::Repeat, 0.51f), 3.0f);
+  EXPECT_FLOAT_EQ(at(W::Repeat, -0.25f), 3.0f);
+  EXPECT_FLOAT_EQ(at(W::ClampToEdge, -3.0f), 1.0f);
+  EXPECT_FLOAT_EQ(at(W::ClampToEdge, 3.0f), 3.0f);
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.25f), 3.0f);
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.75f), 1.0f);
+  t.nearest = false;
+  EXPECT_FLOAT_EQ(at(W::Repeat, 0.5f), 2.0f);  // the bilinear blend, for contrast
+}
+
+// ---- issue #16: options that were ignored, messages with the wrong cause ----------------------
+
+json texturedTriangleWithUVs() {
+  return texturedTriangle("data:image/png;base64," + base64(pngHeader(2, 2, true)));
+}
+
+std::string warningWith(const Loaded& r, const std::string& fragment) {
+  for (const auto& w : r.warnings)
+    if (w.find(fragment) != std::string::npos) return w;
+  return "";
+}
+
+TEST(HostileGltf, MinificationFiltersUnlikeTheMagnificationOneAreWarned) {
+  json doc = texturedTriangleWithUVs();
+  doc["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}, {"minFilter", 9984}},
+                     {{"minFilter", 9986}},
+                     {{"magFilter", 9728}, {"minFilter", 9987}}};
+  doc["textures"] = {{{"source", 0}, {"sampler", 0}}, {{"source", 0}, {"sampler", 1}},
+                     {{"source", 0}, {"sampler", 2}}};
+  doc["materials"][0]["emissiveTexture"] = {{"index", 1}};
+  doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 2}};
+  Loaded r = load(doc);
+  ASSERT_TRUE(r.ok) << r.error;
+  // Wrap modes and the magnification filter are modelled (TextureWrapModesFollowOpenGL,
+  // TheNearestFilterPicksTheTexelUnderTheCoordinate); sampler 0's NEAREST minification is the
+  // same choice; the other two minify otherwise than they magnify.
+  const std::string w = warningWith(r, "sampler setting");
+  EXPECT_NE(w.find("2 sampler setting(s)"), std::string::npos) << w;
+  EXPECT_NE(w.find("samplers[1].minFilter NEAREST (magFilter LINEAR)"), std::string::npos) << w;
+  EXPECT_NE(w.find("samplers[2].minFilter LINEAR (magFilter NEAREST)"), std::string::npos) << w;
+  EXPECT_EQ(w.find("samplers[0]"), std::string::npos) << w;
+  // A value outside the specification's enumeration is an error, not the default.
+  doc["samplers"][0]["wrapS"] = 33072;
+  expectError(doc, "samplers[0].wrapS: expected one of 33071, 33648, 10497, got 33072");
+  // glTF's defaults, the exporter's samplers and NEAREST throughout say nothing.
+  doc["samplers"] = {{{"wrapS", 10497}, {"magFilter", 9729}, {"minFilter", 9987}},
+                     json::object(),
+                     {{"magFilter", 9728}, {"minFilter", 9728}}};
+  Loaded plain = load(doc);
+  ASSERT_TRUE(plain.ok) << plain.error;
+  EXPECT_EQ(warningWith(plain, "sampler"), "");
+}
+
+TEST(HostileGltf, KhrTextureTransformIsWarned) {
+  json doc = texturedTriangleWithUVs();
+  doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+      {"KHR_texture_transform", {{"offset", {0.5, 0}}, {"scale", {2, 2}}}}};
+  doc["extensionsUsed"].push_back("KHR_texture_transform");
+  Loaded r = load(doc);
+  ASSERT_TRUE(r.ok) << r.error;
+  const std::string w = warningWith(r, "KHR_texture_transform");
+  EXPECT_NE(w.find("materials[0].pbrMetallicRoughness.baseColorTexture"), std::string::npos) << w;
+}
+
+TEST(HostileGltf, ATexCoordSetThePrimitiveLacksIsAnError) {
+  json doc = texturedTriangleWithUVs();
+  ASSERT_TRUE(load(doc).ok);
+  doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1;
+  expectError(doc, "samples texCoord 1 but the primitive has no TEXCOORD_1");
+  doc = texturedTriangleWithUVs();
+  doc["materials"][0]["emissiveTexture"] = {{"index", 0}, {"texCoord", 3}};
+  expectError(doc, "emissiveTexture samples texCoord 3");
+}
+
+TEST(HostileGltf, ADeepNodeChainIsTooDeepNotACycle) {
+  auto chain = [](int levels) {
+    json doc = triangle();
+    json& nodes = doc["nodes"];
+    nodes[0]["children"] = {3};
+    for (int i = 0; i < levels - 1; ++i) {
+      json n = json::object();
+      if (i + 1 < levels - 1) n["children"] = {int(nodes.size()) + 1};
+      nodes.push_back(n);
+    }
+    return doc;
+  };
+  EXPECT_TRUE(load(chain(1000)).ok) << load(chain(1000)).error;
+  expectError(chain(1001), "deeper than 1000 levels");
+  EXPECT_EQ(load(chain(1001)).error.find("cycle"), std::string::npos);
+}
+
+TEST(HostileGltf, ANodeCycleIsAnErrorNotDroppedSilently) {
+  json doc = triangle();
+  doc["nodes"].push_back({{"children", {4}}, {"mesh", 0}});  // 3 -> 4 -> 5 -> 3, no root
+  doc["nodes"].push_back({{"children", {5}}});
+  doc["nodes"].push_back({{"children", {3}}});
+  expectError(doc, "node hierarchy has a cycle through node");
+  doc.erase("scenes");
+  doc.erase("scene");
+  expectError(doc, "node hierarchy has a cycle through node");
+  doc["nodes"][5]["children"] = json::array();  // a chain: fine
+  EXPECT_TRUE(load(doc).ok) << load(doc).error;
+}
+
+TEST(HostileGltf, LightsGivenAsAnObjectAreBlamedNotTheNode) {
+  json doc = triangle();
+  doc["extensions"]["KHR_lights_punctual"]["lights"] = {{"type", "point"}};
+  Loaded r = load(doc);
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("extensions.KHR_lights_punctual.lights: expected an array"),
+            std::string::npos) << r.error;
+  EXPECT_EQ(r.error.find("nodes"), std::string::npos) << r.error;
+}
+
+TEST(HostileGltf, AYfovThatRoundsToPiAsAFloatIsRefused) {
+  json doc = triangle();
+  doc["cameras"][0]["perspective"]["yfov"] = 3.14159264;  // below pi; its float is above
+  expectError(doc, "yfov 3.14159264 is not below pi (3.141592653589793) as a float");
+  doc["cameras"][0]["perspective"]["yfov"] = 3.1415925;  // the largest float below pi
+  EXPECT_TRUE(load(doc).ok);
 }
 
 // ---- the fuzzers' findings --------------------------------------------------------------------------

@@ -23,8 +23,9 @@
 //  - Pixel centres at +0.5 and single-sample rasterization: OpenGL's defaults.
 //  - Normals, facing, materials, textures: shaders/gbuffer.frag (the same rules as resolve(); the
 //    material planes from the shared shaders/material_planes.h). Textures are RGBA32F copies of
-//    ts::Texture (linear, no sRGB conversion on either side), GL_LINEAR without mipmaps and
-//    GL_REPEAT: bilinear with texel centres at half-integers, as Texture::sample.
+//    ts::Texture (linear, no sRGB conversion on either side), without mipmaps, with the texture's
+//    wrap modes and filter (GL_LINEAR: bilinear with texel centres at half-integers; GL_NEAREST),
+//    as Texture::sample.
 //  - Triangle ids: gl_PrimitiveID plus the draw's first triangle (one draw per run of triangles
 //    sharing a material, in scene order).
 // What cannot match bit for bit (float vertex transform, the snapped-triangle attribute
@@ -49,6 +50,15 @@
 
 namespace ts {
 namespace {
+
+GLint glWrap(TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::ClampToEdge: return GL_CLAMP_TO_EDGE;
+    case TextureWrap::MirroredRepeat: return GL_MIRRORED_REPEAT;
+    case TextureWrap::Repeat: break;
+  }
+  return GL_REPEAT;
+}
 
 using Clock = std::chrono::steady_clock;
 
@@ -171,10 +181,12 @@ struct GlRasterizer::State {
       // Row 0 = v = 0 in both ts::Texture and OpenGL's t = 0: no flip.
       glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, t.width, t.height, 0, GL_RGBA, GL_FLOAT,
                    t.texels.data());
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+      // textureLod(.., 0) magnifies (lambda 0): the magnification filter is the one used.
+      const GLint filter = t.nearest ? GL_NEAREST : GL_LINEAR;
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, glWrap(t.wrapS));
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, glWrap(t.wrapT));
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
       gl::checkErrors("uploading texture " + std::to_string(i) + " of scene '" + scene.name +

@@ -10,6 +10,7 @@
 #include "reference/shading_cpu.h"  // TS_DMIN
 #include "util/error.h"
 #include "util/file_read.h"
+#include "util/float_limit.h"
 #include "util/short_text.h"
 #include "util/strict_json.h"
 
@@ -251,14 +252,16 @@ GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::str
     const std::string key = degrees ? "yfov_degrees" : "yfov";
     double yfov = cam.positive(key);
     if (degrees) yfov *= 3.14159265358979323846 / 180.0;
-    if (!(yfov < 3.14159)) cam.fail(key, "must be below 180 degrees");
+    if (!(double(float(yfov)) < 2.0 * kHalfPi))  // as the float the camera keeps
+      cam.fail(key, "must be below 180 degrees (pi = " + fullText(2.0 * kHalfPi) + ") as a float, "
+                    "got " + fullText(cam.number(key)));
     d.tanHalfFovY = std::tan(0.5f * float(yfov));  // as CameraIntrinsics::from
   }
   // The kernels divide by these floats: one that rounds to 0 (1e-46) or inf would break them.
   auto usableFloat = [](const JsonFields& f, const std::string& key, float v) {
     if (!(v >= std::numeric_limits<float>::min() && std::isfinite(v)))
       f.fail(key, "must be a float from 1.17549435e-38 (the smallest normal) to 3.40282347e+38, "
-                  "got " + f.object.at(key).dump());
+                  "got " + shortText(f.object.at(key).dump()));
     return v;
   };
   if (d.tanHalfFovX) usableFloat(cam, "tan_half_fov", *d.tanHalfFovX);
@@ -364,7 +367,7 @@ const std::vector<LightField>& lightFields() {
          l.direction = f.vec3("direction");
          const double len = glm::length(glm::dvec3(l.direction));
          if (std::abs(len - 1.0) > 1e-5)
-           f.fail("direction", "must be a unit vector, its length is " + std::to_string(len));
+           f.fail("direction", "must be a unit vector, its length is " + fullText(len));
        }},
       // Spot cone: the kernels' values, or glTF's angles (read below).
       {"cos_outer", kSpot, [](const LightRecord& l) { return json(l.cosOuter); }, nullptr},
@@ -382,14 +385,23 @@ void readCone(LightRecord& l, const JsonFields& f) {
     f.fail("outer_cone_angle", "(with inner_cone_angle), or cos_outer with cone_scale: give one "
                                "pair");
   if (kernelForm) {
-    l.cosOuter = float(f.number("cos_outer"));
+    // A cos of a float pi/2 cone (-4.4e-8) is a cos of 0 (util/float_limit.h); 1 is a cone
+    // narrower than a float's cos resolves (under 3.5e-4 radians), lighting nothing.
+    const double cosOuter = f.number("cos_outer");
     l.coneScale = float(f.positive("cone_scale"));
-    if (!(l.cosOuter >= 0.0f && l.cosOuter < 1.0f)) f.fail("cos_outer", "must be in [0, 1)");
+    if (!withinFloatRounding(cosOuter, 0.0, 1.0, /*scale=*/1.0))
+      f.fail("cos_outer", "must be in [0, 1], got " + fullText(cosOuter));
+    l.cosOuter = float(std::clamp(cosOuter, 0.0, 1.0));
     return;
   }
-  const double inner = f.number("inner_cone_angle"), outer = f.number("outer_cone_angle");
-  if (!(inner >= 0.0 && inner < outer && outer <= 1.5707963267948966))
-    f.fail("outer_cone_angle", "must satisfy 0 <= inner_cone_angle < outer_cone_angle <= pi/2");
+  double inner = f.number("inner_cone_angle"), outer = f.number("outer_cone_angle");
+  if (!(withinFloatRounding(inner, 0.0, kHalfPi) && withinFloatRounding(outer, 0.0, kHalfPi) &&
+        inner < outer))
+    f.fail("outer_cone_angle", "must satisfy 0 <= inner_cone_angle < outer_cone_angle <= pi/2 (" +
+                                   fullText(kHalfPi) + "), got inner " + fullText(inner) +
+                                   ", outer " + fullText(outer));
+  inner = std::clamp(inner, 0.0, kHalfPi);
+  outer = std::clamp(outer, 0.0, kHalfPi);
   const ViewLights v = toViewSpace(
       {Light::spot(l.position, l.direction, l.color, l.range, float(inner), float(outer))},
       glm::mat4(1.0f));
@@ -439,9 +451,10 @@ LightsFile parseLightsFile(const std::string& text, const std::string& path) {
   if (!j.is_object()) throw Error(path + " must hold a JSON object");
   const JsonFields top{path, j, ""};
   top.onlyKeys({"dmin", "ambient", "lights"});
-  if (top.has("dmin") && top.number("dmin") != TS_DMIN)
-    top.fail("dmin", "is " + shortText(j.at("dmin").dump()) + " but the kernels use " +
-                         std::to_string(TS_DMIN));
+  // The kernels' dmin is a float of TS_DMIN: either reads as it.
+  if (top.has("dmin") && !withinFloatRounding(top.number("dmin"), TS_DMIN, TS_DMIN))
+    top.fail("dmin", "is " + fullText(top.number("dmin")) + " but the kernels use " +
+                         fullText(TS_DMIN));
   LightsFile out;
   if (top.has("ambient")) out.ambient = top.colour("ambient");
   if (!top.has("lights") || !j.at("lights").is_array()) top.fail("lights", "must be an array");

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cstring>
+#include <map>
 #include <sstream>
+#include <tuple>
 
 #ifndef TILESHADE_NO_OIIO
 #include <OpenImageIO/filesystem.h>
@@ -18,6 +20,7 @@
 #include "scene/scene_loader.h"
 #include "util/error.h"
 #include "util/file_write.h"
+#include "util/float_limit.h"
 #include "util/stderr_capture.h"
 
 namespace ts {
@@ -121,20 +124,40 @@ void checkExportPath(const std::string& path) {
     throw Error("cannot export to " + path + ": the file name must end in .gltf or .glb");
 }
 
+namespace {
+
+int gltfWrap(TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::ClampToEdge: return TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+    case TextureWrap::MirroredRepeat: return TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT;
+    case TextureWrap::Repeat: break;
+  }
+  return TINYGLTF_TEXTURE_WRAP_REPEAT;
+}
+
+}  // namespace
+
 void exportGltf(const Scene& scene, const std::string& path) {
   checkExportPath(path);
   Writer w;
   tinygltf::Model& m = w.model;
   bool emissiveStrength = false;
 
-  // Textures: embedded PNGs (sRGB) in the buffer, one REPEAT/linear sampler.
-  if (!scene.textures.empty()) {
-    tinygltf::Sampler sampler;
-    sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-    sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-    sampler.wrapS = sampler.wrapT = TINYGLTF_TEXTURE_WRAP_REPEAT;
-    m.samplers.push_back(sampler);
-  }
+  // Textures: embedded PNGs (sRGB) in the buffer, one sampler per wrap modes and filter.
+  std::map<std::tuple<TextureWrap, TextureWrap, bool>, int> samplers;
+  auto samplerOf = [&](const Texture& t) {
+    auto [it, added] =
+        samplers.emplace(std::make_tuple(t.wrapS, t.wrapT, t.nearest), int(m.samplers.size()));
+    if (added) {
+      tinygltf::Sampler sampler;
+      sampler.magFilter = sampler.minFilter =
+          t.nearest ? TINYGLTF_TEXTURE_FILTER_NEAREST : TINYGLTF_TEXTURE_FILTER_LINEAR;
+      sampler.wrapS = gltfWrap(t.wrapS);
+      sampler.wrapT = gltfWrap(t.wrapT);
+      m.samplers.push_back(sampler);
+    }
+    return it->second;
+  };
   for (size_t i = 0; i < scene.textures.size(); ++i) {
     std::vector<unsigned char> png = encodePng(scene.textures[i]);
     tinygltf::Image image;
@@ -143,7 +166,7 @@ void exportGltf(const Scene& scene, const std::string& path) {
     image.bufferView = w.bufferView(png.data(), png.size(), 0);
     m.images.push_back(image);
     tinygltf::Texture tex;
-    tex.sampler = 0;
+    tex.sampler = samplerOf(scene.textures[i]);
     tex.source = int(i);
     m.textures.push_back(tex);
   }
@@ -284,8 +307,9 @@ void exportGltf(const Scene& scene, const std::string& path) {
     light.color = {color.x, color.y, color.z};
     if (l.hasRange()) light.range = l.range;
     if (l.type == LightType::Spot) {
-      light.spot.innerConeAngle = l.innerConeAngle;
-      light.spot.outerConeAngle = l.outerConeAngle;
+      // A float pi/2 is above pi/2, which strict loaders refuse: written as pi/2 itself.
+      light.spot.innerConeAngle = std::min(double(l.innerConeAngle), kHalfPi);
+      light.spot.outerConeAngle = std::min(double(l.outerConeAngle), kHalfPi);
     }
     m.lights.push_back(light);
     tinygltf::Node node;

@@ -42,6 +42,13 @@ class Checker {
         if (const json* own = get(*extras, "tileshade"); own && own->is_object())
           numbers(*own, "ambient", at + ".extras.tileshade", 3, kAtLeastZero);
     });
+    // The lights before the nodes that index them: a malformed list is its own error, not a
+    // node's bad index.
+    object(doc_, "extensions", "", [&](const json& e, const std::string& at) {
+      object(e, "KHR_lights_punctual", at, [&](const json& k, const std::string& kat) {
+        objects(k, "lights", kat, [&](const json& l, const std::string& lat) { light(l, lat); });
+      });
+    });
     objects(doc_, "nodes", "", [&](const json& n, const std::string& at) { node(n, at); });
     objects(doc_, "meshes", "", [&](const json& m, const std::string& at) {
       objects(m, "primitives", at, [&](const json& p, const std::string& pat) { primitive(p, pat); });
@@ -63,6 +70,13 @@ class Checker {
       index(t, "source", at, count("images"));
       index(t, "sampler", at, count("samplers"));
     });
+    // The enumerations of the specification: another value would be sampled as the default.
+    objects(doc_, "samplers", "", [&](const json& s, const std::string& at) {
+      oneOf(s, "magFilter", at, {9728, 9729});
+      oneOf(s, "minFilter", at, {9728, 9729, 9984, 9985, 9986, 9987});
+      oneOf(s, "wrapS", at, {33071, 33648, 10497});
+      oneOf(s, "wrapT", at, {33071, 33648, 10497});
+    });
     objects(doc_, "images", "", [&](const json& i, const std::string& at) {
       string(i, "uri", at);
       string(i, "mimeType", at);
@@ -78,11 +92,6 @@ class Checker {
       });
     });
     for (const char* key : {"extensionsUsed", "extensionsRequired"}) strings(doc_, key, "");
-    object(doc_, "extensions", "", [&](const json& e, const std::string& at) {
-      object(e, "KHR_lights_punctual", at, [&](const json& k, const std::string& kat) {
-        objects(k, "lights", kat, [&](const json& l, const std::string& lat) { light(l, lat); });
-      });
-    });
   }
 
  private:

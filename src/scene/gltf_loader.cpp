@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #ifndef TILESHADE_NO_OIIO
 #include <OpenImageIO/filesystem.h>
@@ -28,6 +29,7 @@
 #include "util/checked_size.h"
 #include "util/error.h"
 #include "util/file_read.h"
+#include "util/float_limit.h"
 #include "util/short_text.h"
 #include "util/strict_json.h"
 #include "util/stderr_capture.h"
@@ -38,6 +40,8 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 constexpr int kOrbitFrames = 240;
+// Node levels tileshade follows (each a recursion of the loader's tree walk).
+constexpr int kMaxNodeDepth = 1000;
 
 // Lines of a message joined with "; ", empty ones dropped.
 std::string oneLine(const std::string& s) {
@@ -495,9 +499,15 @@ class GltfLoader {
 
  private:
   void visit(int node, const glm::dmat4& parent, int depth);
+  void failOnCycles() const;
   void addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& world, const std::string& what);
+  void requireTexCoords(const tinygltf::Primitive& p, const tinygltf::Material& mat, int index,
+                        const std::string& what) const;
   uint32_t material(int gltfMaterial);
-  int texture(int gltfTexture, bool srgb, int texCoord, const std::string& what);
+  int texture(const tinygltf::TextureInfo& info, bool srgb, const std::string& at,
+              const std::string& what);
+  int decodedTexture(const tinygltf::TextureInfo& info, bool srgb, const std::string& what);
+  void noteUnmodelledSampling(const tinygltf::TextureInfo& info, const std::string& at);
   void decodeImages();
   void addLight(const tinygltf::Light& light, const glm::dmat4& world, const std::string& what);
   void buildCameraPath();
@@ -511,6 +521,14 @@ class GltfLoader {
   std::map<std::pair<int, bool>, int> images_;
   std::map<std::pair<int, bool>, DecodedImage> decoded_;  // decoded up front, in parallel
   int otherTexCoords_ = 0;  // textures on another UV set than the base colour's
+  // What the texture sampling (one level, the magnification filter, untransformed UVs:
+  // Texture::sample) does not model, warned once each: "samplers[0].minFilter NEAREST (magFilter
+  // LINEAR)", texture references with KHR_texture_transform.
+  std::set<std::string> unmodelledSamplers_;
+  std::vector<std::string> transformedTextures_;
+  std::set<int> samplingGiven_;  // scene textures whose sampling a reference has set
+  // (scene texture, wrapS, wrapT, nearest) -> its copy sampled so
+  std::map<std::tuple<int, TextureWrap, TextureWrap, bool>, int> samplingVariants_;
   int uvSet_ = 0;           // the base colour's UV set of the material being read
   std::vector<std::string> textureFailures_;
   std::vector<std::string> clampedFactors_;  // "materials[2].metallicFactor 1.5"
@@ -571,13 +589,14 @@ uint32_t GltfLoader::material(int index) {
     out.doubleSided = mat.doubleSided;
     uvSet_ = std::max(pbr.baseColorTexture.texCoord, 0);  // the UV set addPrimitive keeps
     if (pbr.baseColorTexture.index >= 0)
-      out.baseColorTexture = texture(pbr.baseColorTexture.index, true, uvSet_, what);
+      out.baseColorTexture = texture(pbr.baseColorTexture, true,
+                                     at + ".pbrMetallicRoughness.baseColorTexture", what);
     if (pbr.metallicRoughnessTexture.index >= 0)
-      out.metallicRoughnessTexture = texture(pbr.metallicRoughnessTexture.index, false,
-                                             pbr.metallicRoughnessTexture.texCoord, what);
+      out.metallicRoughnessTexture =
+          texture(pbr.metallicRoughnessTexture, false,
+                  at + ".pbrMetallicRoughness.metallicRoughnessTexture", what);
     if (mat.emissiveTexture.index >= 0)
-      out.emissiveTexture =
-          texture(mat.emissiveTexture.index, true, mat.emissiveTexture.texCoord, what);
+      out.emissiveTexture = texture(mat.emissiveTexture, true, at + ".emissiveTexture", what);
   }
   fillBlinnPhongTerms(out, dielectricF0);
   // tileshade's exporter marks materials written for Blinn-Phong (their Blinn-Phong terms come
@@ -597,11 +616,54 @@ uint32_t GltfLoader::material(int index) {
   return id;
 }
 
-// The scene texture of glTF texture `index` decoded in the given colour space (-1 when it cannot
-// be: the factor alone is used, and load() warns once for all of them). Only the base colour's
-// UV set is kept per vertex; a texture on another set is sampled with it (counted, warned once).
-int GltfLoader::texture(int index, bool srgb, int texCoord, const std::string& what) {
-  if (std::max(texCoord, 0) != uvSet_) ++otherTexCoords_;
+TextureWrap textureWrap(int gltfWrap) {
+  if (gltfWrap == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return TextureWrap::ClampToEdge;
+  if (gltfWrap == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return TextureWrap::MirroredRepeat;
+  return TextureWrap::Repeat;  // glTF's default and REPEAT (10497)
+}
+
+// The scene texture of the texture reference `info` (at `at` in the file), decoded in the given
+// colour space, with its sampler's wrap modes and magnification filter (-1 when it cannot be
+// decoded: the factor alone is used, and load() warns once for all of them). Only the base
+// colour's UV set is kept per vertex; a texture on another set is sampled with it (counted,
+// warned once).
+int GltfLoader::texture(const tinygltf::TextureInfo& info, bool srgb, const std::string& at,
+                        const std::string& what) {
+  noteUnmodelledSampling(info, at);
+  const int decoded = decodedTexture(info, srgb, what);
+  if (decoded < 0) return -1;
+  TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat;
+  bool nearest = false;
+  const int sampler = m_.textures[size_t(info.index)].sampler;
+  if (sampler >= 0 && size_t(sampler) < m_.samplers.size()) {
+    wrapS = textureWrap(m_.samplers[size_t(sampler)].wrapS);
+    wrapT = textureWrap(m_.samplers[size_t(sampler)].wrapT);
+    nearest = m_.samplers[size_t(sampler)].magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+  }
+  // The first reference of an image gives its sampling; a reference with another gets a copy.
+  Texture& first = scene_.textures[size_t(decoded)];
+  if (samplingGiven_.insert(decoded).second) {
+    first.wrapS = wrapS;
+    first.wrapT = wrapT;
+    first.nearest = nearest;
+  }
+  if (first.wrapS == wrapS && first.wrapT == wrapT && first.nearest == nearest) return decoded;
+  const auto key = std::make_tuple(decoded, wrapS, wrapT, nearest);
+  if (auto it = samplingVariants_.find(key); it != samplingVariants_.end()) return it->second;
+  Texture copy = first;
+  copy.wrapS = wrapS;
+  copy.wrapT = wrapT;
+  copy.nearest = nearest;
+  scene_.textures.push_back(std::move(copy));
+  return samplingVariants_[key] = int(scene_.textures.size() - 1);
+}
+
+// The scene texture of the image of texture reference `info`, as first decoded (-1 when it
+// cannot be, recorded for load()'s warning).
+int GltfLoader::decodedTexture(const tinygltf::TextureInfo& info, bool srgb,
+                               const std::string& what) {
+  const int index = info.index;
+  if (std::max(info.texCoord, 0) != uvSet_) ++otherTexCoords_;
   if (index < 0 || size_t(index) >= m_.textures.size()) {
     textureFailures_.push_back(what + ": texture " + std::to_string(index) + " does not exist");
     return -1;
@@ -629,6 +691,29 @@ int GltfLoader::texture(int index, bool srgb, int texCoord, const std::string& w
   }
   images_[key] = result;
   return result;
+}
+
+// Records what of the texture reference `info` (at `at` in the file) and its sampler the
+// sampling does not model: a minification filter unlike the magnification one,
+// KHR_texture_transform.
+void GltfLoader::noteUnmodelledSampling(const tinygltf::TextureInfo& info, const std::string& at) {
+  if (info.extensions.count("KHR_texture_transform")) transformedTextures_.push_back(at);
+  if (info.index < 0 || size_t(info.index) >= m_.textures.size()) return;
+  const int index = m_.textures[size_t(info.index)].sampler;
+  if (index < 0 || size_t(index) >= m_.samplers.size()) return;  // glTF's default: REPEAT, linear
+  const auto& sampler = m_.samplers[size_t(index)];
+  const std::string name = "samplers[" + std::to_string(index) + "].";
+  // Sampling uses the magnification filter (one level, as OpenGL's textureLod(.., 0)): a
+  // minification filter that would choose texels differently is not modelled. Its mipmap choice
+  // is moot with one level.
+  const bool nearestMag = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+  const int min = sampler.minFilter;
+  const bool nearestMin = min == TINYGLTF_TEXTURE_FILTER_NEAREST ||
+                          min == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST ||
+                          min == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR;
+  if (min >= 0 && nearestMin != nearestMag)
+    unmodelledSamplers_.insert(name + "minFilter " + (nearestMin ? "NEAREST" : "LINEAR") +
+                               " (magFilter " + (nearestMag ? "NEAREST" : "LINEAR") + ")");
 }
 
 // Decodes every image a material uses (base colour and emissive as sRGB, metallic-roughness as
@@ -676,9 +761,12 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
   if (light.color.size() >= 3) c = {light.color[0], light.color[1], light.color[2]};
   c *= light.intensity;
   glm::vec3 color = floatVec3(c.x, c.y, c.z, read_, what + ": light colour x intensity");
-  glm::vec3 position = glm::vec3(world[3]);
-  glm::vec3 axis = glm::vec3(-world[2]);
-  float axisLength = glm::length(axis);
+  // The node's world position and axis stay double: a float position 1e5 from the origin is
+  // rounded by up to 4e-3, which the double view transform would then keep (Light::position); a
+  // float length of the axis of a node scaled by 1e30 overflows.
+  const glm::dvec3 position(world[3]);
+  const glm::dvec3 axis(-world[2]);
+  const double axisLength = glm::length(axis);
   float range = light.range > 0.0 ? float(light.range) : rangeFromThreshold(color, gltf::kLightThreshold);
   if (light.type == "point") {
     scene_.lights.push_back(Light::point(position, color, range));
@@ -688,20 +776,44 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
     ++otherLights_;
     return;
   }
-  if (!(axisLength > 0.0f) || !std::isfinite(axisLength))
-    read_.fail(what + ": the " + light.type + " light's node transform has no direction");
-  glm::vec3 direction = axis / axisLength;
+  if (!(axisLength > 0.0) || !std::isfinite(axisLength))
+    read_.fail(what + ": the " + light.type + " light's node transform has a zero scale along "
+               "its -Z axis (no direction)");
+  const glm::vec3 direction(axis / axisLength);
   if (light.type == "directional") {
     scene_.lights.push_back(Light::directional(direction, color));
     return;
   }
+  // A float of pi/2 (what float-based exporters, tileshade's too, write) is taken as pi/2.
   double inner = light.spot.innerConeAngle, outer = light.spot.outerConeAngle;
-  const double halfPi = 1.5707963267948966;
-  if (!(inner >= 0.0 && inner < outer && outer <= halfPi))
+  if (!(withinFloatRounding(inner, 0.0, kHalfPi) && withinFloatRounding(outer, 0.0, kHalfPi) &&
+        inner < outer))
     read_.fail(what + ": spot cone angles must satisfy 0 <= innerConeAngle < outerConeAngle <= "
-               "pi/2, got inner " + std::to_string(inner) + ", outer " + std::to_string(outer));
+               "pi/2 (" + fullText(kHalfPi) + "), got inner " + fullText(inner) + ", outer " +
+               fullText(outer));
+  inner = std::clamp(inner, 0.0, kHalfPi);
+  outer = std::clamp(outer, 0.0, kHalfPi);
   scene_.lights.push_back(
       Light::spot(position, direction, color, range, float(inner), float(outer)));
+}
+
+// Every UV set the material's textures name must be an attribute of the primitive: without it
+// there is nothing to sample the texture with.
+void GltfLoader::requireTexCoords(const tinygltf::Primitive& p, const tinygltf::Material& mat,
+                                  int index, const std::string& what) const {
+  const std::pair<const tinygltf::TextureInfo*, const char*> used[] = {
+      {&mat.pbrMetallicRoughness.baseColorTexture, "pbrMetallicRoughness.baseColorTexture"},
+      {&mat.pbrMetallicRoughness.metallicRoughnessTexture,
+       "pbrMetallicRoughness.metallicRoughnessTexture"},
+      {&mat.emissiveTexture, "emissiveTexture"}};
+  for (const auto& [info, key] : used) {
+    if (info->index < 0) continue;
+    const std::string set = "TEXCOORD_" + std::to_string(std::max(info->texCoord, 0));
+    if (!p.attributes.count(set))
+      read_.fail(what + ": materials[" + std::to_string(index) + "]." + key + " samples texCoord " +
+                 std::to_string(std::max(info->texCoord, 0)) + " but the primitive has no " + set +
+                 " attribute");
+  }
 }
 
 void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& world,
@@ -724,8 +836,11 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
   if (auto it = p.attributes.find("NORMAL"); it != p.attributes.end())
     N = read_.read(it->second, 3, what + " NORMAL");
   int texCoord = 0;
-  if (p.material >= 0 && size_t(p.material) < m_.materials.size())
-    texCoord = std::max(m_.materials[size_t(p.material)].pbrMetallicRoughness.baseColorTexture.texCoord, 0);
+  if (p.material >= 0 && size_t(p.material) < m_.materials.size()) {
+    const auto& mat = m_.materials[size_t(p.material)];
+    texCoord = std::max(mat.pbrMetallicRoughness.baseColorTexture.texCoord, 0);
+    requireTexCoords(p, mat, p.material, what);
+  }
   if (auto it = p.attributes.find("TEXCOORD_" + std::to_string(texCoord)); it != p.attributes.end())
     UV = read_.read(it->second, 2, what + " TEXCOORD");
   if (N.size() != 0 && N.size() != P.size()) read_.fail(what + ": NORMAL count differs from POSITION");
@@ -824,7 +939,13 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
 
 void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
   if (index < 0 || size_t(index) >= m_.nodes.size()) read_.fail("bad node index " + std::to_string(index));
-  if (depth > 1000 || !visiting_.insert(index).second) read_.fail("node hierarchy has a cycle");
+  // A guard: failOnCycles() has refused every cycle before the walk.
+  if (!visiting_.insert(index).second)
+    read_.fail("node hierarchy has a cycle through node " + std::to_string(index));
+  if (depth >= kMaxNodeDepth)
+    read_.fail("node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) +
+               " levels (node " + std::to_string(index) + " is at level " +
+               std::to_string(depth + 1) + ")");
   const auto& node = m_.nodes[size_t(index)];
   std::string what = "node " + std::to_string(index) + " '" + node.name + "'";
   glm::dmat4 world = parent * localMatrix(node, read_, what);
@@ -871,8 +992,10 @@ void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
       camera_.viewFromWorld = glm::inverse(rigid);
       // yfov, znear > 0 and zfar >= 0 within float's range were checked in the JSON.
       const auto& pc = cam.perspective;
-      if (!(pc.yfov < double(kPi)))
-        read_.fail(what + ": camera yfov " + shortText(pc.yfov) + " is not below pi");
+      // Below pi as the float the camera keeps (a float of 3.14159264 is above pi).
+      if (!(double(float(pc.yfov)) < 3.141592653589793))
+        read_.fail(what + ": camera yfov " + fullText(pc.yfov) + " is not below pi (" +
+                   fullText(3.141592653589793) + ") as a float");
       if (pc.zfar > 0.0 && !(pc.zfar > pc.znear))
         read_.fail(what + ": camera zfar " + shortText(pc.zfar) + " is not beyond znear " +
                    shortText(pc.znear));
@@ -937,6 +1060,30 @@ void GltfLoader::buildCameraPath() {
                  " in x) is too large to frame with float cameras");
 }
 
+// With at most one parent per node, a cycle of nodes (each the child of the one before) has no
+// root: no walk from the roots would reach it, and its meshes and lights would be dropped without
+// a word. Found by walking up from every node, each node's walk done once (linear).
+void GltfLoader::failOnCycles() const {
+  const size_t n = m_.nodes.size();
+  std::vector<int> parent(n, -1);
+  for (size_t i = 0; i < n; ++i)
+    for (int c : m_.nodes[i].children)
+      if (c >= 0 && size_t(c) < n) parent[size_t(c)] = int(i);
+  enum : char { kUnknown, kOnThisWalk, kReachesARoot };
+  std::vector<char> state(n, kUnknown);
+  for (size_t i = 0; i < n; ++i) {
+    size_t k = i;
+    while (state[k] == kUnknown && parent[k] >= 0) {
+      state[k] = kOnThisWalk;
+      k = size_t(parent[k]);
+    }
+    if (state[k] == kOnThisWalk)
+      read_.fail("node hierarchy has a cycle through node " + std::to_string(k));
+    for (size_t j = i; state[j] == kOnThisWalk; j = size_t(parent[j])) state[j] = kReachesARoot;
+    state[k] = kReachesARoot;
+  }
+}
+
 Scene GltfLoader::load() {
   scene_.name = std::filesystem::path(path_).stem().string();
   scene_.ambient = glm::vec3(0.05f);
@@ -949,6 +1096,7 @@ Scene GltfLoader::load() {
       if (c >= 0 && size_t(c) < parents.size() && ++parents[size_t(c)] > 1)
         read_.fail("node " + std::to_string(c) + " has more than one parent (glTF node "
                    "hierarchies are trees)");
+  failOnCycles();
   std::vector<int> roots;
   int sceneIndex = m_.defaultScene >= 0 ? m_.defaultScene : (m_.scenes.empty() ? -1 : 0);
   if (sceneIndex >= 0) {
@@ -983,6 +1131,14 @@ Scene GltfLoader::load() {
   if (otherLights_ > 0)
     warn("skipped " + std::to_string(otherLights_) +
          " light(s) of an unknown type (KHR_lights_punctual has point, spot, directional)");
+  if (!unmodelledSamplers_.empty())
+    warn("ignored " + std::to_string(unmodelledSamplers_.size()) + " sampler setting(s), "
+         "textures are sampled with their magnification filter: " +
+         listed({unmodelledSamplers_.begin(), unmodelledSamplers_.end()}));
+  if (!transformedTextures_.empty())
+    warn("ignored KHR_texture_transform (offset, rotation, scale) on " +
+         std::to_string(transformedTextures_.size()) + " texture reference(s): " +
+         listed(transformedTextures_));
   if (orthographic_ > 0)
     warn("ignored " + std::to_string(orthographic_) +
          " orthographic camera(s): only perspective cameras are supported");

@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -9,18 +10,48 @@
 
 namespace ts {
 
+namespace {
+
+// A texture coordinate in texels (n of them), first brought into one period of the wrap mode, so
+// that a far-off coordinate (u = 1e10) cannot overflow the integer texel index: REPEAT's period
+// is 1, MIRRORED_REPEAT's 2; CLAMP_TO_EDGE clamps every index beyond [-1, 2] to the same texel.
+float texelCoordinate(float s, int n, TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::ClampToEdge: return std::clamp(s, -1.0f, 2.0f) * float(n);
+    case TextureWrap::MirroredRepeat: return (s - 2.0f * std::floor(0.5f * s)) * float(n);
+    case TextureWrap::Repeat: break;
+  }
+  return (s - std::floor(s)) * float(n);
+}
+
+// Texel index i of an axis of n texels, wrapped as OpenGL does (its wrap(i)).
+int wrapIndex(int i, int n, TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::ClampToEdge: return std::clamp(i, 0, n - 1);
+    case TextureWrap::MirroredRepeat: {
+      const int m = ((i % (2 * n)) + 2 * n) % (2 * n) - n;
+      return (n - 1) - (m >= 0 ? m : -(1 + m));
+    }
+    case TextureWrap::Repeat: break;
+  }
+  return ((i % n) + n) % n;
+}
+
+}  // namespace
+
 glm::vec4 Texture::sample(glm::vec2 uv) const {
   if (width <= 0 || height <= 0) return glm::vec4(1.0f);
-  // Texel centres at half-integers; wrap both axes (REPEAT). The fractional part first, so that a
-  // far-off coordinate (u = 1e10) cannot overflow the integer texel index.
-  float fx = (uv.x - std::floor(uv.x)) * float(width) - 0.5f;
-  float fy = (uv.y - std::floor(uv.y)) * float(height) - 0.5f;
+  auto at = [&](int x, int y) { return texels[size_t(y) * size_t(width) + size_t(x)]; };
+  const float u = texelCoordinate(uv.x, width, wrapS), v = texelCoordinate(uv.y, height, wrapT);
+  if (nearest)
+    return at(wrapIndex(int(std::floor(u)), width, wrapS),
+              wrapIndex(int(std::floor(v)), height, wrapT));
+  // Texel centres at half-integers.
+  float fx = u - 0.5f, fy = v - 0.5f;
   float x0f = std::floor(fx), y0f = std::floor(fy);
   float tx = fx - x0f, ty = fy - y0f;
-  auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
-  int x0 = wrap(int(x0f), width), x1 = wrap(int(x0f) + 1, width);
-  int y0 = wrap(int(y0f), height), y1 = wrap(int(y0f) + 1, height);
-  auto at = [&](int x, int y) { return texels[size_t(y) * size_t(width) + size_t(x)]; };
+  int x0 = wrapIndex(int(x0f), width, wrapS), x1 = wrapIndex(int(x0f) + 1, width, wrapS);
+  int y0 = wrapIndex(int(y0f), height, wrapT), y1 = wrapIndex(int(y0f) + 1, height, wrapT);
   glm::vec4 top = glm::mix(at(x0, y0), at(x1, y0), tx);
   glm::vec4 bottom = glm::mix(at(x0, y1), at(x1, y1), tx);
   return glm::mix(top, bottom, ty);
@@ -58,7 +89,7 @@ std::string describeLights(const std::vector<Light>& lights) {
   return s + ": " + parts;
 }
 
-Light Light::point(glm::vec3 position, glm::vec3 color, float range) {
+Light Light::point(glm::dvec3 position, glm::vec3 color, float range) {
   Light l;
   l.position = position;
   l.color = color;
@@ -66,7 +97,7 @@ Light Light::point(glm::vec3 position, glm::vec3 color, float range) {
   return l;
 }
 
-Light Light::spot(glm::vec3 position, glm::vec3 direction, glm::vec3 color, float range,
+Light Light::spot(glm::dvec3 position, glm::vec3 direction, glm::vec3 color, float range,
                   float innerConeAngle, float outerConeAngle) {
   Light l = point(position, color, range);
   l.type = LightType::Spot;

@@ -9,13 +9,20 @@
 
 namespace ts {
 
-// Linear-RGB texture, sampled bilinearly with wrap-around (glTF's default REPEAT sampler).
+// How a texture coordinate outside [0, 1] maps into the texture: glTF's (and OpenGL's) wrap modes.
+enum class TextureWrap { Repeat = 0, ClampToEdge = 1, MirroredRepeat = 2 };
+
+// Linear-RGB texture, sampled with its sampler's wrap modes and magnification filter (glTF's
+// defaults: REPEAT, bilinear), at one level (no mipmaps).
 struct Texture {
   int width = 0;
   int height = 0;
   std::vector<glm::vec4> texels;  // row-major, row 0 = top (v = 0), linear RGBA
   bool srgb = true;  // colour (base colour, emissive: sRGB-encoded in files) or data
                      // (metallic-roughness: stored as is)
+  TextureWrap wrapS = TextureWrap::Repeat;  // along u
+  TextureWrap wrapT = TextureWrap::Repeat;  // along v
+  bool nearest = false;  // filter NEAREST (the texel under uv), else LINEAR (bilinear)
   glm::vec4 sample(glm::vec2 uv) const;
 };
 
@@ -65,16 +72,18 @@ std::string toString(LightType type);  // "point" | "spot" | "directional"
 // lights every surface from `direction`'s opposite, with no position and no range.
 struct Light {
   LightType type = LightType::Point;
-  glm::vec3 position{0.0f};            // world space (point, spot)
+  glm::dvec3 position{0.0};            // world space (point, spot); double until the view
+                                       // transform, as the camera (docs/hard-cases.md)
   glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world space, unit, where the light travels (spot,
                                            // directional): a node's -Z in glTF
   glm::vec3 color{1.0f};
   float range = 1.0f;                  // point, spot: > 0
-  float innerConeAngle = 0.0f;         // spot, radians: 0 <= inner < outer <= pi/2
+  float innerConeAngle = 0.0f;         // spot, radians: 0 <= inner < outer <= pi/2 (a float
+                                       // of pi/2 is 4.4e-8 above it: taken as pi/2)
   float outerConeAngle = 0.7853981634f;  // spot, radians (glTF's default pi/4)
 
-  static Light point(glm::vec3 position, glm::vec3 color, float range);
-  static Light spot(glm::vec3 position, glm::vec3 direction, glm::vec3 color, float range,
+  static Light point(glm::dvec3 position, glm::vec3 color, float range);
+  static Light spot(glm::dvec3 position, glm::vec3 direction, glm::vec3 color, float range,
                     float innerConeAngle, float outerConeAngle);
   static Light directional(glm::vec3 direction, glm::vec3 color);
   bool hasRange() const { return type != LightType::Directional; }

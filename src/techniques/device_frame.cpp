@@ -13,7 +13,9 @@ void ViewLights::addPoint(glm::vec3 position, float range, glm::vec3 color) {
 
 void ViewLights::addSpot(glm::vec3 position, float range, glm::vec3 color, glm::vec3 axis,
                          float innerConeAngle, float outerConeAngle) {
-  float cosInner = std::cos(innerConeAngle), cosOuter = std::cos(outerConeAngle);
+  // The cos of a float pi/2 (4.4e-8 above pi/2) is -4.4e-8: the cone is a half-space, cos 0.
+  float cosInner = std::max(0.0f, std::cos(innerConeAngle));
+  float cosOuter = std::max(0.0f, std::cos(outerConeAngle));
   positionRange.emplace_back(position, range);
   // glTF's recommended angle scale: 1 / max(0.001, cos inner - cos outer).
   this->color.emplace_back(color, 1.0f / std::max(1e-3f, cosInner - cosOuter));
@@ -33,7 +35,7 @@ ViewLights toViewSpace(const std::vector<Light>& lights, const glm::dmat4& viewF
       out.addDirectional(-(rotation * l.direction), l.color);
       continue;
     }
-    glm::vec3 p = glm::vec3(viewFromWorld * glm::dvec4(glm::dvec3(l.position), 1.0));
+    glm::vec3 p = glm::vec3(viewFromWorld * glm::dvec4(l.position, 1.0));
     if (l.type == LightType::Spot)
       out.addSpot(p, l.range, l.color, rotation * l.direction, l.innerConeAngle,
                   l.outerConeAngle);
