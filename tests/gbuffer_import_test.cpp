@@ -29,10 +29,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 fs::path freshDir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("tileshade_gbuffer_import_" + name);
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
+  return ts::test::freshDir("gbuffer_import", name);
 }
 
 // Dumps `f` as `render --dump` does (through the dump kernel) into a fresh folder.

@@ -29,10 +29,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 fs::path freshDir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("tileshade_gbuffer_trust_" + name);
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
+  return ts::test::freshDir("gbuffer_trust", name);
 }
 
 // A dump of the street (few lights) as the files to spoil: descriptor, lights, image.

@@ -2,7 +2,6 @@
 // failed or truncated write, images with NaN/inf pixels (never reported as exact), bench configs
 // with absurd values. The expected outcome is one line "tileshade: error: ..." and exit status 1
 // before any file is written, or an honest report.
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -37,10 +36,7 @@ using ts::test::Streams;
 
 // A fresh folder per test (CTest runs tests in parallel processes).
 fs::path freshDir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("tileshade_hostile_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
+  return ts::test::freshDir("hostile", name);
 }
 
 size_t lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }

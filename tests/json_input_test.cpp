@@ -3,7 +3,6 @@
 // every file tileshade reads (gbuffer.json, lights.json, bench configs, bench.json/bench.csv on
 // resume, glTF and GLB, kernel sources), and no error line echoes more than a short prefix of
 // what the user gave.
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstring>
@@ -39,11 +38,7 @@ using ts::test::Streams;
 constexpr size_t kShortLine = 600;
 
 fs::path freshDir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() /
-               ("tileshade_json_input_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
+  return ts::test::freshDir("json_input", name);
 }
 
 void writeText(const fs::path& p, const std::string& text) {

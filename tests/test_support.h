@@ -2,6 +2,7 @@
 // Shared pieces of the test suites: one OpenCL context per process (PoCL unless
 // $TILESHADE_DEVICE says otherwise), where to find third-party scenes, and the tileshade binary.
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -25,6 +26,17 @@ inline ClContext& context() {
 inline std::string sourceDir() {
   if (const char* env = std::getenv("TILESHADE_SOURCE_DIR"); env && *env) return env;
   return TILESHADE_SOURCE_DIR;
+}
+
+// An empty folder for one test's files: TMP/tileshade_<area>_<name>_<pid> (CTest runs tests in
+// parallel processes, so the pid keeps two runs of one name apart).
+inline std::filesystem::path freshDir(const std::string& area, const std::string& name) {
+  namespace fs = std::filesystem;
+  fs::path p = fs::temp_directory_path() /
+               ("tileshade_" + area + "_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
 }
 
 // ../shared/scenes beside the checkout (present in CI and on developer machines, absent for a

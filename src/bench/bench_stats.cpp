@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "util/error.h"
 #include "util/file_read.h"
 
 namespace ts {
@@ -41,34 +42,6 @@ std::string csvLine(const std::vector<std::string>& fields) {
   std::string line;
   for (size_t i = 0; i < fields.size(); ++i) line += (i ? "," : "") + csvField(fields[i]);
   return line;
-}
-
-std::vector<std::string> parseCsvLine(const std::string& line) {
-  std::vector<std::string> out;
-  std::string field;
-  bool quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        field += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        field += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      out.push_back(field);
-      field.clear();
-    } else if (c != '\r') {
-      field += c;
-    }
-  }
-  out.push_back(field);
-  return out;
 }
 
 bool parseCsvRecord(const std::string& line, std::vector<std::string>& fields) {
@@ -111,16 +84,18 @@ bool readCsv(const std::string& path, std::vector<std::string>& header,
   std::istringstream in(readTextFile(path, "bench results"));
   std::string line, headerLine;
   header.clear();
-  while (std::getline(in, line)) {
+  std::vector<std::string> fields;
+  for (size_t number = 1; std::getline(in, line); ++number) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
+    if (!parseCsvRecord(line, fields))
+      throw Error(path + ": line " + std::to_string(number) + " is not a CSV record");
     if (header.empty()) {
       headerLine = line;
-      header = parseCsvLine(line);
+      header = fields;
       continue;
     }
     if (line == headerLine) continue;
-    auto fields = parseCsvLine(line);
     std::map<std::string, std::string> row;
     for (size_t i = 0; i < header.size() && i < fields.size(); ++i) row[header[i]] = fields[i];
     rows.push_back(std::move(row));

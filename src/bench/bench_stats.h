@@ -19,14 +19,14 @@ Summary summarize(std::vector<double> values);
 // CSV (RFC 4180): fields holding a comma, quote or line break are quoted, quotes doubled.
 std::string csvField(const std::string& s);
 std::string csvLine(const std::vector<std::string>& fields);
-std::vector<std::string> parseCsvLine(const std::string& line);
-// The same, strictly: false for an unterminated quote or a quote inside an unquoted field (or
-// text after a closing one), which parseCsvLine reads as best it can.
+// One line read back: false for an unterminated quote or a quote inside an unquoted field (or
+// text after a closing one).
 bool parseCsvRecord(const std::string& line, std::vector<std::string>& fields);
 
 // Rows of a CSV file as column -> value. The first line is the header; a later line equal to the
 // header is skipped (so `cat a.csv b.csv` of files with the same columns reads back as one table).
-// Returns false when the file does not exist; header receives the file's columns.
+// Returns false when the file does not exist; header receives the file's columns. A line that is
+// not a CSV record is an error naming the file and the line.
 bool readCsv(const std::string& path, std::vector<std::string>& header,
              std::vector<std::map<std::string, std::string>>& rows);
 
