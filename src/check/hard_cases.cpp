@@ -54,6 +54,11 @@ HardCaseFrame frameOf(Scene scene, int width = 64, int height = 48) {
 }
 
 // A deterministic stream of numbers for light placement (SceneRandom: the same on every library).
+// Every draw is its own statement: C++ leaves the order of a call's arguments unspecified (g++ on
+// x86-64 evaluates them right to left, clang left to right), so a call that draws twice builds
+// another case under each compiler. The cases draw in the order g++ did (a call's last argument
+// first: range, colour, position), so its cases are unchanged (tests/hard_case_pins_test.cpp).
+// Braced lists ({in(), in()}) are evaluated left to right and may draw several times.
 struct Placer {
   SceneRandom rng;
   explicit Placer(uint32_t seed) : rng(seed) {}
@@ -87,9 +92,12 @@ glm::dvec3 pixelOnPlane(const Camera& camera, int width, int height, double x, d
 HardCaseFrame lightsBehindCamera() {
   Scene s = room("lights-behind-camera");
   Placer p(11);
-  for (int i = 0; i < 40; ++i)  // behind the eye (z > 4), most reaching into the room
-    s.lights.push_back(Light::point(p.in({-6, 0.5f, 4.2f}, {6, 4, 12}), p.color(),
-                                    i % 4 ? p.in(6.0f, 25.0f) : p.in(0.5f, 3.0f)));
+  for (int i = 0; i < 40; ++i) {  // behind the eye (z > 4), most reaching into the room
+    const float range = i % 4 ? p.in(6.0f, 25.0f) : p.in(0.5f, 3.0f);
+    const glm::vec3 color = p.color();
+    const glm::vec3 at = p.in({-6, 0.5f, 4.2f}, {6, 4, 12});
+    s.lights.push_back(Light::point(at, color, range));
+  }
   return frameOf(std::move(s));
 }
 
@@ -101,8 +109,11 @@ HardCaseFrame lightsStraddlingNearPlane() {
   const double depths[] = {0.1, 0.0, 0.0999, 0.1001, -0.05, 0.05, 0.3, -0.3};
   for (int i = 0; i < 48; ++i) {
     double w = depths[i % 8];
-    glm::dvec3 v(p.in(-0.4f, 0.4f), p.in(-0.3f, 0.3f), -w);
-    s.lights.push_back(Light::point(fromView(c, v), p.color(), p.logIn(0.05f, 12.0f)));
+    const float y = p.in(-0.3f, 0.3f);
+    const float x = p.in(-0.4f, 0.4f);
+    const float range = p.logIn(0.05f, 12.0f);
+    const glm::vec3 color = p.color();
+    s.lights.push_back(Light::point(fromView(c, glm::dvec3(x, y, -w)), color, range));
   }
   return frameOf(std::move(s));
 }
@@ -112,8 +123,10 @@ HardCaseFrame lightsAroundCamera() {
   Placer p(13);
   for (int i = 0; i < 32; ++i) {
     glm::vec3 dir = glm::normalize(p.in(glm::vec3(-1.0f), glm::vec3(1.0f)) + glm::vec3(1e-3f));
-    s.lights.push_back(Light::point(glm::vec3(kEye) + p.in(0.3f, 3.0f) * dir, p.color(),
-                                    p.in(1.0f, 9.0f)));
+    const float range = p.in(1.0f, 9.0f);
+    const glm::vec3 color = p.color();
+    const float distance = p.in(0.3f, 3.0f);
+    s.lights.push_back(Light::point(glm::vec3(kEye) + distance * dir, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -128,7 +141,9 @@ HardCaseFrame rangesTiny() {
     double x = std::floor(p.in(0.0f, 64.0f)), y = std::floor(p.in(30.0f, 48.0f));
     glm::dvec3 at = pixelOnPlane(c, 64, 48, x, y, {0, 0, 0}, {0, 1, 0});
     at.y += i % 2 ? 0.0 : 1e-6 * double(i % 7);
-    s.lights.push_back(Light::point(glm::vec3(at), p.color(), p.logIn(1e-6f, 1e-2f)));
+    const float range = p.logIn(1e-6f, 1e-2f);
+    const glm::vec3 color = p.color();
+    s.lights.push_back(Light::point(glm::vec3(at), color, range));
   }
   return frameOf(std::move(s));
 }
@@ -136,18 +151,24 @@ HardCaseFrame rangesTiny() {
 HardCaseFrame rangesHuge() {
   Scene s = room("ranges-huge");
   Placer p(15);
-  for (int i = 0; i < 24; ++i)
-    s.lights.push_back(Light::point(p.in({-30, -5, -60}, {30, 20, 30}), 0.05f * p.color(),
-                                    p.logIn(1e3f, 1e6f)));
+  for (int i = 0; i < 24; ++i) {
+    const float range = p.logIn(1e3f, 1e6f);
+    const glm::vec3 color = 0.05f * p.color();
+    const glm::vec3 at = p.in({-30, -5, -60}, {30, 20, 30});
+    s.lights.push_back(Light::point(at, color, range));
+  }
   return frameOf(std::move(s));
 }
 
 HardCaseFrame rangesMixed() {
   Scene s = room("ranges-1e-6-to-1e6");
   Placer p(16);
-  for (int i = 0; i < 120; ++i)
-    s.lights.push_back(Light::point(p.in({-8, 0, -14}, {8, 5, 6}), 0.1f * p.color(),
-                                    p.logIn(1e-6f, 1e6f)));
+  for (int i = 0; i < 120; ++i) {
+    const float range = p.logIn(1e-6f, 1e6f);
+    const glm::vec3 color = 0.1f * p.color();
+    const glm::vec3 at = p.in({-8, 0, -14}, {8, 5, 6});
+    s.lights.push_back(Light::point(at, color, range));
+  }
   return frameOf(std::move(s));
 }
 
@@ -162,7 +183,9 @@ HardCaseFrame lightsOnSurfaces() {
       case 2: at = {p.in(-1.0f, 1.0f), 2.0f, p.in(-6.0f, -4.0f)}; break;   // box top
       default: at = {p.in(-1.0f, 1.0f), p.in(0.0f, 2.0f), -4.0f}; break;   // box front
     }
-    s.lights.push_back(Light::point(at, p.color(), p.in(1.0f, 6.0f)));
+    const float range = p.in(1.0f, 6.0f);
+    const glm::vec3 color = p.color();
+    s.lights.push_back(Light::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -170,8 +193,11 @@ HardCaseFrame lightsOnSurfaces() {
 HardCaseFrame lightsAtVertices() {
   Scene s = room("lights-at-vertices");
   Placer p(18);
-  for (size_t i = 0; i < s.vertices.size(); i += 7)
-    s.lights.push_back(Light::point(s.vertices[i].position, p.color(), p.in(0.5f, 5.0f)));
+  for (size_t i = 0; i < s.vertices.size(); i += 7) {
+    const float range = p.in(0.5f, 5.0f);
+    const glm::vec3 color = p.color();
+    s.lights.push_back(Light::point(s.vertices[i].position, color, range));
+  }
   return frameOf(std::move(s));
 }
 
@@ -182,9 +208,19 @@ HardCaseFrame lightsInSurfacePlanes() {
   Placer p(19);
   for (int i = 0; i < 60; ++i) {
     float tiny = i % 3 == 0 ? 0.0f : (i % 3 == 1 ? 1e-6f : -1e-6f);
-    glm::vec3 at = i % 2 ? glm::vec3(p.in(-12.0f, 12.0f), tiny, p.in(-24.0f, 6.0f))
-                         : glm::vec3(p.in(-12.0f, 12.0f), p.in(0.0f, 8.0f), -12.0f + tiny);
-    s.lights.push_back(Light::point(at, p.color(), p.in(3.0f, 12.0f)));
+    glm::vec3 at;
+    if (i % 2) {  // the floor's plane
+      const float z = p.in(-24.0f, 6.0f);
+      const float x = p.in(-12.0f, 12.0f);
+      at = {x, tiny, z};
+    } else {  // the back wall's
+      const float y = p.in(0.0f, 8.0f);
+      const float x = p.in(-12.0f, 12.0f);
+      at = {x, y, -12.0f + tiny};
+    }
+    const float range = p.in(3.0f, 12.0f);
+    const glm::vec3 color = p.color();
+    s.lights.push_back(Light::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -196,9 +232,12 @@ HardCaseFrame grazingView() {
   s.cameraPath = {Camera::lookAt({0.0, 0.01, 1.9}, {0.0, 0.01, -100.0}, {0, 1, 0}, 1.0f, 0.005f,
                                  100.0f)};
   Placer p(20);
-  for (int i = 0; i < 40; ++i)
-    s.lights.push_back(Light::point(p.in({-8, 0.01f, -20}, {8, 2, 2}), p.color(),
-                                    p.in(1.0f, 10.0f)));
+  for (int i = 0; i < 40; ++i) {
+    const float range = p.in(1.0f, 10.0f);
+    const glm::vec3 color = p.color();
+    const glm::vec3 at = p.in({-8, 0.01f, -20}, {8, 2, 2});
+    s.lights.push_back(Light::point(at, color, range));
+  }
   return frameOf(std::move(s));
 }
 
@@ -208,8 +247,10 @@ HardCaseFrame backFacingNormals() {
   Placer p(21);
   for (int i = 0; i < 30; ++i) {
     float z = i % 2 ? p.in(-6.0f, -3.001f) : p.in(-2.999f, 2.0f);
-    s.lights.push_back(Light::point({p.in(-5.0f, -1.0f), p.in(0.2f, 3.0f), z}, p.color(),
-                                    p.in(1.0f, 8.0f)));
+    const float range = p.in(1.0f, 8.0f);
+    const glm::vec3 color = p.color();
+    const glm::vec3 at = {p.in(-5.0f, -1.0f), p.in(0.2f, 3.0f), z};
+    s.lights.push_back(Light::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -228,8 +269,10 @@ HardCaseFrame lightOppositeView() {
     glm::dvec3 at = panel ? pixelOnPlane(c, 64, 48, x, y, {0, 0, -3}, {0, 0, 1})
                           : pixelOnPlane(c, 64, 48, x, y, {0, 0, 0}, {0, 1, 0});
     glm::dvec3 away = glm::normalize(at - kEye);
-    s.lights.push_back(Light::point(glm::vec3(at + double(p.in(0.01f, 2.0f)) * away), p.color(),
-                                    p.in(2.0f, 8.0f)));
+    const float range = p.in(2.0f, 8.0f);
+    const glm::vec3 color = p.color();
+    const float behind = p.in(0.01f, 2.0f);
+    s.lights.push_back(Light::point(glm::vec3(at + double(behind) * away), color, range));
   }
   return frameOf(std::move(s));
 }
@@ -241,9 +284,12 @@ HardCaseFrame farFromOrigin(const std::string& name, double offset) {
   auto snap = [](glm::vec3 v) { return glm::round(v * 16.0f) / 16.0f; };
   Scene atOrigin = room(name);
   Placer p(23);
-  for (int i = 0; i < 40; ++i)
-    atOrigin.lights.push_back(Light::point(p.in({-8, 0.2f, -14}, {8, 5, 4}), p.color(),
-                                           p.in(2.0f, 10.0f)));
+  for (int i = 0; i < 40; ++i) {
+    const float range = p.in(2.0f, 10.0f);
+    const glm::vec3 color = p.color();
+    const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
+    atOrigin.lights.push_back(Light::point(at, color, range));
+  }
   for (auto& v : atOrigin.vertices) v.position = snap(v.position);
   for (auto& l : atOrigin.lights) l.position = snap(l.position);
   Scene moved = atOrigin;
@@ -260,18 +306,24 @@ HardCaseFrame nearFar(const std::string& name, float znear, float zfar) {
   Scene s = room(name);
   s.cameraPath = {roomCamera(znear, zfar)};
   Placer p(24);
-  for (int i = 0; i < 40; ++i)
-    s.lights.push_back(Light::point(p.in({-8, 0.2f, -14}, {8, 5, 4}), p.color(),
-                                    p.in(1.0f, 10.0f)));
+  for (int i = 0; i < 40; ++i) {
+    const float range = p.in(1.0f, 10.0f);
+    const glm::vec3 color = p.color();
+    const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
+    s.lights.push_back(Light::point(at, color, range));
+  }
   return frameOf(std::move(s));
 }
 
 HardCaseFrame litRoom(const std::string& name, int width, int height) {
   Scene s = room(name);
   Placer p(25);
-  for (int i = 0; i < 40; ++i)
-    s.lights.push_back(Light::point(p.in({-8, 0.2f, -14}, {8, 5, 4}), p.color(),
-                                    p.in(1.0f, 10.0f)));
+  for (int i = 0; i < 40; ++i) {
+    const float range = p.in(1.0f, 10.0f);
+    const glm::vec3 color = p.color();
+    const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
+    s.lights.push_back(Light::point(at, color, range));
+  }
   return frameOf(std::move(s), width, height);
 }
 
@@ -281,9 +333,12 @@ HardCaseFrame noLights() { return frameOf(room("no-lights")); }
 HardCaseFrame hundredThousandLights() {
   Scene s = room("lights-1e5");
   Placer p(26);
-  for (int i = 0; i < 100000; ++i)
-    s.lights.push_back(Light::point(p.in({-8, 0, -14}, {8, 5, 4}), 0.05f * p.color(),
-                                    p.logIn(0.02f, 0.5f)));
+  for (int i = 0; i < 100000; ++i) {
+    const float range = p.logIn(0.02f, 0.5f);
+    const glm::vec3 color = 0.05f * p.color();
+    const glm::vec3 at = p.in({-8, 0, -14}, {8, 5, 4});
+    s.lights.push_back(Light::point(at, color, range));
+  }
   return frameOf(std::move(s), 48, 32);
 }
 
@@ -292,8 +347,11 @@ HardCaseFrame hundredThousandLights() {
 HardCaseFrame tenThousandLightsInOneTile() {
   Scene s = room("lights-1e4-one-tile");
   Placer p(27);
-  for (int i = 0; i < 10000; ++i)
-    s.lights.push_back(Light::point(p.in({-8, 0.2f, -14}, {8, 5, 4}), 1e-3f * p.color(), 1000.0f));
+  for (int i = 0; i < 10000; ++i) {
+    const glm::vec3 color = 1e-3f * p.color();
+    const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
+    s.lights.push_back(Light::point(at, color, 1000.0f));
+  }
   HardCaseFrame f = frameOf(std::move(s), 16, 16);
   f.config.presizeLists = false;
   f.lanes = {1, 2, 4, 8, 16};
@@ -311,9 +369,12 @@ HardCaseFrame fp16Extremes() {
   s.materials[1].specular = glm::vec3(3e-8f, 1e-6f, 1e-5f);
   s.materials[1].emissive = glm::vec3(1e-7f);
   Placer p(28);
-  for (int i = 0; i < 30; ++i)
-    s.lights.push_back(Light::point(p.in({-8, 0.2f, -14}, {8, 5, 4}), p.color(),
-                                    p.in(1.0f, 10.0f)));
+  for (int i = 0; i < 30; ++i) {
+    const float range = p.in(1.0f, 10.0f);
+    const glm::vec3 color = p.color();
+    const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
+    s.lights.push_back(Light::point(at, color, range));
+  }
   return frameOf(std::move(s));
 }
 
@@ -327,9 +388,12 @@ HardCaseFrame extremeValues(const std::string& name, float color, float material
     m.specular *= material;
   }
   Placer p(29);
-  for (int i = 0; i < 30; ++i)
-    s.lights.push_back(Light::point(p.in({-8, 0.2f, -14}, {8, 5, 4}), color * p.color(),
-                                    p.in(1.0f, 10.0f)));
+  for (int i = 0; i < 30; ++i) {
+    const float range = p.in(1.0f, 10.0f);
+    const glm::vec3 lightColor = color * p.color();
+    const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
+    s.lights.push_back(Light::point(at, lightColor, range));
+  }
   return frameOf(std::move(s));
 }
 
@@ -353,9 +417,13 @@ HardCaseFrame spotLights() {
   spot(eye + 4.0f * ahead, side, 10, 10);                                  // edge-on, narrow
   spot(eye + 6.0f * ahead - 3.0f * side, side, 89, 10);                    // edge-on, almost flat
   spot({0, 1e-6f, -2}, {0, 0, -1}, 30, 12);                                // its axis in the floor
-  for (int i = 0; i < 40; ++i)                                             // anywhere, any width
-    spot(p.in({-8, 0.1f, -14}, {8, 5, 4}), p.in(glm::vec3(-1.0f), glm::vec3(1.0f)) + 1e-3f,
-         p.logIn(1.0f, 89.0f), p.in(2.0f, 15.0f));
+  for (int i = 0; i < 40; ++i) {                                           // anywhere, any width
+    const float range = p.in(2.0f, 15.0f);
+    const float outerDeg = p.logIn(1.0f, 89.0f);
+    const glm::vec3 axis = p.in(glm::vec3(-1.0f), glm::vec3(1.0f)) + 1e-3f;
+    const glm::vec3 at = p.in({-8, 0.1f, -14}, {8, 5, 4});
+    spot(at, axis, outerDeg, range);  // its colour drawn last, in spot()
+  }
   return frameOf(std::move(s));
 }
 
@@ -368,8 +436,12 @@ HardCaseFrame directionalLights() {
   for (float lift : {0.0f, 1e-6f, -1e-6f})
     s.lights.push_back(Light::directional(glm::normalize(glm::vec3(1.0f, lift, -0.5f)), p.color()));
   s.lights.push_back(Light::directional({0.0f, 1.0f, 0.0f}, p.color()));
-  for (int i = 0; i < 20; ++i)
-    s.lights.push_back(Light::point(p.in({-8, 0.2f, -14}, {8, 5, 4}), p.color(), p.in(1.0f, 10.0f)));
+  for (int i = 0; i < 20; ++i) {
+    const float range = p.in(1.0f, 10.0f);
+    const glm::vec3 color = p.color();
+    const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
+    s.lights.push_back(Light::point(at, color, range));
+  }
   return frameOf(std::move(s));
 }
 
@@ -400,11 +472,19 @@ HardCaseFrame metallicRoughness() {
     glm::dvec3 at = pixelOnPlane(c, 64, 48, x, y, {0, 0, 0}, {0, 1, 0});
     glm::dvec3 toEye = glm::normalize(kEye - at);
     glm::dvec3 mirror(-toEye.x, toEye.y, -toEye.z);  // the eye's direction mirrored in the floor
-    glm::dvec3 where = i % 4 == 0 ? at + 2.0 * mirror                               // GGX peak
-                       : i % 4 == 1 ? at + glm::dvec3(2.0, 1e-6 * (i % 3), 0.5)     // grazing
-                       : i % 4 == 2 ? at                                             // on it
-                                    : at + glm::dvec3(p.in(-2.0f, 2.0f), p.in(0.2f, 3.0f), 1.0);
-    s.lights.push_back(Light::point(glm::vec3(where), p.color(), p.in(3.0f, 10.0f)));
+    glm::dvec3 where = at;                                                    // on it
+    if (i % 4 == 0) {
+      where = at + 2.0 * mirror;                                              // GGX peak
+    } else if (i % 4 == 1) {
+      where = at + glm::dvec3(2.0, 1e-6 * (i % 3), 0.5);                      // grazing
+    } else if (i % 4 == 3) {
+      const float up = p.in(0.2f, 3.0f);
+      const float aside = p.in(-2.0f, 2.0f);
+      where = at + glm::dvec3(aside, up, 1.0);
+    }
+    const float range = p.in(3.0f, 10.0f);
+    const glm::vec3 color = p.color();
+    s.lights.push_back(Light::point(glm::vec3(where), color, range));
   }
   return frameOf(std::move(s));
 }
