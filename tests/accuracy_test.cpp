@@ -10,6 +10,7 @@
 #include <memory>
 #include <random>
 
+#include "cl/kernel_args.h"
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
 #include "reference/shading_cpu.h"
@@ -196,9 +197,7 @@ TEST(AccuracyKnobs, PackedDecodeMatchesTheHostForEveryCode) {
   cl::Program program = test::context().build("dump.cl", config.kernelOptions());
   cl::Kernel kernel(program, "decode_gbuffer");
   cl::Buffer out(test::context().context(), CL_MEM_WRITE_ONLY, n * 17 * sizeof(float));
-  kernel.setArg(0, toCl(in.kernelCamera()));
-  frame.setGBufferArgs(kernel, 1);
-  kernel.setArg(6, out);
+  KernelArgs(kernel).add(toCl(in.kernelCamera())).add(frame.gbufferArgs()).add(out).done();
   test::context().queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(W, H),
                                                cl::NDRange(8, 8));
   std::vector<float> d(n * 17);

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cl/kernel_args.h"
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
 #include "render/frame_setup.h"
@@ -146,9 +147,11 @@ TEST(GBufferDecode, KernelMatchesHostDecoder) {
     cl::Kernel kernel(program, "decode_gbuffer");
     size_t pixels = f.encoded.pixelCount();
     cl::Buffer out(test::context().context(), CL_MEM_WRITE_ONLY, pixels * 17 * sizeof(float));
-    kernel.setArg(0, toCl(f.intrinsics.kernelCamera()));
-    frame.setGBufferArgs(kernel, 1);
-    kernel.setArg(6, out);
+    KernelArgs(kernel)
+        .add(toCl(f.intrinsics.kernelCamera()))
+        .add(frame.gbufferArgs())
+        .add(out)
+        .done();
     test::context().queue().enqueueNDRangeKernel(kernel, cl::NullRange,
                                                  cl::NDRange(roundUp(120, 8), roundUp(72, 8)),
                                                  cl::NDRange(8, 8));

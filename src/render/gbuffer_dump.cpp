@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/gbuffer_files.h"
+#include "cl/kernel_args.h"
 #include "cl/work_group.h"
 #include "render/image_io.h"
 #include "util/file_write.h"
@@ -25,9 +26,11 @@ std::vector<float> decodeOnDevice(ClContext& cl, const DeviceFrame& frame,
   const size_t channels = dumpKernelChannels().size();
   const size_t pixels = size_t(frame.width()) * size_t(frame.height());
   cl::Buffer out(cl.context(), CL_MEM_WRITE_ONLY, pixels * channels * sizeof(float));
-  kernel.setArg(0, toCl(frame.camera.kernelCamera()));
-  frame.setGBufferArgs(kernel, 1);
-  kernel.setArg(6, out);
+  KernelArgs(kernel)
+      .add(toCl(frame.camera.kernelCamera()))
+      .add(frame.gbufferArgs())
+      .add(out)
+      .done();
   GroupShape group = fitGroup(8, 8, groupLimit(cl, kernel));
   cl.queue().enqueueNDRangeKernel(kernel, cl::NullRange, group.global(frame.width(), frame.height()),
                                   group.local());
