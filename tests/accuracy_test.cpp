@@ -14,6 +14,7 @@
 #include "reference/reference.h"
 #include "reference/shading_cpu.h"
 #include "render/frame_setup.h"
+#include "render/gbuffer_dump.h"
 #include "scene/light_range.h"
 #include "scene/scene_features.h"
 #include "scene/scene_loader.h"
@@ -191,18 +192,8 @@ TEST(AccuracyKnobs, PackedDecodeMatchesTheHostForEveryCode) {
   const CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   ViewLights lights;
   DeviceFrame frame = DeviceFrame::upload(test::context(), e, in, lights, glm::vec3(0.0f));
-  TechniqueConfig config;
-  config.format = GBufferFormat::PACKED;
-  cl::Program program = test::context().build("dump.cl", config.kernelOptions());
-  cl::Kernel kernel(program, "decode_gbuffer");
-  cl::Buffer out(test::context().context(), CL_MEM_WRITE_ONLY, n * 17 * sizeof(float));
-  kernel.setArg(0, toCl(in.kernelCamera()));
-  frame.setGBufferArgs(kernel, 1);
-  kernel.setArg(6, out);
-  test::context().queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(W, H),
-                                               cl::NDRange(8, 8));
-  std::vector<float> d(n * 17);
-  test::context().queue().enqueueReadBuffer(out, CL_TRUE, 0, d.size() * 4, d.data());
+  const std::vector<float> d = decodeOnDevice(test::context(), frame, GBufferFormat::PACKED,
+                                              TechniqueConfig().features);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const float* o = &d[(size_t(y) * W + x) * 17];

@@ -15,6 +15,7 @@
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
 #include "render/frame_setup.h"
+#include "render/gbuffer_dump.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
 #include "reference_check.h"
@@ -140,20 +141,8 @@ TEST(GBufferDecode, KernelMatchesHostDecoder) {
   for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16, GBufferFormat::PACKED}) {
     PreparedFrame f = prepareFrame(builtinScene("street", "few"), 10, 120, 72, format);
     DeviceFrame frame = f.upload(test::context());
-    TechniqueConfig config;
-    config.format = format;
-    cl::Program program = test::context().build("dump.cl", config.kernelOptions());
-    cl::Kernel kernel(program, "decode_gbuffer");
-    size_t pixels = f.encoded.pixelCount();
-    cl::Buffer out(test::context().context(), CL_MEM_WRITE_ONLY, pixels * 17 * sizeof(float));
-    kernel.setArg(0, toCl(f.intrinsics.kernelCamera()));
-    frame.setGBufferArgs(kernel, 1);
-    kernel.setArg(6, out);
-    test::context().queue().enqueueNDRangeKernel(kernel, cl::NullRange,
-                                                 cl::NDRange(roundUp(120, 8), roundUp(72, 8)),
-                                                 cl::NDRange(8, 8));
-    std::vector<float> d(pixels * 17);
-    test::context().queue().enqueueReadBuffer(out, CL_TRUE, 0, d.size() * 4, d.data());
+    const std::vector<float> d =
+        decodeOnDevice(test::context(), frame, format, TechniqueConfig().features);
     size_t geometry = 0;
     for (int y = 0; y < 72; ++y)
       for (int x = 0; x < 120; ++x) {

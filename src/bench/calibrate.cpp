@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "bench/bench_stats.h"
+#include "cl/kernel_args.h"
 #include "util/error.h"
 
 namespace ts {
@@ -52,8 +53,7 @@ Calibration calibrate(ClContext& cl, const CalibrationOptions& o) {
     q.enqueueFillBuffer(in, one, 0, bytes);
     q.enqueueFillBuffer(out, one, 0, bytes);  // touch the pages before timing
     cl::Kernel copy(program, "copy_float4");
-    copy.setArg(0, in);
-    copy.setArg(1, out);
+    KernelArgs(copy).add(in).add(out).done();
     for (int i = 0; i <= o.repeats; ++i) {
       cl::Event e;
       q.enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(bytes / 16), cl::NullRange, nullptr, &e);
@@ -69,11 +69,10 @@ Calibration calibrate(ClContext& cl, const CalibrationOptions& o) {
   c.fmaWorkItems = std::max<size_t>(size_t(cl.info().computeUnits) * 2048, 16384);
   cl::Buffer sink(cl.context(), CL_MEM_WRITE_ONLY, c.fmaWorkItems * sizeof(float));
   cl::Kernel fma(program, "fma_chain");
-  fma.setArg(0, sink);
-  fma.setArg(2, 0.999f);
-  fma.setArg(3, 0.001f);
+  cl_uint iterationsArg = 0;
+  KernelArgs(fma).add(sink).later(iterationsArg).add(0.999f).add(0.001f).done();
   auto launch = [&](int iterations) {
-    fma.setArg(1, iterations);
+    fma.setArg(iterationsArg, iterations);
     cl::Event e;
     q.enqueueNDRangeKernel(fma, cl::NullRange, cl::NDRange(c.fmaWorkItems), cl::NullRange, nullptr, &e);
     e.wait();

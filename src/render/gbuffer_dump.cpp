@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/gbuffer_files.h"
+#include "cl/kernel_args.h"
 #include "cl/work_group.h"
 #include "render/image_io.h"
 #include "util/file_write.h"
@@ -12,22 +13,22 @@
 #include "util/error.h"
 
 namespace ts {
-namespace {
 
-// dump.cl's decode_gbuffer: per pixel the values the kernels shade with (dumpKernelChannels()).
-std::vector<float> decodeOnDevice(ClContext& cl, const DeviceFrame& frame,
-                                  const PreparedFrame& prepared) {
+std::vector<float> decodeOnDevice(ClContext& cl, const DeviceFrame& frame, GBufferFormat format,
+                                  const SceneFeatures& features) {
   TechniqueConfig config;  // only the layout and the features decide how the planes decode
-  config.format = prepared.encoded.format;
-  config.features = prepared.features;
+  config.format = format;
+  config.features = features;
   cl::Program program = cl.build("dump.cl", config.kernelOptions());
   cl::Kernel kernel(program, "decode_gbuffer");
   const size_t channels = dumpKernelChannels().size();
   const size_t pixels = size_t(frame.width()) * size_t(frame.height());
   cl::Buffer out(cl.context(), CL_MEM_WRITE_ONLY, pixels * channels * sizeof(float));
-  kernel.setArg(0, toCl(frame.camera.kernelCamera()));
-  frame.setGBufferArgs(kernel, 1);
-  kernel.setArg(6, out);
+  KernelArgs(kernel)
+      .add(toCl(frame.camera.kernelCamera()))
+      .add(frame.gbufferArgs())
+      .add(out)
+      .done();
   GroupShape group = fitGroup(8, 8, groupLimit(cl, kernel));
   cl.queue().enqueueNDRangeKernel(kernel, cl::NullRange, group.global(frame.width(), frame.height()),
                                   group.local());
@@ -35,8 +36,6 @@ std::vector<float> decodeOnDevice(ClContext& cl, const DeviceFrame& frame,
   cl.queue().enqueueReadBuffer(out, CL_TRUE, 0, data.size() * sizeof(float), data.data());
   return data;
 }
-
-}  // namespace
 
 void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFrame& prepared,
                       const std::string& scene, const std::string& raster, const std::string& dir) {
@@ -56,7 +55,7 @@ void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFra
       if (isHostDumpChannel(f->dumpChannels[c]))
         host.push_back({f->dumpChannels[c], f->plane, f->first + c});
 
-  const std::vector<float> kernel = decodeOnDevice(cl, frame, prepared);
+  const std::vector<float> kernel = decodeOnDevice(cl, frame, encoded.format, prepared.features);
   const size_t kc = dumpKernelChannels().size(), channels = kc + host.size();
   std::vector<float> data(pixels * channels, 0.0f);
   for (size_t i = 0; i < pixels; ++i) {

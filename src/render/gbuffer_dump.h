@@ -2,12 +2,18 @@
 // `render --dump`: the frame's G-buffer as the kernels decode it, its lights and a descriptor
 // (src/render/gbuffer_files.h), which `--gbuffer-in` reads back exactly.
 #include <string>
+#include <vector>
 
 #include "cl/cl_context.h"
 #include "render/frame_setup.h"
 #include "techniques/technique.h"
 
 namespace ts {
+
+// dump.cl's decode_gbuffer on `frame`, built for `format` and `features`: per pixel, row by row,
+// the dumpKernelChannels() values the kernels shade with.
+std::vector<float> decodeOnDevice(ClContext& cl, const DeviceFrame& frame, GBufferFormat format,
+                                  const SceneFeatures& features);
 
 // Writes DIR/gbuffer.exr (dump.cl's decoded channels, then the host channels of the field table),
 // DIR/lights.json and DIR/gbuffer.json. `frame` is `prepared` uploaded (the dump kernel decodes it

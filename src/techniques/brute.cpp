@@ -2,6 +2,7 @@
 // techniques are measured against; its light "list" is all lights for every pixel.
 #include <numeric>
 
+#include "cl/kernel_args.h"
 #include "cl/work_group.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
@@ -27,19 +28,17 @@ class BruteTechnique : public Technique {
       image_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY, imageBytes_);
     }
     timer_.clear();
-    cl_uint arg = 0;
-    kernel_.setArg(arg++, toCl(frame.camera.kernelCamera()));
-    kernel_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
-    frame.setGBufferArgs(kernel_, arg);
-    arg += 5;
-    frame.setLightArgs(kernel_, arg);
-    arg += 3;
-    kernel_.setArg(arg++, frame.lightCount());
-    frame.setDirectionalArgs(kernel_, arg);
-    arg += 3;
-    kernel_.setArg(arg++, image_);
+    KernelArgs args(kernel_);
+    args.add(toCl(frame.camera.kernelCamera()))
+        .add(toCl(glm::vec4(frame.ambient, 0.0f)))
+        .add(frame.gbufferArgs())
+        .add(frame.lightArgs())
+        .add(frame.lightCount())
+        .add(frame.directionalArgs())
+        .add(image_);
     GroupShape g = fitGroup(16, 16, groupLimit(cl_, kernel_));
-    if (lanes_ > 1) kernel_.setArg(arg++, laneLocalMemory(config_, g.size()));
+    if (lanes_ > 1) args.add(laneLocalMemory(config_, g.size()));
+    args.done();
     cl_.queue().enqueueNDRangeKernel(kernel_, cl::NullRange, g.global(frame.width(), frame.height()),
                                      g.local(), nullptr, timer_.next("shade"));
     cl_.queue().finish();

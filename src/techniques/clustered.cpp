@@ -18,6 +18,7 @@
 // assigns slices), so host and kernels agree on every pixel's cluster.
 #include <algorithm>
 
+#include "cl/kernel_args.h"
 #include "cl/work_group.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
@@ -177,71 +178,75 @@ class ClusteredTechnique : public Technique {
     // 1. The frame's geometry depth range (slicing), then per-cluster bounds: a work-group per tile.
     const size_t rangeGroup = powerOfTwoGroup(64, groupLimit(cl_, frameRange_));  // DEPTH_RANGE_GROUP
     size_t rangeGroups = std::clamp<size_t>(pixels / (rangeGroup * 16 * 16), 1, 1024);  // 16 vectors of 16 pixels per item
-    frameRange_.setArg(0, frame.depth);
-    frameRange_.setArg(1, int(pixels));
-    frameRange_.setArg(2, depthRange_);
+    KernelArgs(frameRange_).add(frame.depth).add(int(pixels)).add(depthRange_).done();
     q.enqueueNDRangeKernel(frameRange_, cl::NullRange, cl::NDRange(rangeGroups * rangeGroup),
                            cl::NDRange(rangeGroup), nullptr, timer_.next("depth_range"));
     const size_t sliceGroup = std::min<size_t>(64, groupLimit(cl_, pixelSlices_).size);
-    pixelSlices_.setArg(0, frame.depth);
-    pixelSlices_.setArg(1, int(pixels));
-    pixelSlices_.setArg(2, depthRange_);
-    pixelSlices_.setArg(3, pixelSlice_);
+    KernelArgs(pixelSlices_)
+        .add(frame.depth)
+        .add(int(pixels))
+        .add(depthRange_)
+        .add(pixelSlice_)
+        .done();
     q.enqueueNDRangeKernel(pixelSlices_, cl::NullRange,
                            cl::NDRange(roundUp((pixels + 15) / 16, sliceGroup)),
                            cl::NDRange(sliceGroup), nullptr, timer_.next("slices"));  // 16 pixels per item
     // One work-item per row of the tile (kernels/clustered.cl).
     size_t group = std::min<size_t>({size_t(grid_.tileH), 64, groupLimit(cl_, clusterBounds_).size});
-    clusterBounds_.setArg(0, frame.depth);
-    clusterBounds_.setArg(1, frame.width());
-    clusterBounds_.setArg(2, frame.height());
-    clusterBounds_.setArg(3, pixelSlice_);
-    clusterBounds_.setArg(4, clusterDepth_);
-    clusterBounds_.setArg(5, clusterPixels_);
-    clusterBounds_.setArg(6, tileSlices_);
+    KernelArgs(clusterBounds_)
+        .add(frame.depth)
+        .add(frame.width())
+        .add(frame.height())
+        .add(pixelSlice_)
+        .add(clusterDepth_)
+        .add(clusterPixels_)
+        .add(tileSlices_)
+        .done();
     q.enqueueNDRangeKernel(clusterBounds_, cl::NullRange, cl::NDRange(tiles * group),
                            cl::NDRange(group), nullptr, timer_.next("cluster_bounds"));
 
     // 2. Binning: count, scan, fill.
-    binLights_.setArg(0, frame.lightPositionRange);
-    binLights_.setArg(1, frame.lightSpot);
-    binLights_.setArg(2, frame.lightCount());
-    binLights_.setArg(3, camera);
-    binLights_.setArg(4, frame.camera.znear);
-    binLights_.setArg(5, depthRange_);
-    binLights_.setArg(6, clusterDepth_);
-    binLights_.setArg(7, tileSlices_);
-    binLights_.setArg(9, clusterCount_);
-    binLights_.setArg(10, clusterOffset_);
-    binLights_.setArg(11, clusterCursor_);
-    binLights_.setArg(12, clusterLights_);
-    binLights_.setArg(13, cl_uint(capacity_));
-    enqueueBinning(cl_, {binLights_, 8, scan_, sort_}, frame.lightCount(), clusterCount_,
+    cl_uint fillArg = 0;
+    KernelArgs(binLights_)
+        .add(frame.lightPositionRange)
+        .add(frame.lightSpot)
+        .add(frame.lightCount())
+        .add(camera)
+        .add(frame.camera.znear)
+        .add(depthRange_)
+        .add(clusterDepth_)
+        .add(tileSlices_)
+        .later(fillArg)
+        .add(clusterCount_)
+        .add(clusterOffset_)
+        .add(clusterCursor_)
+        .add(clusterLights_)
+        .add(cl_uint(capacity_))
+        .done();
+    enqueueBinning(cl_, {binLights_, fillArg, scan_, sort_}, frame.lightCount(), clusterCount_,
                    int(clusters), clusterOffset_, total_, clusterLights_, capacity_, timer_);
 
     // 3. Shading: one work-item per pixel, or in lanes with work-groups inside one tile
     // (shade_clustered then takes the tile, and so its clusters, from the group id).
-    cl_uint arg = 0;
-    shade_.setArg(arg++, camera);
-    shade_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
-    frame.setGBufferArgs(shade_, arg);
-    arg += 5;
-    frame.setLightArgs(shade_, arg);
-    arg += 3;
-    frame.setDirectionalArgs(shade_, arg);
-    arg += 3;
-    shade_.setArg(arg++, pixelSlice_);
-    shade_.setArg(arg++, clusterCount_);
-    shade_.setArg(arg++, clusterOffset_);
-    shade_.setArg(arg++, clusterLights_);
-    shade_.setArg(arg++, cl_uint(capacity_));
-    shade_.setArg(arg++, image_);
+    KernelArgs args(shade_);
+    args.add(camera)
+        .add(toCl(glm::vec4(frame.ambient, 0.0f)))
+        .add(frame.gbufferArgs())
+        .add(frame.lightArgs())
+        .add(frame.directionalArgs())
+        .add(pixelSlice_)
+        .add(clusterCount_)
+        .add(clusterOffset_)
+        .add(clusterLights_)
+        .add(cl_uint(capacity_))
+        .add(image_);
     // In lanes a work-group lies inside one tile (its clusters are the tile's).
     GroupShape g = config_.lanes > 1
                        ? tileDividingGroup(grid_.tileW, grid_.tileH, groupLimit(cl_, shade_))
                        : fitGroup(std::min(grid_.tileW, 16), std::min(grid_.tileH, 16),
                                   groupLimit(cl_, shade_));
-    if (config_.lanes > 1) shade_.setArg(arg++, laneLocalMemory(config_, g.size()));
+    if (config_.lanes > 1) args.add(laneLocalMemory(config_, g.size()));
+    args.done();
     q.enqueueNDRangeKernel(shade_, cl::NullRange, g.global(frame.width(), frame.height()),
                            g.local(), nullptr, timer_.next("shade"));
   }

@@ -24,6 +24,7 @@
 #include <algorithm>
 
 #include "reference/shading_cpu.h"
+#include "cl/kernel_args.h"
 #include "cl/work_group.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
@@ -135,28 +136,35 @@ class DeferredTechnique : public Technique {
     GroupShape lightGroup = fitGroup(kGroup, kGroup, groupLimit(cl_, light_));
 
     // 1. Base: every pixel, so the accumulation buffer needs no separate clear.
-    base_.setArg(0, camera);
-    base_.setArg(1, toCl(glm::vec4(frame.ambient, 0.0f)));
-    frame.setGBufferArgs(base_, 2);
-    frame.setDirectionalArgs(base_, 7);
-    base_.setArg(10, accum_);
-    if (lanes_ > 1) base_.setArg(11, laneLocalMemory(config_, baseGroup.size()));
+    KernelArgs baseArgs(base_);
+    baseArgs.add(camera)
+        .add(toCl(glm::vec4(frame.ambient, 0.0f)))
+        .add(frame.gbufferArgs())
+        .add(frame.directionalArgs())
+        .add(accum_);
+    if (lanes_ > 1) baseArgs.add(laneLocalMemory(config_, baseGroup.size()));
+    baseArgs.done();
     q.enqueueNDRangeKernel(base_, cl::NullRange, baseGroup.global(frame.width(), frame.height()),
                            baseGroup.local(), nullptr, timer_.next("base"));
 
     // 2. One launch per light, all enqueued before waiting: arguments are captured at enqueue
     // time, and the in-order queue serialises the read-modify-writes of successive lights.
-    light_.setArg(0, camera);
-    light_.setArg(1, toCl(glm::vec4(frame.ambient, 0.0f)));
-    frame.setGBufferArgs(light_, 2);
-    frame.setLightArgs(light_, 7);
-    light_.setArg(12, accum_);
-    if (lanes_ > 1) light_.setArg(13, laneLocalMemory(config_, lightGroup.size()));
+    cl_uint lightArg = 0, rectArg = 0;
+    KernelArgs lightArgs(light_);
+    lightArgs.add(camera)
+        .add(toCl(glm::vec4(frame.ambient, 0.0f)))
+        .add(frame.gbufferArgs())
+        .add(frame.lightArgs())
+        .later(lightArg)
+        .later(rectArg)
+        .add(accum_);
+    if (lanes_ > 1) lightArgs.add(laneLocalMemory(config_, lightGroup.size()));
+    lightArgs.done();
     for (size_t i = 0; i < rects.size(); ++i) {
       const glm::ivec4& r = rects[i];
       if (isEmpty(r)) continue;
-      light_.setArg(10, cl_int(i));
-      light_.setArg(11, cl_int4{{r.x, r.y, r.z, r.w}});
+      light_.setArg(lightArg, cl_int(i));
+      light_.setArg(rectArg, cl_int4{{r.x, r.y, r.z, r.w}});
       q.enqueueNDRangeKernel(light_, cl::NullRange, lightGroup.global(r.z - r.x, r.w - r.y),
                              lightGroup.local(), nullptr, timer_.next("light"));
     }

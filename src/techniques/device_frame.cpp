@@ -60,26 +60,6 @@ cl::Buffer readOnlyBuffer(ClContext& cl, const std::vector<T>& data) {
 
 }  // namespace
 
-void DeviceFrame::setLightArgs(cl::Kernel& kernel, cl_uint first) const {
-  kernel.setArg(first + 0, lightPositionRange);
-  kernel.setArg(first + 1, lightColor);
-  kernel.setArg(first + 2, lightSpot);
-}
-
-void DeviceFrame::setDirectionalArgs(cl::Kernel& kernel, cl_uint first) const {
-  kernel.setArg(first + 0, directionalDir);
-  kernel.setArg(first + 1, directionalColor);
-  kernel.setArg(first + 2, directionalCount());
-}
-
-void DeviceFrame::setGBufferArgs(cl::Kernel& kernel, cl_uint first) const {
-  kernel.setArg(first + 0, depth);
-  kernel.setArg(first + 1, normal);
-  kernel.setArg(first + 2, diffuse);
-  kernel.setArg(first + 3, specular);
-  kernel.setArg(first + 4, emissive);
-}
-
 DeviceFrame DeviceFrame::upload(ClContext& cl, const EncodedGBuffer& gbuffer,
                                 const CameraIntrinsics& camera, const ViewLights& lights,
                                 glm::vec3 ambient) {

@@ -1,5 +1,6 @@
 #pragma once
 // One frame's inputs on the device, uploaded once and shared by every technique of a run.
+#include <tuple>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -52,12 +53,14 @@ struct DeviceFrame {
   int lightCount() const { return int(lights->size()); }  // point and spot lights
   int directionalCount() const { return int(lights->directionalCount()); }
 
-  // Sets the five G-buffer planes as kernel arguments first..first+4 (kernels/gbuffer.h order).
-  void setGBufferArgs(cl::Kernel& kernel, cl_uint first) const;
-  // TS_LIGHT_PARAMS (position+range, colour, spot) as arguments first..first+2.
-  void setLightArgs(cl::Kernel& kernel, cl_uint first) const;
-  // TS_DIRECTIONAL_PARAMS (direction, colour, count) as arguments first..first+2.
-  void setDirectionalArgs(cl::Kernel& kernel, cl_uint first) const;
+  // Kernel argument groups for KernelArgs::add: the five G-buffer planes (kernels/gbuffer.h
+  // order), TS_LIGHT_PARAMS (position+range, colour, spot) and TS_DIRECTIONAL_PARAMS (direction,
+  // colour, count).
+  auto gbufferArgs() const { return std::tie(depth, normal, diffuse, specular, emissive); }
+  auto lightArgs() const { return std::tie(lightPositionRange, lightColor, lightSpot); }
+  std::tuple<const cl::Buffer&, const cl::Buffer&, int> directionalArgs() const {
+    return {directionalDir, directionalColor, directionalCount()};
+  }
 
   // The caller keeps gbuffer and lights alive while the frame is used.
   static DeviceFrame upload(ClContext& cl, const EncodedGBuffer& gbuffer,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "cl/kernel_args.h"
 #include "cl/work_group.h"
 #include "reference/shading_cpu.h"
 
@@ -92,19 +93,12 @@ void enqueueBinning(ClContext& cl, const BinningKernels& kernels, int lightCount
                                cl::NDRange(group), nullptr, timer.next(name));
   };
   binPass(0, "bin_count");
-  scan.setArg(0, counts);
-  scan.setArg(1, bins);
-  scan.setArg(2, offsets);
-  scan.setArg(3, total);
+  KernelArgs(scan).add(counts).add(bins).add(offsets).add(total).done();
   queue.enqueueNDRangeKernel(scan, cl::NullRange, cl::NDRange(scanGroup), cl::NDRange(scanGroup),
                              nullptr, timer.next("scan"));
   binPass(1, "bin_fill");
   if (lightCount == 0 || bins == 0) return;  // every list is empty
-  sort.setArg(0, counts);
-  sort.setArg(1, offsets);
-  sort.setArg(2, bins);
-  sort.setArg(3, list);
-  sort.setArg(4, cl_uint(capacity));
+  KernelArgs(sort).add(counts).add(offsets).add(bins).add(list).add(cl_uint(capacity)).done();
   const size_t sortGroup = fitGroup(64, 1, groupLimit(cl, sort)).x;
   queue.enqueueNDRangeKernel(sort, cl::NullRange, cl::NDRange(roundUp(size_t(bins), sortGroup)),
                              cl::NDRange(sortGroup), nullptr, timer.next("bin_sort"));

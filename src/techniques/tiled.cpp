@@ -1,6 +1,7 @@
 // Multi-kernel tiled deferred shading; the kernels, in launch order, are in kernels/tiled.cl.
 #include <algorithm>
 
+#include "cl/kernel_args.h"
 #include "cl/work_group.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
@@ -91,46 +92,50 @@ class TiledTechnique : public Technique {
     // reading: 10 -> 3-5 ms at 1280x720 with 16x16 tiles).
     size_t group = powerOfTwoGroup(pow2AtLeast(size_t(grid_.tileW) * grid_.tileH, 64),
                                    groupLimit(cl_, depthBounds_));
-    depthBounds_.setArg(0, frame.depth);
-    depthBounds_.setArg(1, frame.width());
-    depthBounds_.setArg(2, frame.height());
-    depthBounds_.setArg(3, tileDepth_);
+    KernelArgs(depthBounds_)
+        .add(frame.depth)
+        .add(frame.width())
+        .add(frame.height())
+        .add(tileDepth_)
+        .done();
     q.enqueueNDRangeKernel(depthBounds_, cl::NullRange, cl::NDRange(tiles * group),
                            cl::NDRange(group), nullptr, timer_.next("depth_bounds"));
 
     // 2. Binning: count, scan, fill.
-    binLights_.setArg(0, frame.lightPositionRange);
-    binLights_.setArg(1, frame.lightSpot);
-    binLights_.setArg(2, frame.lightCount());
-    binLights_.setArg(3, camera);
-    binLights_.setArg(4, frame.camera.znear);
-    binLights_.setArg(5, tileDepth_);
-    binLights_.setArg(7, tileCount_);
-    binLights_.setArg(8, tileOffset_);
-    binLights_.setArg(9, tileCursor_);
-    binLights_.setArg(10, tileLights_);
-    binLights_.setArg(11, cl_uint(capacity_));
-    enqueueBinning(cl_, {binLights_, 6, scan_, sort_}, frame.lightCount(), tileCount_, int(tiles),
-                   tileOffset_, total_, tileLights_, capacity_, timer_);
+    cl_uint fillArg = 0;
+    KernelArgs(binLights_)
+        .add(frame.lightPositionRange)
+        .add(frame.lightSpot)
+        .add(frame.lightCount())
+        .add(camera)
+        .add(frame.camera.znear)
+        .add(tileDepth_)
+        .later(fillArg)
+        .add(tileCount_)
+        .add(tileOffset_)
+        .add(tileCursor_)
+        .add(tileLights_)
+        .add(cl_uint(capacity_))
+        .done();
+    enqueueBinning(cl_, {binLights_, fillArg, scan_, sort_}, frame.lightCount(), tileCount_,
+                   int(tiles), tileOffset_, total_, tileLights_, capacity_, timer_);
 
     // 3. Shading: one work-item per pixel.
-    cl_uint arg = 0;
-    shade_.setArg(arg++, camera);
-    shade_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
-    frame.setGBufferArgs(shade_, arg);
-    arg += 5;
-    frame.setLightArgs(shade_, arg);
-    arg += 3;
-    frame.setDirectionalArgs(shade_, arg);
-    arg += 3;
-    shade_.setArg(arg++, tileCount_);
-    shade_.setArg(arg++, tileOffset_);
-    shade_.setArg(arg++, tileLights_);
-    shade_.setArg(arg++, cl_uint(capacity_));
-    shade_.setArg(arg++, image_);
+    KernelArgs args(shade_);
+    args.add(camera)
+        .add(toCl(glm::vec4(frame.ambient, 0.0f)))
+        .add(frame.gbufferArgs())
+        .add(frame.lightArgs())
+        .add(frame.directionalArgs())
+        .add(tileCount_)
+        .add(tileOffset_)
+        .add(tileLights_)
+        .add(cl_uint(capacity_))
+        .add(image_);
     // Work-groups inside one tile: shade_tiled takes the tile from the group id.
     GroupShape g = tileDividingGroup(grid_.tileW, grid_.tileH, groupLimit(cl_, shade_));
-    if (config_.lanes > 1) shade_.setArg(arg++, laneLocalMemory(config_, g.size()));
+    if (config_.lanes > 1) args.add(laneLocalMemory(config_, g.size()));
+    args.done();
     q.enqueueNDRangeKernel(shade_, cl::NullRange, g.global(frame.width(), frame.height()),
                            g.local(), nullptr, timer_.next("shade"));
   }

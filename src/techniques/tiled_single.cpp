@@ -4,6 +4,7 @@
 // conservativeness checks; they are the same quantities the multi-kernel `tiled` reports.
 #include <algorithm>
 
+#include "cl/kernel_args.h"
 #include "cl/work_group.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
@@ -35,23 +36,21 @@ class TiledSingleTechnique : public Technique {
     // The lists are recorded only when asked for: a tile may hold every light, so the buffer is
     // tiles x lights entries.
     cl_uint stride = request.wantAssignment ? cl_uint(std::max(frame.lightCount(), 1)) : 0;
-    cl_uint arg = 0;
-    kernel_.setArg(arg++, toCl(frame.camera.kernelCamera()));
-    kernel_.setArg(arg++, toCl(glm::vec4(frame.ambient, 0.0f)));
-    kernel_.setArg(arg++, frame.camera.znear);
-    frame.setGBufferArgs(kernel_, arg);
-    arg += 5;
-    frame.setLightArgs(kernel_, arg);
-    arg += 3;
-    kernel_.setArg(arg++, frame.lightCount());
-    frame.setDirectionalArgs(kernel_, arg);
-    arg += 3;
-    kernel_.setArg(arg++, tileCount_);
-    kernel_.setArg(arg++, tileLights_);
-    kernel_.setArg(arg++, stride);
-    kernel_.setArg(arg++, image_);
-    kernel_.setArg(arg++, cl::Local(size_t(capacity_) * sizeof(cl_uint)));
-    if (config_.lanes > 1) kernel_.setArg(arg++, cl::Local(laneTileBytes()));
+    KernelArgs args(kernel_);
+    args.add(toCl(frame.camera.kernelCamera()))
+        .add(toCl(glm::vec4(frame.ambient, 0.0f)))
+        .add(frame.camera.znear)
+        .add(frame.gbufferArgs())
+        .add(frame.lightArgs())
+        .add(frame.lightCount())
+        .add(frame.directionalArgs())
+        .add(tileCount_)
+        .add(tileLights_)
+        .add(stride)
+        .add(image_)
+        .add(cl::Local(size_t(capacity_) * sizeof(cl_uint)));
+    if (config_.lanes > 1) args.add(cl::Local(laneTileBytes()));
+    args.done();
     q.enqueueNDRangeKernel(kernel_, cl::NullRange,
                            cl::NDRange(size_t(grid_.tilesX) * groupW_, size_t(grid_.tilesY) * groupH_),
                            cl::NDRange(groupW_, groupH_), nullptr, timer_.next("tile_shade"));

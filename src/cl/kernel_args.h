@@ -1,0 +1,42 @@
+#pragma once
+// Binds a kernel's arguments in order, so that no call site counts indices by hand, and checks at
+// the end that every argument the kernel declares was bound.
+#include <string>
+#include <tuple>
+
+#include <CL/opencl.hpp>
+
+namespace ts {
+
+class KernelArgs {
+ public:
+  explicit KernelArgs(cl::Kernel& kernel) : kernel_(kernel) {}
+
+  template <typename T>
+  KernelArgs& add(const T& value) {
+    kernel_.setArg(next_++, value);
+    return *this;
+  }
+  // A group of arguments in order (DeviceFrame's planes and lights).
+  template <typename... Ts>
+  KernelArgs& add(const std::tuple<Ts...>& group) {
+    std::apply([this](const auto&... value) { (add(value), ...); }, group);
+    return *this;
+  }
+  // Leaves the next argument to be set before each launch: `index` receives its index.
+  KernelArgs& later(cl_uint& index) {
+    index = next_++;
+    return *this;
+  }
+  cl_uint next() const { return next_; }
+
+  // Throws ts::Error naming the kernel when the arguments bound (later ones included) are not
+  // as many as it declares (CL_KERNEL_NUM_ARGS).
+  void done() const;
+
+ private:
+  cl::Kernel& kernel_;
+  cl_uint next_ = 0;
+};
+
+}  // namespace ts
