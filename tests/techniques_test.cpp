@@ -99,7 +99,7 @@ INSTANTIATE_TEST_SUITE_P(Builtins, EveryTechnique, ::testing::ValuesIn(everyTech
                          });
 
 // Tile sizes that are not powers of two (nor divide the image), square or not: the binned
-// techniques launch work-groups that stay inside one tile (groupEdgeFor) and stay exact.
+// techniques launch work-groups that stay inside one tile (tileDividingGroup) and stay exact.
 TEST(BinnedTechniques, OddTileSizes) {
   const PreparedFrame& f = prepared("street", "many", 10, GBufferFormat::FP32);
   for (const char* name : {"tiled", "tiled-single", "clustered"})

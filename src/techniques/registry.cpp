@@ -128,8 +128,6 @@ int parseSpotCulling(const std::string& name) {
 
 std::string cullingName(int culling) { return knobName(kCullingNames, culling); }
 
-std::string spotCullingName(int spotCulling) { return knobName(kSpotCullingNames, spotCulling); }
-
 int parseLanes(const std::string& text) {
   if (text == "auto") return 0;
   for (int n : kLaneWidths)

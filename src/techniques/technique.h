@@ -138,9 +138,8 @@ std::vector<std::string> techniqueNames();
 // Culling test names <-> TechniqueConfig::culling ("rect", "frustum", "aabb"); throws ts::Error.
 int parseCulling(const std::string& name);
 std::string cullingName(int culling);
-// Spot culling names <-> TechniqueConfig::spotCulling ("cone", "bound-sphere", "range-sphere").
+// Spot culling names -> TechniqueConfig::spotCulling ("cone", "bound-sphere", "range-sphere").
 int parseSpotCulling(const std::string& name);
-std::string spotCullingName(int spotCulling);
 // "auto" -> 0, or the number of lanes (1, 2, 4, 8, 16); throws ts::Error otherwise.
 int parseLanes(const std::string& text);
 // "auto" for 0, else the number.
