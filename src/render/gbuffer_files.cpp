@@ -415,8 +415,8 @@ nlohmann::json lightsJson(const ViewLights& lights, glm::vec3 ambient) {
   std::vector<LightRecord> records;
   for (size_t i = 0; i < lights.size(); ++i) {
     LightRecord l;
-    const glm::vec4 s = lights.spot.empty() ? glm::vec4(0.0f, 0.0f, 0.0f, -1.0f) : lights.spot[i];
-    l.type = glm::vec3(s) == glm::vec3(0.0f) ? LightType::Point : LightType::Spot;
+    const glm::vec4 s = lights.spot[i];
+    l.type = lights.isSpot(i) ? LightType::Spot : LightType::Point;
     l.position = glm::vec3(lights.positionRange[i]);
     l.range = lights.positionRange[i].w;
     l.color = glm::vec3(lights.color[i]);

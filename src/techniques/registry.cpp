@@ -94,8 +94,8 @@ void checkFrameFeatures(const SceneFeatures& features, const DeviceFrame& frame)
     fail("its G-buffer has no specular plane");
   if (features.emissive && !gb.hasEmissive) fail("its G-buffer has no emissive plane");
   if (!features.spot)
-    for (const glm::vec4& spot : frame.lights->spot)
-      if (spot.w > -1.0f) fail("it has spot lights");
+    for (size_t i = 0; i < frame.lights->size(); ++i)
+      if (frame.lights->isSpot(i)) fail("it has spot lights");
   if (!features.directional && frame.directionalCount() > 0) fail("it has directional lights");
 }
 
