@@ -11,6 +11,7 @@
 #include "util/error.h"
 #include "util/file_read.h"
 #include "util/float_limit.h"
+#include "util/pi.h"
 #include "util/short_text.h"
 #include "util/strict_json.h"
 
@@ -251,7 +252,7 @@ GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::str
     const bool degrees = cam.has("yfov_degrees");
     const std::string key = degrees ? "yfov_degrees" : "yfov";
     double yfov = cam.positive(key);
-    if (degrees) yfov *= 3.14159265358979323846 / 180.0;
+    if (degrees) yfov *= kPiDouble / 180.0;
     if (!(double(float(yfov)) < 2.0 * kHalfPi))  // as the float the camera keeps
       cam.fail(key, "must be below 180 degrees (pi = " + fullText(2.0 * kHalfPi) + ") as a float, "
                     "got " + fullText(cam.number(key)));
