@@ -153,6 +153,13 @@ std::string TechniqueConfig::kernelOptions() const {
   return o.str();
 }
 
+std::string TechniqueConfig::key() const {
+  std::ostringstream k;
+  k << kernelOptions() << '|' << tileWidth << 'x' << tileHeight << '|' << clusterSlices << '|'
+    << localListCapacity << '|' << presizeLists << '|' << lanes;
+  return k.str();
+}
+
 std::string TechniqueConfig::lanesOption() const {
   return lanes > 1 ? " -DTS_LANES=" + std::to_string(lanes) +
                          " -DTS_HOST_LANE_PLANES=" + std::to_string(lanePlanes())

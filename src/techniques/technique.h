@@ -57,6 +57,9 @@ struct TechniqueConfig {
   // Build options every technique passes to ClContext::build (G-buffer layout, features, range
   // model, culling test, arithmetic, extras).
   std::string kernelOptions() const;
+  // kernelOptions and every other field a technique builds or launches with: configurations with
+  // one key create the same technique (check's cache). A new field belongs here.
+  std::string key() const;
 };
 
 struct KernelTime {
