@@ -1,4 +1,5 @@
-// The one list of techniques. Adding a technique = its own .cpp/.cl pair plus one line here.
+// The one list of techniques. Adding a technique = its own .cpp/.cl pair plus one line here
+// (tests/extra_tests.cmake reads the names from the entries' first lines, {"name",).
 // The last field, where present, is the lanes "auto" picks on CPU devices: 16 where shading in
 // lanes measured faster on PoCL with many lights (tiled 6.6x, tiled-single 3.5x, brute 4.8x,
 // clustered 6.8x; bench/RESULTS.md, docs/techniques.md); deferred has a lanes path but measured
