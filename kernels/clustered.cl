@@ -304,8 +304,8 @@ __kernel void shade_clustered(float4 camera, float4 ambient, TS_GBUFFER_PARAMS, 
 }
 #else
 #include "lanes.h"
-/* The most work-items of a shading work-group (the host's groupEdgeFor: at most 16 x 16), which
- * are also whole vectors for every TS_LANES. */
+/* The most work-items of a shading work-group (the host's tileDividingGroup: at most 16 x 16),
+ * which are also whole vectors for every TS_LANES. */
 #define CLUSTER_SHADE_SLOTS 256
 
 /* The sum of every cluster list the lanes from `first` use. The pixels of one vector may lie in
@@ -350,7 +350,7 @@ static inline int any_geometry(__local const int *slot_slice, int first) {
 
 /* In lanes (kernels/lanes.h): every work-item decodes its pixel and stores its slice (-1: no
  * geometry); then one work-item per TS_LANES pixels shades them (shade_vector_clusters) and adds
- * the directional lights. The host launches work-groups inside one tile (groupEdgeFor), so a
+ * the directional lights. The host launches work-groups inside one tile (tileDividingGroup), so a
  * group's clusters are one tile's. `soa`: TS_LANE_PLANES floats per pixel slot, from the host. */
 __kernel void shade_clustered(float4 camera, float4 ambient, TS_GBUFFER_PARAMS, TS_LIGHT_PARAMS,
                               TS_DIRECTIONAL_PARAMS, __global const ushort *pixel_slice,

@@ -16,8 +16,8 @@
  * plane f of pixel slot i is at soa[f * slots + i]. Slots without a lit pixel (background, off
  * screen, padding) hold a surface that no light reaches. Only the terms the scene's features use
  * have planes (a diffuse-only scene stores P, N and kd: 9 planes instead of 17); the host sizes
- * the buffer from the same rule (lanePlaneCount in src/techniques/tile_grid.cpp, checked at build
- * time through TS_HOST_LANE_PLANES).
+ * the buffer from the same rule (TechniqueConfig::lanePlanes in src/techniques/registry.cpp,
+ * checked at build time through TS_HOST_LANE_PLANES).
  *
  * The includer includes gbuffer.h first (with TS_LANES > 1).
  */

@@ -63,8 +63,8 @@ static inline uint ts_bin_written(uint begin, uint n, uint capacity) {
 }
 
 /* The tile of this work-group, for shading kernels whose host launches groups that divide the
- * tile (groupEdgeFor): the compiler sees one tile (one light list) per work-group and keeps its
- * loads uniform (1.7x faster shading on PoCL than deriving it from x/y). */
+ * tile (tileDividingGroup): the compiler sees one tile (one light list) per work-group and keeps
+ * its loads uniform (1.7x faster shading on PoCL than deriving it from x/y). */
 static inline int group_tile(int width) {
   return (int)(get_group_id(1) * get_local_size(1) / TILE_H) * ((width + TILE_W - 1) / TILE_W) +
          (int)(get_group_id(0) * get_local_size(0) / TILE_W);

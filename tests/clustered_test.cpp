@@ -18,6 +18,7 @@
 #include "reference_check.h"
 #include "test_support.h"
 #include "util/error.h"
+#include "util/option_values.h"
 
 namespace ts {
 namespace {
@@ -217,6 +218,24 @@ TEST(ClusteredConfig, RejectsBadSliceCounts) {
     TechniqueConfig config;
     config.clusterSlices = slices;
     EXPECT_THROW(createTechnique("clustered", test::context(), config), Error) << slices;
+  }
+}
+
+// The option check's limit is the technique's: the largest --slices accepted renders exactly, one
+// more is refused with the limit named.
+TEST(ClusteredConfig, TheLargestAcceptedSliceCountRenders) {
+  PreparedFrame f = prepareFrame(builtinScene("street", "few"), 0, 64, 32, GBufferFormat::FP32);
+  Checked c = renderAndCheck(f, technique("clustered", GBufferFormat::FP32, 16, kMaxClusterSlices));
+  EXPECT_EQ(c.missed, 0u);
+  EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance);
+  TechniqueConfig config;
+  config.clusterSlices = kMaxClusterSlices + 1;
+  try {
+    createTechnique("clustered", test::context(), config);
+    ADD_FAILURE() << "accepted " << config.clusterSlices << " slices";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("1.." + std::to_string(kMaxClusterSlices)),
+              std::string::npos) << e.what();
   }
 }
 

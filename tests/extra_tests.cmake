@@ -60,9 +60,19 @@ endfunction()
 # LLVM's inliner leaves behind.
 set(TILESHADE_OCLGRIND_NOOPT "--build-options -cl-opt-disable")
 set(TILESHADE_OCLGRIND_ALL "--data-races --uninitialized ${TILESHADE_OCLGRIND_NOOPT}")
+# Every registered technique, read from its one list (techniqueRegistry, whose entries open with
+# {"name",), so that registering a technique stays one line there.
+set(TILESHADE_REGISTRY ${CMAKE_SOURCE_DIR}/src/techniques/registry.cpp)
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${TILESHADE_REGISTRY})
+file(STRINGS ${TILESHADE_REGISTRY} TILESHADE_REGISTRY_ENTRIES REGEX "^ *{\"[a-z-]+\",")
+set(TILESHADE_TECHNIQUES)
+foreach(entry ${TILESHADE_REGISTRY_ENTRIES})
+  string(REGEX MATCH "{\"([a-z-]+)\"," unused "${entry}")
+  list(APPEND TILESHADE_TECHNIQUES ${CMAKE_MATCH_1})
+endforeach()
 foreach(layout fp32 fp16 packed)
   foreach(lanes 1 16)
-    foreach(technique tiled tiled-single clustered deferred deferred-stencil brute)
+    foreach(technique ${TILESHADE_TECHNIQUES})
       set(options ${TILESHADE_OCLGRIND_ALL})
       if(technique STREQUAL "tiled" OR technique STREQUAL "clustered")
         # the fill-buffer false reports, above

@@ -20,6 +20,7 @@
 #include "render/image_io.h"
 #include "scene/scene_features.h"
 #include "util/error.h"
+#include "util/pi.h"
 #include "random_draws.h"
 
 namespace ts {
@@ -190,7 +191,7 @@ TEST(GBufferImport, ForeignDescriptorWithHardwareDepth) {
             "spec.B", "spec.A"},
            data);
   std::ofstream(dir / "lights.json") << lightsJson(original.lights, original.ambient).dump();
-  const double yfovDegrees = double(scene.camera(5).yfov) * 180.0 / 3.14159265358979323846;
+  const double yfovDegrees = double(scene.camera(5).yfov) * 180.0 / ts::kPiDouble;
   json d = {{"tileshade_gbuffer", 1},
             {"image", "frame.exr"},
             {"origin", "bottom"},

@@ -7,13 +7,14 @@
 
 #include "scene/scene_loader.h"
 #include "util/error.h"
+#include "util/pi.h"
 
 namespace {
 
 using ts::Scene;
 using ts::SceneOptions;
 
-constexpr float kPi = 3.14159265358979f;
+using ts::kPi;
 
 // Every built-in must be a well-formed scene.
 void expectWellFormed(const Scene& s) {

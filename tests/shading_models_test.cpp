@@ -10,6 +10,7 @@
 #include <random>
 
 #include "reference/shading_cpu.h"
+#include "util/pi.h"
 #include "random_draws.h"
 
 namespace {
@@ -19,7 +20,7 @@ using glm::dvec4;
 namespace sd = ts::shading_d;
 namespace sf = ts::shading_f;
 
-constexpr double kPi = 3.14159265358979323846;
+using ts::kPiDouble;
 
 // A metallic-roughness surface and a light, as plain numbers (so both precisions see the same).
 struct MrCase {
@@ -122,14 +123,14 @@ dvec3 textbookMr(const MrCase& c) {
   double NH = glm::dot(N, h), VH = std::clamp(glm::dot(V, h), 0.0, 1.0);
   double r = std::clamp(c.roughness, TS_MIN_ROUGHNESS, 1.0), a = r * r, a2 = a * a;
   // chi+(N.H): no microfacet faces away from the normal.
-  double D = NH > 0.0 ? a2 / (kPi * std::pow(NH * NH * (a2 - 1.0) + 1.0, 2.0)) : 0.0;
+  double D = NH > 0.0 ? a2 / (kPiDouble * std::pow(NH * NH * (a2 - 1.0) + 1.0, 2.0)) : 0.0;
   double Vis = 1.0 / ((NL + std::sqrt(a2 + (1 - a2) * NL * NL)) *
                       (NV + std::sqrt(a2 + (1 - a2) * NV * NV)));
   dvec3 f0 = glm::mix(dvec3(0.04), c.base, c.metallic);
   dvec3 F = f0 + (1.0 - f0) * std::pow(1.0 - VH, 5.0);
   dvec3 cDiff = c.base * (1.0 - c.metallic);
-  dvec3 f = (1.0 - F) * cDiff / kPi + F * D * Vis;
-  return c.color * falloff * NL * kPi * f;  // pi f: diffuse = c_diff, as Blinn-Phong's kd
+  dvec3 f = (1.0 - F) * cDiff / kPiDouble + F * D * Vis;
+  return c.color * falloff * NL * kPiDouble * f;  // pi f: diffuse = c_diff, as Blinn-Phong's kd
 }
 
 MrCase randomCase(std::mt19937& rng) {
@@ -281,7 +282,7 @@ dvec3 samplePoint(const Cone& c, std::mt19937& rng) {
   dvec3 t = glm::normalize(glm::cross(c.axis, std::abs(c.axis.x) < 0.9 ? dvec3(1, 0, 0)
                                                                        : dvec3(0, 1, 0)));
   dvec3 b = glm::cross(c.axis, t);
-  double theta = c.outer * std::sqrt(u(rng)), phi = 2 * kPi * u(rng);
+  double theta = c.outer * std::sqrt(u(rng)), phi = 2 * kPiDouble * u(rng);
   if (u(rng) < 0.3) theta = c.outer;  // the cone's surface
   double r = c.range * (u(rng) < 0.3 ? 1.0 : std::cbrt(u(rng)));
   dvec3 dir = std::cos(theta) * c.axis + std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b);
@@ -297,7 +298,7 @@ Cone randomCone(std::mt19937& rng) {
   const auto a = ts::test::drawnLastFirst<3>(draw);
   c.axis = glm::normalize(dvec3(a[0], a[1], a[2]));
   c.range = 0.5 + 5 * std::abs(u(rng));
-  c.outer = (1.0 + 89.0 * std::abs(u(rng))) * kPi / 180.0;
+  c.outer = (1.0 + 89.0 * std::abs(u(rng))) * kPiDouble / 180.0;
   return c;
 }
 

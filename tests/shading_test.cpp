@@ -6,6 +6,7 @@
 #include <random>
 
 #include "reference/shading_cpu.h"
+#include "util/pi.h"
 #include "random_draws.h"
 
 namespace {
@@ -141,9 +142,9 @@ void checkSphereBounds(dvec3 c, double r, double znear, double tx, double ty) {
   int visible = 0;
   const int n = 400;
   for (int i = 0; i <= n; ++i) {
-    double theta = M_PI * i / n;
+    double theta = ts::kPiDouble * i / n;
     for (int j = 0; j < 2 * n; ++j) {
-      double phi = M_PI * j / n;
+      double phi = ts::kPiDouble * j / n;
       // Points on the surface and inside (the clipped solid's extremes can be on the near cap).
       for (double s : {1.0, 0.5}) {
         dvec3 p = c + s * r * dvec3(std::sin(theta) * std::cos(phi), std::cos(theta),

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <memory>
 #include <random>
@@ -98,8 +99,35 @@ INSTANTIATE_TEST_SUITE_P(Builtins, EveryTechnique, ::testing::ValuesIn(everyTech
                                   toString(k.format);
                          });
 
+// check's technique cache is keyed on TechniqueConfig::key: a configuration that builds or launches
+// differently must not share a key (one with other cluster slices reused a kernel built for 16).
+TEST(TechniqueConfig, EveryFieldChangesTheKey) {
+  const TechniqueConfig base;
+  const std::vector<std::pair<std::string, std::function<void(TechniqueConfig&)>>> changes = {
+      {"format", [](TechniqueConfig& c) { c.format = GBufferFormat::PACKED; }},
+      {"features", [](TechniqueConfig& c) { c.features.directional = false; }},
+      {"tileWidth", [](TechniqueConfig& c) { c.tileWidth = 8; }},
+      {"tileHeight", [](TechniqueConfig& c) { c.tileHeight = 8; }},
+      {"clusterSlices", [](TechniqueConfig& c) { c.clusterSlices = 32; }},
+      {"presizeLists", [](TechniqueConfig& c) { c.presizeLists = false; }},
+      {"localListCapacity", [](TechniqueConfig& c) { c.localListCapacity = 64; }},
+      {"shadingModel", [](TechniqueConfig& c) { c.shadingModel = 1; }},
+      {"culling", [](TechniqueConfig& c) { c.culling = 2; }},
+      {"depthSplit", [](TechniqueConfig& c) { c.depthSplit = true; }},
+      {"spotCulling", [](TechniqueConfig& c) { c.spotCulling = 1; }},
+      {"math", [](TechniqueConfig& c) { c.math = "fast"; }},
+      {"buildOptions", [](TechniqueConfig& c) { c.buildOptions = "-cl-opt-disable"; }},
+      {"lanes", [](TechniqueConfig& c) { c.lanes = 4; }},
+  };
+  for (const auto& [field, change] : changes) {
+    TechniqueConfig c = base;
+    change(c);
+    EXPECT_NE(c.key(), base.key()) << field;
+  }
+}
+
 // Tile sizes that are not powers of two (nor divide the image), square or not: the binned
-// techniques launch work-groups that stay inside one tile (groupEdgeFor) and stay exact.
+// techniques launch work-groups that stay inside one tile (tileDividingGroup) and stay exact.
 TEST(BinnedTechniques, OddTileSizes) {
   const PreparedFrame& f = prepared("street", "many", 10, GBufferFormat::FP32);
   for (const char* name : {"tiled", "tiled-single", "clustered"})

@@ -38,10 +38,7 @@ class TechniqueCache {
  public:
   explicit TechniqueCache(ClContext& cl) : cl_(cl) {}
   Technique& get(const std::string& name, const TechniqueConfig& c) {
-    std::ostringstream key;
-    key << name << '|' << c.kernelOptions() << '|' << c.tileWidth << 'x' << c.tileHeight << '|'
-        << c.localListCapacity << '|' << c.presizeLists << '|' << c.lanes;
-    auto& t = cache_[key.str()];
+    auto& t = cache_[name + '|' + c.key()];
     if (!t) t = createTechnique(name, cl_, c);
     return *t;
   }

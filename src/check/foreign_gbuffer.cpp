@@ -11,6 +11,7 @@
 #include "render/gbuffer_import.h"
 #include "render/image_io.h"
 #include "util/error.h"
+#include "util/pi.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -62,7 +63,7 @@ PreparedFrame throughForeignGBufferFiles(const PreparedFrame& frame, GBufferForm
       {"tileshade_gbuffer", kGBufferFilesVersion},
       {"image", "frame.exr"},
       {"origin", "bottom"},
-      {"camera", {{"yfov_degrees", double(frame.camera.yfov) * 180.0 / 3.14159265358979323846}}},
+      {"camera", {{"yfov_degrees", double(frame.camera.yfov) * 180.0 / kPiDouble}}},
       {"depth", {{"channel", "depth"}, {"encoding", "hardware"}, {"near", n}, {"far", nullptr},
                  {"range", "zero_to_one"}, {"reversed", true}}},
       {"normal", {"nx", "ny", "nz"}},

@@ -85,7 +85,7 @@ double pixelBound(const SurfaceD& s, const ViewLights& lights, glm::dvec3 base, 
   for (size_t i = 0; i < lights.directionalCount(); ++i, ++terms)
     bound += numericTermBound(s, lights, i, true, model, shading, positionError, &magnitude);
   for (size_t i = 0; i < lights.size(); ++i) {
-    if (mr || lights.spot[i].w > -1.0f) {  // not a Blinn-Phong point light: measured
+    if (mr || lights.isSpot(i)) {  // not a Blinn-Phong point light: measured
       ++terms;
       bound += numericTermBound(s, lights, i, false, model, shading, positionError, &magnitude);
       continue;

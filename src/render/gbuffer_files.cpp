@@ -11,6 +11,7 @@
 #include "util/error.h"
 #include "util/file_read.h"
 #include "util/float_limit.h"
+#include "util/pi.h"
 #include "util/short_text.h"
 #include "util/strict_json.h"
 
@@ -251,7 +252,7 @@ GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::str
     const bool degrees = cam.has("yfov_degrees");
     const std::string key = degrees ? "yfov_degrees" : "yfov";
     double yfov = cam.positive(key);
-    if (degrees) yfov *= 3.14159265358979323846 / 180.0;
+    if (degrees) yfov *= kPiDouble / 180.0;
     if (!(double(float(yfov)) < 2.0 * kHalfPi))  // as the float the camera keeps
       cam.fail(key, "must be below 180 degrees (pi = " + fullText(2.0 * kHalfPi) + ") as a float, "
                     "got " + fullText(cam.number(key)));
@@ -415,8 +416,8 @@ nlohmann::json lightsJson(const ViewLights& lights, glm::vec3 ambient) {
   std::vector<LightRecord> records;
   for (size_t i = 0; i < lights.size(); ++i) {
     LightRecord l;
-    const glm::vec4 s = lights.spot.empty() ? glm::vec4(0.0f, 0.0f, 0.0f, -1.0f) : lights.spot[i];
-    l.type = glm::vec3(s) == glm::vec3(0.0f) ? LightType::Point : LightType::Spot;
+    const glm::vec4 s = lights.spot[i];
+    l.type = lights.isSpot(i) ? LightType::Spot : LightType::Point;
     l.position = glm::vec3(lights.positionRange[i]);
     l.range = lights.positionRange[i].w;
     l.color = glm::vec3(lights.color[i]);

@@ -7,13 +7,12 @@
 #include "scene/builtin_scenes.h"
 #include "scene/mesh_builder.h"
 #include "util/error.h"
+#include "util/pi.h"
 #include "util/short_text.h"
 
 namespace ts {
 
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 constexpr float kHalfX = 15.0f;    // courtyard floor: x in [-15, 15]
 constexpr float kHalfZ = 6.5f;     //                  z in [-6.5, 6.5] (arcade wall centres)

@@ -9,13 +9,12 @@
 #include "scene/builtin_scenes.h"
 #include "scene/mesh_builder.h"
 #include "util/error.h"
+#include "util/pi.h"
 #include "util/short_text.h"
 
 namespace ts {
 
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 // Street layout (units ≈ metres). The main street runs along Z; facades at x = ±kHalfWidth.
 constexpr float kHalfWidth = 14.55f;   // 29.1 wide, facade to facade

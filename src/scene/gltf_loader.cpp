@@ -30,6 +30,7 @@
 #include "util/error.h"
 #include "util/file_read.h"
 #include "util/float_limit.h"
+#include "util/pi.h"
 #include "util/short_text.h"
 #include "util/strict_json.h"
 #include "util/stderr_capture.h"
@@ -38,7 +39,6 @@ namespace ts {
 
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 constexpr int kOrbitFrames = 240;
 // Node levels tileshade follows (each a recursion of the loader's tree walk).
 constexpr int kMaxNodeDepth = 1000;
@@ -993,9 +993,9 @@ void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
       // yfov, znear > 0 and zfar >= 0 within float's range were checked in the JSON.
       const auto& pc = cam.perspective;
       // Below pi as the float the camera keeps (a float of 3.14159264 is above pi).
-      if (!(double(float(pc.yfov)) < 3.141592653589793))
+      if (!(double(float(pc.yfov)) < kPiDouble))
         read_.fail(what + ": camera yfov " + fullText(pc.yfov) + " is not below pi (" +
-                   fullText(3.141592653589793) + ") as a float");
+                   fullText(kPiDouble) + ") as a float");
       if (pc.zfar > 0.0 && !(pc.zfar > pc.znear))
         read_.fail(what + ": camera zfar " + shortText(pc.zfar) + " is not beyond znear " +
                    shortText(pc.znear));

@@ -2,11 +2,9 @@
 
 #include <cmath>
 
-namespace ts {
+#include "util/pi.h"
 
-namespace {
-constexpr float kPi = 3.14159265358979f;
-}
+namespace ts {
 
 uint32_t MeshBuilder::addMaterial(const Material& m) {
   s_.materials.push_back(m);

@@ -12,6 +12,7 @@
 #include "util/error.h"
 #include "util/short_text.h"
 #include "util/option_values.h"
+#include "util/pi.h"
 
 namespace ts {
 
@@ -42,7 +43,7 @@ Scene makeBuiltin(const std::string& name, const std::string& lightSet, uint32_t
 // 60 % of it.
 void makeSpots(Scene& scene, uint32_t seed) {
   SceneRandom rnd(seed * 2246822519u + 3266489917u);
-  constexpr float kDeg = 3.14159265358979f / 180.0f;
+  constexpr float kDeg = kPi / 180.0f;
   int k = 0;
   for (Light& l : scene.lights) {
     if (l.type != LightType::Point || k++ % 2 == 0) continue;

@@ -23,6 +23,7 @@
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
 #include "util/error.h"
+#include "util/option_values.h"
 
 namespace ts {
 namespace {
@@ -36,8 +37,9 @@ class ClusteredTechnique : public Technique {
       throw Error("tile size must be positive");
     // The slice is stored per pixel as a 16-bit key (0xffff = background), and
     // cluster_depth_bounds keeps three 32-bit counters per slice in local memory.
-    if (config.clusterSlices < 1 || config.clusterSlices > 4096)
-      throw Error("cluster slices must be 1..4096, got " + std::to_string(config.clusterSlices));
+    if (config.clusterSlices < 1 || config.clusterSlices > kMaxClusterSlices)
+      throw Error("cluster slices must be 1.." + std::to_string(kMaxClusterSlices) + ", got " +
+                  std::to_string(config.clusterSlices));
     if (size_t(config.clusterSlices) * 12 + 2048 > cl.info().localMemBytes)
       throw Error(std::to_string(config.clusterSlices) + " cluster slices need more local memory "
                   "than the device has (" + std::to_string(cl.info().localMemBytes) + " B)");

@@ -24,6 +24,8 @@ struct ViewLights {
   std::vector<glm::vec4> directionalColor;  // rgb, w unused
   size_t size() const { return positionRange.size(); }
   size_t directionalCount() const { return directionalDir.size(); }
+  // The kernels' own test (culling.h: a point light's cos_outer is -1, a spot light's >= 0).
+  bool isSpot(size_t i) const { return spot[i].w > -1.0f; }
 
   // Appends a light in view space, in the layout above (the only way the entries are written, so
   // the three arrays stay in step and a point light's spot entry makes its cone term exactly 1).

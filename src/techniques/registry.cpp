@@ -1,4 +1,5 @@
-// The one list of techniques. Adding a technique = its own .cpp/.cl pair plus one line here.
+// The one list of techniques. Adding a technique = its own .cpp/.cl pair plus one line here
+// (tests/extra_tests.cmake reads the names from the entries' first lines, {"name",).
 // The last field, where present, is the lanes "auto" picks on CPU devices: 16 where shading in
 // lanes measured faster on PoCL with many lights (tiled 6.6x, tiled-single 3.5x, brute 4.8x,
 // clustered 6.8x; bench/RESULTS.md, docs/techniques.md); deferred has a lanes path but measured
@@ -94,8 +95,8 @@ void checkFrameFeatures(const SceneFeatures& features, const DeviceFrame& frame)
     fail("its G-buffer has no specular plane");
   if (features.emissive && !gb.hasEmissive) fail("its G-buffer has no emissive plane");
   if (!features.spot)
-    for (const glm::vec4& spot : frame.lights->spot)
-      if (spot.w > -1.0f) fail("it has spot lights");
+    for (size_t i = 0; i < frame.lights->size(); ++i)
+      if (frame.lights->isSpot(i)) fail("it has spot lights");
   if (!features.directional && frame.directionalCount() > 0) fail("it has directional lights");
 }
 
@@ -128,8 +129,6 @@ int parseSpotCulling(const std::string& name) {
 
 std::string cullingName(int culling) { return knobName(kCullingNames, culling); }
 
-std::string spotCullingName(int spotCulling) { return knobName(kSpotCullingNames, spotCulling); }
-
 int parseLanes(const std::string& text) {
   if (text == "auto") return 0;
   for (int n : kLaneWidths)
@@ -153,6 +152,13 @@ std::string TechniqueConfig::kernelOptions() const {
                 "' (known: precise, fast, native)");
   if (!buildOptions.empty()) o << " " << buildOptions;
   return o.str();
+}
+
+std::string TechniqueConfig::key() const {
+  std::ostringstream k;
+  k << kernelOptions() << '|' << tileWidth << 'x' << tileHeight << '|' << clusterSlices << '|'
+    << localListCapacity << '|' << presizeLists << '|' << lanes;
+  return k.str();
 }
 
 std::string TechniqueConfig::lanesOption() const {

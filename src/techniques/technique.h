@@ -57,6 +57,9 @@ struct TechniqueConfig {
   // Build options every technique passes to ClContext::build (G-buffer layout, features, range
   // model, culling test, arithmetic, extras).
   std::string kernelOptions() const;
+  // kernelOptions and every other field a technique builds or launches with: configurations with
+  // one key create the same technique (check's cache). A new field belongs here.
+  std::string key() const;
 };
 
 struct KernelTime {
@@ -138,9 +141,8 @@ std::vector<std::string> techniqueNames();
 // Culling test names <-> TechniqueConfig::culling ("rect", "frustum", "aabb"); throws ts::Error.
 int parseCulling(const std::string& name);
 std::string cullingName(int culling);
-// Spot culling names <-> TechniqueConfig::spotCulling ("cone", "bound-sphere", "range-sphere").
+// Spot culling names -> TechniqueConfig::spotCulling ("cone", "bound-sphere", "range-sphere").
 int parseSpotCulling(const std::string& name);
-std::string spotCullingName(int spotCulling);
 // "auto" -> 0, or the number of lanes (1, 2, 4, 8, 16); throws ts::Error otherwise.
 int parseLanes(const std::string& text);
 // "auto" for 0, else the number.

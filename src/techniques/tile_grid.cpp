@@ -164,12 +164,6 @@ std::vector<glm::vec4> readImage(ClContext& cl, const cl::Buffer& image, const D
   return out;
 }
 
-size_t groupEdgeFor(int tile) {
-  for (int d = std::min(tile, 16); d > 1; --d)
-    if (tile % d == 0) return size_t(d);
-  return 1;
-}
-
 cl::LocalSpaceArg laneLocalMemory(const TechniqueConfig& config, size_t groupSize) {
   size_t slots = roundUp(groupSize, size_t(std::max(config.lanes, 1)));
   return cl::Local(size_t(config.lanePlanes()) * slots * sizeof(float));

@@ -93,10 +93,6 @@ LightAssignment tileAssignment(const TileGrid& grid, std::vector<uint32_t> offse
 // Reads back an RGBA float image of the frame's size.
 std::vector<glm::vec4> readImage(ClContext& cl, const cl::Buffer& image, const DeviceFrame& frame);
 
-// Work-group edge for per-pixel kernels over tiles of `tile` pixels: the largest divisor of the
-// tile edge that is at most 16, so a work-group never straddles two tiles (24 -> 12, 48 -> 16).
-size_t groupEdgeFor(int tile);
-
 // The local buffer of a kernel shading in lanes (kernels/lanes.h): config.lanePlanes() floats per
 // pixel slot, the work-group's items rounded up to whole vectors of config.lanes.
 cl::LocalSpaceArg laneLocalMemory(const TechniqueConfig& config, size_t groupSize);

@@ -9,9 +9,9 @@
 #include <limits>
 #include <string>
 
-namespace ts {
+#include "util/pi.h"
 
-constexpr double kHalfPi = 1.5707963267948966;
+namespace ts {
 
 // The rounding a float of magnitude up to |scale| may carry: one float ulp (2^-23 relative).
 inline double floatRounding(double scale) {
