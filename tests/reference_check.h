@@ -95,6 +95,19 @@ inline Technique& cachedTechnique(const std::string& name, const TechniqueConfig
   return *t;
 }
 
+// The atrium lit by `count` huge lights (range 1000) on a 7x5x11 lattice through its bounds:
+// every tile with geometry lists all of them, more than any local chunk.
+inline Scene atriumLatticeLights(int count) {
+  Scene scene = makeBuiltinScene("atrium", "big", 1);
+  Bounds b = scene.bounds();
+  scene.lights.clear();
+  for (int i = 0; i < count; ++i) {
+    glm::vec3 t(float(i % 7) / 6.0f, float(i % 5) / 4.0f, float(i % 11) / 10.0f);
+    scene.lights.push_back(Light::point(b.min + t * b.extent(), glm::vec3(0.05f), 1000.0f));
+  }
+  return scene;
+}
+
 // The atrium at 96x64 lit by `count` huge lights (range 1000, scattered through its bounds):
 // every tile and cluster with geometry lists all of them, which overflows any default list.
 inline PreparedFrame hugeLightsFrame(int count = 300) {

@@ -54,13 +54,7 @@ TEST(Repeatability, AtriumMixedSameBitsOnEveryRun) {
 // so tiled-single shades two chunks and tiled and clustered fill lists of 300 from 300 lights at
 // once (the most contention on each bin's cursor).
 TEST(Repeatability, ListsLongerThanTheLocalChunkSameBitsOnEveryRun) {
-  Scene scene = makeBuiltinScene("atrium", "big", 1);
-  Bounds b = scene.bounds();
-  scene.lights.clear();
-  for (int i = 0; i < 300; ++i) {
-    glm::vec3 t(float(i % 7) / 6.0f, float(i % 5) / 4.0f, float(i % 11) / 10.0f);
-    scene.lights.push_back(Light::point(b.min + t * b.extent(), glm::vec3(0.05f), 1000.0f));
-  }
+  Scene scene = test::atriumLatticeLights(300);
   expectRepeatable(scene, 64, 36, "atrium 64x36, 300 lights in every tile");
 }
 

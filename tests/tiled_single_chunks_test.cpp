@@ -43,13 +43,7 @@ ChunkCase issueFrame() {
 // Many chunks in odd tiles: 7x5 tiles (35 work-items, no whole number of vectors) with a 64-light
 // list and 300 lights (5 chunks) on a 97x61 frame (neither size a multiple of the tile's).
 ChunkCase oddTileFrame() {
-  Scene scene = makeBuiltinScene("atrium", "big", 1);
-  Bounds b = scene.bounds();
-  scene.lights.clear();
-  for (int i = 0; i < 300; ++i) {
-    glm::vec3 t(float(i % 7) / 6.0f, float(i % 5) / 4.0f, float(i % 11) / 10.0f);
-    scene.lights.push_back(Light::point(b.min + t * b.extent(), glm::vec3(0.05f), 1000.0f));
-  }
+  Scene scene = test::atriumLatticeLights(300);
   TechniqueConfig config;
   config.tileWidth = 7;
   config.tileHeight = 5;
