@@ -290,6 +290,34 @@ glm::vec3 unproject(const CameraIntrinsics& in, double sx, double sy, double d) 
   return glm::vec3(glm::dvec3(ndcX * in.tanHalfFovX * d, ndcY * in.tanHalfFovY * d, -d));
 }
 
+// A linear texture of random texels, each channel drawn in its own statement (in a call's
+// arguments the order would be the compiler's; drawnLastFirst keeps the values g++ drew).
+Texture randomTexture(int width, int height, uint32_t seed) {
+  Texture t;
+  t.width = width;
+  t.height = height;
+  t.srgb = false;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int i = 0; i < width * height; ++i) {
+    const auto c = test::drawnLastFirst<3>([&] { return unit(rng); });
+    t.texels.emplace_back(c[0], c[1], c[2], 1.0f);
+  }
+  return t;
+}
+
+// Appends a textured quad facing the camera at depth 3 over pixels [x0, x1] x [y0, y1], with
+// material `material` and the UV that `uvAt(x, y)` gives each corner.
+template <typename UvAt>
+void addQuad(Scene& s, const CameraIntrinsics& in, double x0, double x1, double y0, double y1,
+             uint32_t material, UvAt uvAt) {
+  const uint32_t base = uint32_t(s.vertices.size());
+  for (auto [x, y] : {std::pair{x0, y0}, {x0, y1}, {x1, y0}, {x1, y1}})
+    s.vertices.push_back(Vertex{unproject(in, x, y, 3.0), glm::vec3(0.0f, 0.0f, 1.0f), uvAt(x, y)});
+  s.indices.insert(s.indices.end(), {base, base + 1, base + 2, base + 2, base + 1, base + 3});
+  s.triangleMaterial.insert(s.triangleMaterial.end(), {material, material});
+}
+
 void addTriangle(Scene& s, glm::vec3 a, glm::vec3 b, glm::vec3 c, uint32_t material,
                  glm::vec3 normal) {
   const uint32_t base = uint32_t(s.vertices.size());
@@ -406,13 +434,7 @@ TEST(GlRaster, TextureWrapModesMatchSoftware) {
   const std::pair<Wrap, Wrap> modes[] = {{Wrap::ClampToEdge, Wrap::MirroredRepeat},
                                          {Wrap::MirroredRepeat, Wrap::ClampToEdge},
                                          {Wrap::Repeat, Wrap::MirroredRepeat}};
-  Texture texture;
-  texture.width = 5;
-  texture.height = 3;
-  texture.srgb = false;
-  std::mt19937 rng(16);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  for (int i = 0; i < 15; ++i) texture.texels.emplace_back(unit(rng), unit(rng), unit(rng), 1.0f);
+  const Texture texture = randomTexture(5, 3, 16);
   Scene s;
   s.name = "wrap modes";
   for (size_t k = 0; k < 3; ++k) {
@@ -424,16 +446,10 @@ TEST(GlRaster, TextureWrapModesMatchSoftware) {
     m.diffuseTexture = int(k);
     s.materials.push_back(m);
     const double x0 = 2.0 + 31.0 * double(k), x1 = x0 + 29.0, y0 = 2.0, y1 = 38.0;
-    auto vertex = [&](double x, double y) {
-      const glm::vec2 uv(float(-1.3 + 3.7 * (x - x0) / (x1 - x0)),
-                         float(-1.2 + 3.5 * (y - y0) / (y1 - y0)));
-      return Vertex{unproject(in, x, y, 3.0), glm::vec3(0.0f, 0.0f, 1.0f), uv};
-    };
-    const uint32_t base = uint32_t(s.vertices.size());
-    for (auto [x, y] : {std::pair{x0, y0}, {x0, y1}, {x1, y0}, {x1, y1}})
-      s.vertices.push_back(vertex(x, y));
-    s.indices.insert(s.indices.end(), {base, base + 1, base + 2, base + 2, base + 1, base + 3});
-    s.triangleMaterial.insert(s.triangleMaterial.end(), {uint32_t(k), uint32_t(k)});
+    addQuad(s, in, x0, x1, y0, y1, uint32_t(k), [&](double x, double y) {
+      return glm::vec2(float(-1.3 + 3.7 * (x - x0) / (x1 - x0)),
+                       float(-1.2 + 3.5 * (y - y0) / (y1 - y0)));
+    });
   }
   GlRasterizer gl(s);
   const FrameFigures f = compareFrame(s, gl, cam, W, H, ShadingModel::BlinnPhong, "wrap modes");
@@ -450,14 +466,8 @@ TEST(GlRaster, TheNearestFilterMatchesSoftware) {
   const Camera cam = lookingDownZ();
   const CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   using Wrap = TextureWrap;
-  Texture texture;
-  texture.width = 8;
-  texture.height = 6;
-  texture.srgb = false;
+  Texture texture = randomTexture(8, 6, 5);
   texture.nearest = true;
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  for (int i = 0; i < 48; ++i) texture.texels.emplace_back(unit(rng), unit(rng), unit(rng), 1.0f);
   Scene s;
   s.name = "nearest";
   const std::pair<Wrap, Wrap> modes[] = {{Wrap::Repeat, Wrap::ClampToEdge},
@@ -472,15 +482,9 @@ TEST(GlRaster, TheNearestFilterMatchesSoftware) {
     s.materials.push_back(m);
     const double x0 = 2.0 + 36.0 * double(k), x1 = x0 + 32.0, y0 = 2.0, y1 = 38.0;
     // u * 8 = (x - x0) / 2 - 6, v * 6 = (y - y0) / 2 - 5: texel coordinates -6..10 and -5..13.
-    auto vertex = [&](double x, double y) {
-      const glm::vec2 uv(float(((x - x0) / 2.0 - 6.0) / 8.0), float(((y - y0) / 2.0 - 5.0) / 6.0));
-      return Vertex{unproject(in, x, y, 3.0), glm::vec3(0.0f, 0.0f, 1.0f), uv};
-    };
-    const uint32_t base = uint32_t(s.vertices.size());
-    for (auto [x, y] : {std::pair{x0, y0}, {x0, y1}, {x1, y0}, {x1, y1}})
-      s.vertices.push_back(vertex(x, y));
-    s.indices.insert(s.indices.end(), {base, base + 1, base + 2, base + 2, base + 1, base + 3});
-    s.triangleMaterial.insert(s.triangleMaterial.end(), {uint32_t(k), uint32_t(k)});
+    addQuad(s, in, x0, x1, y0, y1, uint32_t(k), [&](double x, double y) {
+      return glm::vec2(float(((x - x0) / 2.0 - 6.0) / 8.0), float(((y - y0) / 2.0 - 5.0) / 6.0));
+    });
   }
   GlRasterizer gl(s);
   const FrameFigures f = compareFrame(s, gl, cam, W, H, ShadingModel::BlinnPhong, "nearest");
