@@ -306,11 +306,20 @@ Texture randomTexture(int width, int height, uint32_t seed) {
   return t;
 }
 
-// Appends a textured quad facing the camera at depth 3 over pixels [x0, x1] x [y0, y1], with
-// material `material` and the UV that `uvAt(x, y)` gives each corner.
+// Appends a quad facing the camera at depth 3 over pixels [x0, x1] x [y0, y1], white and textured
+// by `texture` with the wrap modes `wrap` (a material and a texture of its own), with the UV that
+// `uvAt(x, y)` gives each corner.
 template <typename UvAt>
-void addQuad(Scene& s, const CameraIntrinsics& in, double x0, double x1, double y0, double y1,
-             uint32_t material, UvAt uvAt) {
+void addTexturedQuad(Scene& s, const CameraIntrinsics& in, Texture texture,
+                     std::pair<TextureWrap, TextureWrap> wrap, double x0, double x1, double y0,
+                     double y1, UvAt uvAt) {
+  std::tie(texture.wrapS, texture.wrapT) = wrap;
+  s.textures.push_back(texture);
+  Material m;
+  m.diffuse = glm::vec3(1.0f);
+  m.diffuseTexture = int(s.textures.size() - 1);
+  s.materials.push_back(m);
+  const uint32_t material = uint32_t(s.materials.size() - 1);
   const uint32_t base = uint32_t(s.vertices.size());
   for (auto [x, y] : {std::pair{x0, y0}, {x0, y1}, {x1, y0}, {x1, y1}})
     s.vertices.push_back(Vertex{unproject(in, x, y, 3.0), glm::vec3(0.0f, 0.0f, 1.0f), uvAt(x, y)});
@@ -438,15 +447,8 @@ TEST(GlRaster, TextureWrapModesMatchSoftware) {
   Scene s;
   s.name = "wrap modes";
   for (size_t k = 0; k < 3; ++k) {
-    Texture t = texture;
-    std::tie(t.wrapS, t.wrapT) = modes[k];
-    s.textures.push_back(t);
-    Material m;
-    m.diffuse = glm::vec3(1.0f);
-    m.diffuseTexture = int(k);
-    s.materials.push_back(m);
     const double x0 = 2.0 + 31.0 * double(k), x1 = x0 + 29.0, y0 = 2.0, y1 = 38.0;
-    addQuad(s, in, x0, x1, y0, y1, uint32_t(k), [&](double x, double y) {
+    addTexturedQuad(s, in, texture, modes[k], x0, x1, y0, y1, [&](double x, double y) {
       return glm::vec2(float(-1.3 + 3.7 * (x - x0) / (x1 - x0)),
                        float(-1.2 + 3.5 * (y - y0) / (y1 - y0)));
     });
@@ -473,16 +475,9 @@ TEST(GlRaster, TheNearestFilterMatchesSoftware) {
   const std::pair<Wrap, Wrap> modes[] = {{Wrap::Repeat, Wrap::ClampToEdge},
                                          {Wrap::MirroredRepeat, Wrap::Repeat}};
   for (size_t k = 0; k < 2; ++k) {
-    Texture t = texture;
-    std::tie(t.wrapS, t.wrapT) = modes[k];
-    s.textures.push_back(t);
-    Material m;
-    m.diffuse = glm::vec3(1.0f);
-    m.diffuseTexture = int(k);
-    s.materials.push_back(m);
     const double x0 = 2.0 + 36.0 * double(k), x1 = x0 + 32.0, y0 = 2.0, y1 = 38.0;
     // u * 8 = (x - x0) / 2 - 6, v * 6 = (y - y0) / 2 - 5: texel coordinates -6..10 and -5..13.
-    addQuad(s, in, x0, x1, y0, y1, uint32_t(k), [&](double x, double y) {
+    addTexturedQuad(s, in, texture, modes[k], x0, x1, y0, y1, [&](double x, double y) {
       return glm::vec2(float(((x - x0) / 2.0 - 6.0) / 8.0), float(((y - y0) / 2.0 - 5.0) / 6.0));
     });
   }
