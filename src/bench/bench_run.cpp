@@ -1,19 +1,17 @@
 #include "bench/bench_run.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
-#include <cmath>
 #include <cstdint>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <map>
 #include <memory>
 #include <optional>
 #include <set>
-#include <sstream>
 
 #include "bench/bench_frames.h"
 #include "bench/bench_resume.h"
@@ -54,9 +52,6 @@ double shadeFlops(ShadingModel model) {
   return model == ShadingModel::MetallicRoughness ? TS_SHADE_FLOPS_METALLIC_ROUGHNESS
                                                   : TS_SHADE_FLOPS_BLINN_PHONG;
 }
-// Counters read back from bench.csv on --resume (18 digits, the most parseInteger reads).
-constexpr long long kMaxCsvInteger = 999999999999999999LL;
-
 std::string nowUtc() {
   std::time_t t = std::time(nullptr);
   std::tm g{};
@@ -82,244 +77,6 @@ json configJson(const BenchConfig& c) {
   return j;
 }
 
-// A JSON number, "inf" strings (PSNR of an exact image) as infinity, anything else NaN.
-double num(const json& j, const char* key) {
-  auto it = j.find(key);
-  if (it == j.end() || it->is_null()) return std::nan("");
-  if (it->is_number()) return it->get<double>();
-  if (it->is_string()) {
-    std::string s = it->get<std::string>();
-    if (s == "inf") return INFINITY;
-    if (s == "-inf") return -INFINITY;
-    try {
-      return std::stod(s);
-    } catch (const std::exception&) {
-    }
-  }
-  return std::nan("");
-}
-
-std::string str(const json& j, const char* key) {
-  auto it = j.find(key);
-  if (it == j.end() || it->is_null()) return "";
-  return it->is_string() ? it->get<std::string>() : it->dump();
-}
-
-std::string intText(const json& j, const char* key) {
-  auto it = j.find(key);
-  if (it == j.end() || !it->is_number()) return "";
-  return it->is_number_float() ? numberText(it->get<double>()) : it->dump();
-}
-
-json summaryJson(const Summary& s) {
-  return {{"n", s.n}, {"median", s.median}, {"min", s.min}, {"max", s.max}, {"mean", s.mean}};
-}
-
-std::string packKernels(const json& kernels) {
-  std::string s;
-  for (const auto& k : kernels)
-    s += (s.empty() ? "" : ";") + k.at("name").get<std::string>() + "=" + numberText(num(k, "ms"));
-  return s;
-}
-
-json unpackKernels(const std::string& packed) {
-  json out = json::array();
-  for (const auto& item : splitList(packed, ';')) {
-    size_t eq = item.find('=');
-    if (eq == std::string::npos) continue;
-    double ms = std::strtod(item.c_str() + eq + 1, nullptr);
-    out.push_back({{"name", item.substr(0, eq)}, {"ms", ms}});
-  }
-  return out;
-}
-
-const char* const kErrorFields[] = {"max_abs", "rmse", "psnr_db", "max_rel_peak", "p50", "p99", "p999"};
-
-// bench.csv columns after the dimensions.
-const std::vector<std::string>& rowColumns() {
-  static const std::vector<std::string> cols = {
-      "device_name", "lanes_used", "features_used", "gbuffer_bytes_per_pixel", "kernel_options", "frame",
-      "lights", "geometry_pixels", "total_ms", "kernels", "wall_ms",
-      "upload_ms", "compile_ms", "raster_ms", "warmup", "repeat", "lighting_computations",
-      "evaluations", "gbuffer_bytes_read", "nonfinite_pixels", "list_min", "list_mean", "list_max", "min_bytes",
-      "min_flops", "flops_basis", "bandwidth_gbs", "peak_gflops", "limit_ms", "limit_pct",
-      "reference_contributing", "err_max_abs", "err_rmse", "err_psnr_db", "err_max_rel_peak",
-      "err_p50", "err_p99", "err_p999", "err_shading_max_rel_peak", "notes"};
-  return cols;
-}
-
-std::vector<std::string> csvFieldsOf(const json& row) {
-  std::vector<std::string> f;
-  f.push_back(str(row, "config_id"));
-  const json& config = row.at("config");
-  for (const auto& d : benchDimensions()) f.push_back(config.contains(d.name) ? str(config, d.name.c_str()) : "");
-  const json& limit = row.contains("limit") ? row["limit"] : json::object();
-  const json& bins = row.contains("lights_per_bin") ? row["lights_per_bin"] : json::object();
-  const json& error = row.contains("error") ? row["error"] : json::object();
-  std::string notes;
-  if (row.contains("notes"))
-    for (const auto& n : row["notes"]) notes += (notes.empty() ? "" : " | ") + n.get<std::string>();
-  f.push_back(str(row, "device_name"));
-  f.push_back(intText(row, "lanes_used"));
-  f.push_back(str(row, "features_used"));
-  f.push_back(intText(row, "gbuffer_bytes_per_pixel"));
-  f.push_back(str(row, "kernel_options"));
-  f.push_back(intText(row, "frame"));
-  f.push_back(intText(row, "lights"));
-  f.push_back(intText(row, "geometry_pixels"));
-  f.push_back(numberText(num(row, "total_ms")));
-  f.push_back(packKernels(row.value("kernels", json::array())));
-  f.push_back(numberText(num(row, "wall_ms")));
-  f.push_back(numberText(num(row, "upload_ms")));
-  f.push_back(numberText(num(row, "compile_ms")));
-  f.push_back(numberText(num(row, "raster_ms")));
-  f.push_back(intText(row, "warmup"));
-  f.push_back(intText(row, "repeat"));
-  f.push_back(intText(row, "lighting_computations"));
-  f.push_back(intText(row, "evaluations"));
-  f.push_back(intText(row, "gbuffer_bytes_read"));
-  f.push_back(intText(row, "nonfinite_pixels"));
-  f.push_back(intText(bins, "min"));
-  f.push_back(numberText(num(bins, "mean")));
-  f.push_back(intText(bins, "max"));
-  f.push_back(intText(limit, "min_bytes"));
-  f.push_back(numberText(num(limit, "min_flops")));
-  f.push_back(str(limit, "flops_basis"));
-  f.push_back(numberText(num(limit, "bandwidth_gbs")));
-  f.push_back(numberText(num(limit, "peak_gflops")));
-  f.push_back(numberText(num(limit, "limit_ms")));
-  f.push_back(numberText(num(limit, "limit_pct")));
-  f.push_back(intText(row, "reference_contributing"));
-  for (const char* e : kErrorFields) f.push_back(error.empty() ? "" : numberText(num(error, e)));
-  f.push_back(row.contains("error_shading") ? numberText(num(row["error_shading"], "max_rel_peak"))
-                                            : "");
-  f.push_back(notes);
-  return f;
-}
-
-// The inverse of csvFieldsOf for rows that bench.json lost (kernel launch counts are not in the
-// CSV and come back as absent).
-json rowFromCsv(const std::map<std::string, std::string>& r, const std::string& csvName) {
-  auto get = [&](const std::string& k) {
-    auto it = r.find(k);
-    return it == r.end() ? std::string() : it->second;
-  };
-  auto number = [&](const std::string& k) -> json {
-    std::string v = get(k);
-    if (v.empty()) return nullptr;
-    return jsonNumber(std::strtod(v.c_str(), nullptr));  // "inf", "-inf" stay strings
-  };
-  auto integer = [&](const std::string& k) -> json {
-    std::string v = get(k);
-    if (v.empty()) return nullptr;
-    return (unsigned long long)parseInteger(csvName + " column " + k, v, 0, kMaxCsvInteger);
-  };
-  json config = json::object();
-  for (const auto& d : benchDimensions()) config[d.name] = get(d.name);
-  json row = {{"technique", get("technique")},
-              {"kernels", unpackKernels(get("kernels"))},
-              {"total_ms", number("total_ms")},
-              {"lighting_computations", integer("lighting_computations")},
-              {"evaluations", integer("evaluations")},
-              {"gbuffer_bytes_read", integer("gbuffer_bytes_read")},
-              {"nonfinite_pixels", integer("nonfinite_pixels")},
-              {"lights_per_bin", {{"min", integer("list_min")}, {"mean", number("list_mean")}, {"max", integer("list_max")}}},
-              {"notes", json::array()},
-              {"config_id", get("config_id")},
-              {"config", config},
-              {"device_name", get("device_name")},
-              {"lanes_used", integer("lanes_used")},
-              {"features_used", get("features_used")},
-              {"gbuffer_bytes_per_pixel", integer("gbuffer_bytes_per_pixel")},
-              {"kernel_options", get("kernel_options")},
-              {"frame", int(parseInteger(csvName + " column frame", get("frame"), 0, INT32_MAX))},
-              {"lights", integer("lights")},
-              {"geometry_pixels", integer("geometry_pixels")},
-              {"wall_ms", number("wall_ms")},
-              {"upload_ms", number("upload_ms")},
-              {"compile_ms", number("compile_ms")},
-              {"raster_ms", number("raster_ms")},
-              {"warmup", integer("warmup")},
-              {"repeat", integer("repeat")},
-              {"limit", {{"min_bytes", integer("min_bytes")}, {"min_flops", number("min_flops")},
-                         {"flops_basis", get("flops_basis")}, {"bandwidth_gbs", number("bandwidth_gbs")},
-                         {"peak_gflops", number("peak_gflops")}, {"limit_ms", number("limit_ms")},
-                         {"limit_pct", number("limit_pct")}}}};
-  for (const auto& n : splitList(get("notes"), '|')) row["notes"].push_back(n);
-  if (!get("reference_contributing").empty()) row["reference_contributing"] = integer("reference_contributing");
-  if (!get("err_max_abs").empty()) {
-    json e = json::object();
-    for (const char* k : kErrorFields) e[k] = number(std::string("err_") + k);
-    row["error"] = e;
-  }
-  if (!get("err_shading_max_rel_peak").empty())
-    row["error_shading"] = {{"max_rel_peak", number("err_shading_max_rel_peak")}};
-  return row;
-}
-
-std::string fixed(double v, int digits) {
-  if (!std::isfinite(v)) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << v;
-  return s.str();
-}
-
-void printTable(const json& summaries, std::ostream& out) {
-  if (summaries.empty()) return;
-  // Dimensions that differ between configurations get a column; technique, tile and G-buffer
-  // always do.
-  std::vector<std::string> shown = {"technique", "tile", "gbuffer"};
-  for (const auto& d : benchDimensions()) {
-    if (std::find(shown.begin(), shown.end(), d.name) != shown.end()) continue;
-    std::set<std::string> values;
-    for (const auto& s : summaries) values.insert(str(s.at("config"), d.name.c_str()));
-    if (values.size() > 1) shown.push_back(d.name);
-  }
-  std::vector<std::vector<std::string>> table;
-  std::vector<std::string> head = shown;
-  for (const char* h :
-       {"median ms", "(min-max)", "wall ms", "raster ms", "% limit", "per-kernel median ms"})
-    head.push_back(h);
-  table.push_back(head);
-  for (const auto& s : summaries) {
-    std::vector<std::string> row;
-    for (const auto& d : shown) row.push_back(str(s.at("config"), d.c_str()));
-    const json& t = s.at("total_ms");
-    row.push_back(fixed(num(t, "median"), 3));
-    row.push_back("(" + fixed(num(t, "min"), 3) + "-" + fixed(num(t, "max"), 3) + ")");
-    row.push_back(fixed(num(s.at("wall_ms"), "median"), 2));
-    row.push_back(fixed(num(s.at("raster_ms"), "median"), 2));
-    std::string pct = fixed(num(s.at("limit_pct"), "median"), 1);
-    std::string basis = str(s, "flops_basis");
-    row.push_back(pct == "-" ? pct : pct + (basis == "reference" ? "" : basis == "evaluations" ? "*" : "~"));
-    std::string kernels;
-    for (const auto& k : s.at("kernels"))
-      kernels += (kernels.empty() ? "" : " ") + k.at("name").get<std::string>() + "=" + fixed(num(k, "median"), 3);
-    row.push_back(kernels);
-    table.push_back(row);
-  }
-  std::vector<size_t> width(head.size(), 0);
-  for (const auto& r : table)
-    for (size_t i = 0; i < r.size(); ++i) width[i] = std::max(width[i], r[i].size());
-  for (const auto& r : table) {
-    std::string line;
-    for (size_t i = 0; i < r.size(); ++i) {
-      bool last = i + 1 == r.size();
-      bool numeric = i >= shown.size() && !last;
-      std::string cell = r[i];
-      std::string pad(width[i] - cell.size(), ' ');
-      line += numeric ? pad + cell : cell + (last ? "" : pad);
-      if (!last) line += "  ";
-    }
-    out << line << "\n";
-  }
-  out << "% limit: device limit time / measured kernel time (median over frames); limit = max(bytes "
-         "/ copy bandwidth, contributing evaluations x "
-      << TS_SHADE_FLOPS_BLINN_PHONG << " (Blinn-Phong) or " << TS_SHADE_FLOPS_METALLIC_ROUGHNESS
-      << " (metallic-roughness) FLOP / peak). Evaluations counted by the reference, or * by the "
-         "technique itself (~ mixed).\n";
-}
-
 struct Entry {
   size_t index = 0;  // in the expanded sweep
   BenchConfig config;
@@ -337,123 +94,6 @@ struct Entry {
 };
 
 }  // namespace
-
-std::vector<std::string> benchCsvColumns() {
-  std::vector<std::string> c = {"config_id"};
-  for (const auto& d : benchDimensions()) c.push_back(d.name);
-  for (const auto& r : rowColumns()) c.push_back(r);
-  return c;
-}
-
-std::vector<std::string> summaryCsvColumns() {
-  std::vector<std::string> c = {"config_id"};
-  for (const auto& d : benchDimensions()) c.push_back(d.name);
-  for (const char* k :
-       {"device_name", "lanes_used", "features_used", "gbuffer_bytes_per_pixel", "frames", "total_ms_median", "total_ms_min", "total_ms_max", "total_ms_mean",
-        "wall_ms_median", "wall_ms_min", "wall_ms_max", "upload_ms_median", "compile_ms",
-        "raster_ms_median", "kernels_median", "lighting_computations_median", "evaluations_median",
-        "limit_ms_median", "limit_pct_median", "flops_basis", "nonfinite_pixels_max", "error_frames", "err_max_abs_max",
-        "err_rmse_max", "err_psnr_db_min", "err_max_rel_peak_max"})
-    c.push_back(k);
-  return c;
-}
-
-json summarizeRows(const json& rows) {
-  std::vector<std::string> order;
-  std::map<std::string, std::map<int, const json*>> byConfig;  // last row of a frame wins
-  for (const auto& r : rows) {
-    std::string id = str(r, "config_id");
-    if (!byConfig.count(id)) order.push_back(id);
-    byConfig[id][r.value("frame", 0)] = &r;
-  }
-  json out = json::array();
-  for (const auto& id : order) {
-    const auto& frames = byConfig[id];
-    const json& first = *frames.begin()->second;
-    std::vector<double> total, wall, upload, raster, lc, ev, limitMs, limitPct, compile;
-    std::vector<std::pair<std::string, std::vector<double>>> kernels;
-    std::set<std::string> bases;
-    std::vector<double> errMax, errRmse, errPsnr, errRel;
-    double nonfinite = 0.0;
-    json frameList = json::array();
-    for (const auto& [frame, rp] : frames) {
-      const json& r = *rp;
-      frameList.push_back(frame);
-      total.push_back(num(r, "total_ms"));
-      wall.push_back(num(r, "wall_ms"));
-      upload.push_back(num(r, "upload_ms"));
-      raster.push_back(num(r, "raster_ms"));
-      compile.push_back(num(r, "compile_ms"));
-      lc.push_back(num(r, "lighting_computations"));
-      ev.push_back(num(r, "evaluations"));
-      if (double n = num(r, "nonfinite_pixels"); n > nonfinite) nonfinite = n;
-      if (r.contains("limit")) {
-        limitMs.push_back(num(r["limit"], "limit_ms"));
-        limitPct.push_back(num(r["limit"], "limit_pct"));
-        std::string b = str(r["limit"], "flops_basis");
-        if (!b.empty()) bases.insert(b);
-      }
-      for (const auto& k : r.value("kernels", json::array())) {
-        std::string name = k.at("name").get<std::string>();
-        auto it = std::find_if(kernels.begin(), kernels.end(), [&](const auto& p) { return p.first == name; });
-        if (it == kernels.end()) {
-          kernels.push_back({name, {}});
-          it = kernels.end() - 1;
-        }
-        it->second.push_back(num(k, "ms"));
-      }
-      if (r.contains("error")) {
-        errMax.push_back(num(r["error"], "max_abs"));
-        errRmse.push_back(num(r["error"], "rmse"));
-        errPsnr.push_back(num(r["error"], "psnr_db"));
-        errRel.push_back(num(r["error"], "max_rel_peak"));
-      }
-    }
-    json k = json::array();
-    for (const auto& [name, v] : kernels) {
-      Summary s = summarize(v);
-      k.push_back({{"name", name}, {"median", s.median}, {"min", s.min}, {"max", s.max}});
-    }
-    json s = {{"config_id", id},
-              {"config", first.at("config")},
-              {"technique", str(first, "technique")},
-              {"device_name", str(first, "device_name")},
-              {"lanes_used", first.value("lanes_used", json())},
-              {"features_used", first.value("features_used", json())},
-              {"gbuffer_bytes_per_pixel", first.value("gbuffer_bytes_per_pixel", json())},
-              {"frames", frames.size()},
-              {"frame_list", frameList},
-              {"compile_ms", summarize(compile).max},
-              {"total_ms", summaryJson(summarize(total))},
-              {"wall_ms", summaryJson(summarize(wall))},
-              {"upload_ms", summaryJson(summarize(upload))},
-              {"raster_ms", summaryJson(summarize(raster))},
-              {"kernels", k},
-              {"lighting_computations", summaryJson(summarize(lc))},
-              {"evaluations", summaryJson(summarize(ev))},
-              {"limit_ms", summaryJson(summarize(limitMs))},
-              {"limit_pct", summaryJson(summarize(limitPct))},
-              {"nonfinite_pixels_max", uint64_t(nonfinite)},
-              {"flops_basis", bases.empty() ? "" : bases.size() == 1 ? *bases.begin() : "mixed"}};
-    if (!errMax.empty()) {
-      // The worst frame, infinities kept: summarize() skips them, but a frame with NaN/inf pixels
-      // has an infinite error (and PSNR -inf), and PSNR +inf (exact) only if every frame is.
-      auto worst = [](const std::vector<double>& v, double sign) {
-        double w = -sign * INFINITY;
-        for (double x : v)
-          if (!std::isnan(x)) w = sign > 0 ? std::max(w, x) : std::min(w, x);
-        return jsonNumber(w);
-      };
-      s["error"] = {{"frames", errMax.size()},
-                    {"max_abs", worst(errMax, 1)},
-                    {"rmse", worst(errRmse, 1)},
-                    {"psnr_db", worst(errPsnr, -1)},
-                    {"max_rel_peak", worst(errRel, 1)}};
-    }
-    out.push_back(s);
-  }
-  return out;
-}
 
 std::vector<int> selectErrorFrames(const std::string& spec, const std::vector<int>& timed) {
   std::string s = spec;
@@ -565,7 +205,7 @@ BenchRunResult runBench(const BenchOptions& o) {
         if (old.contains("rows") && old["rows"].is_array())
           for (const auto& r : old["rows"]) {
             if (!r.is_object() || !r.contains("frame") || !r["frame"].is_number_integer()) continue;
-            recorded[{str(r, "config_id"), r["frame"].get<int>()}] = r;
+            recorded[{jsonTextOf(findKey(r, "config_id")), r["frame"].get<int>()}] = r;
           }
         if (old.contains("runs") && old["runs"].is_array()) runs = old["runs"];
       }
@@ -579,7 +219,7 @@ BenchRunResult runBench(const BenchOptions& o) {
       if (rec != recorded.end()) {
         std::vector<std::string> fromJson;
         try {
-          fromJson = csvFieldsOf(rec->second);
+          fromJson = csvFields(benchColumns(), rec->second);
         } catch (const std::exception&) {
         }
         if (fromJson != fields) {
@@ -671,9 +311,9 @@ BenchRunResult runBench(const BenchOptions& o) {
       device["calibration"] = c.toJson();
       if (o.printTable)
         log << "device: " << cl.deviceName() << "\n"
-            << "calibration: copy bandwidth " << fixed(c.bandwidthGBs, 1) << " GB/s (median of "
+            << "calibration: copy bandwidth " << fixedText(c.bandwidthGBs, 1) << " GB/s (median of "
             << c.copyMs.size() << ", " << (c.copyBytes >> 20) << " MiB read + written), peak "
-            << fixed(c.peakGflops, 1) << " GFLOP/s (float" << (c.vectorWidth > 1 ? std::to_string(c.vectorWidth) : "")
+            << fixedText(c.peakGflops, 1) << " GFLOP/s (float" << (c.vectorWidth > 1 ? std::to_string(c.vectorWidth) : "")
             << " multiply-add chains, median of " << c.fmaMs.size() << ")\n";
     } else if (o.printTable) {
       log << "device: " << cl.deviceName() << " (not calibrated: no limit columns)\n";
@@ -868,7 +508,7 @@ BenchRunResult runBench(const BenchOptions& o) {
           if (errorStored) row["error_vs_stored"] = errorJson(*errorStored);
           if (errorShading) row["error_shading"] = errorJson(*errorShading);
 
-          csv << csvLine(csvFieldsOf(row)) << "\n";
+          csv << csvLine(csvFields(benchColumns(), row)) << "\n";
           flushChecked(csv, csvPath);
           rows.push_back(std::move(row));
           ++result.measuredRows;
@@ -888,37 +528,10 @@ BenchRunResult runBench(const BenchOptions& o) {
 
   result.summaries = summarizeRows(rows);
   writeJson(true);
-  {
-    std::ostringstream s;
-    s << csvLine(summaryCsvColumns()) << "\n";
-    for (const auto& sm : result.summaries) {
-      std::vector<std::string> f = {str(sm, "config_id")};
-      for (const auto& d : benchDimensions()) f.push_back(str(sm.at("config"), d.name.c_str()));
-      auto med = [&](const char* k) { return numberText(num(sm.at(k), "median")); };
-      std::string kernels;
-      for (const auto& k : sm.at("kernels"))
-        kernels += (kernels.empty() ? "" : ";") + k.at("name").get<std::string>() + "=" + numberText(num(k, "median"));
-      const json err = sm.contains("error") ? sm["error"] : json::object();
-      auto e = [&](const char* k) { return err.empty() ? std::string() : numberText(num(err, k)); };
-      for (const auto& v :
-           {str(sm, "device_name"), intText(sm, "lanes_used"), str(sm, "features_used"),
-            intText(sm, "gbuffer_bytes_per_pixel"), intText(sm, "frames"), med("total_ms"),
-            numberText(num(sm.at("total_ms"), "min")), numberText(num(sm.at("total_ms"), "max")),
-            numberText(num(sm.at("total_ms"), "mean")), med("wall_ms"),
-            numberText(num(sm.at("wall_ms"), "min")), numberText(num(sm.at("wall_ms"), "max")),
-            med("upload_ms"), numberText(num(sm, "compile_ms")), med("raster_ms"), kernels,
-            med("lighting_computations"), med("evaluations"), med("limit_ms"), med("limit_pct"),
-            str(sm, "flops_basis"), intText(sm, "nonfinite_pixels_max"),
-            err.empty() ? std::string() : intText(err, "frames"),
-            e("max_abs"), e("rmse"), e("psnr_db"), e("max_rel_peak")})
-        f.push_back(v);
-      s << csvLine(f) << "\n";
-    }
-    writeFileAtomically(summaryPath, s.str());
-  }
+  writeFileAtomically(summaryPath, summaryCsvText(result.summaries));
 
   if (o.printTable) {
-    printTable(result.summaries, log);
+    printSummaryTable(result.summaries, log);
     log << "wrote " << csvPath << ", " << jsonPath << ", " << summaryPath << "\n";
   }
   return result;
