@@ -52,6 +52,7 @@ double shadeFlops(ShadingModel model) {
   return model == ShadingModel::MetallicRoughness ? TS_SHADE_FLOPS_METALLIC_ROUGHNESS
                                                   : TS_SHADE_FLOPS_BLINN_PHONG;
 }
+
 std::string nowUtc() {
   std::time_t t = std::time(nullptr);
   std::tm g{};
@@ -77,6 +78,7 @@ json configJson(const BenchConfig& c) {
   return j;
 }
 
+// One configuration of the run and its state.
 struct Entry {
   size_t index = 0;  // in the expanded sweep
   BenchConfig config;
@@ -92,6 +94,551 @@ struct Entry {
   std::string kernelOptions;   // its kernels' build options
   bool warmed = false, failed = false;
 };
+
+// The median of a configuration's timed renders of one frame.
+struct TimedFrame {
+  FrameResult r;
+  double wallMs, uploadMs;
+};
+
+// The error of one frame against the references (only on the frames --error-frames selects).
+struct FrameErrors {
+  std::optional<ErrorStats> error;         // against the scene reference (err_*)
+  std::optional<ErrorStats> errorStored;   // against the stored values (error_vs_stored)
+  std::optional<ErrorStats> errorShading;  // the same with float positions (err_shading_*)
+  const ReferenceImage* reference = nullptr;  // the stored values' reference
+};
+
+// One frame of a group of configurations sharing it (scene, lights, resolution), rasterized once,
+// and what its configurations derive from it, each made once when first needed: the G-buffer in
+// each layout and the error references.
+class GroupFrame {
+ public:
+  GroupFrame(BenchScene& scene, const BenchConfig& group, int frame)
+      : scene_(scene),
+        prepared_(outOfMemoryAs("preparing a " + std::to_string(group.width) + "x" +
+                                    std::to_string(group.height) + " frame of " + group.scene,
+                                [&] { return scene.prepare(group, frame); })),
+        pixels_(size_t(group.width) * group.height),
+        geometry_(prepared_.gbuffer.geometryPixels()) {}
+
+  const PreparedFrame& prepared() const { return prepared_; }
+  size_t pixels() const { return pixels_; }
+  uint64_t geometryPixels() const { return geometry_; }
+
+  // A configuration's layout (precision x features).
+  const EncodedGBuffer& encoded(GBufferFormat format, const SceneFeatures& features) {
+    auto key = std::make_pair(format, features.describe());
+    auto it = layouts_.find(key);
+    if (it == layouts_.end())
+      it = layouts_.emplace(key, encode(prepared_.gbuffer, format, features)).first;
+    return it->second;
+  }
+
+  // The stored values' reference (the features' planes do not change it): with the reference's
+  // positions, or with the kernels' float positions (the shading arithmetic alone).
+  const ReferenceImage& storedReference(const EncodedGBuffer& enc, GBufferFormat format, int model,
+                                        ReferencePositions positions) {
+    auto& cache = positions == ReferencePositions::KernelFloat ? shadingReferences_ : references_;
+    std::pair<int, int> key{int(format), model};
+    auto it = cache.find(key);
+    if (it == cache.end())
+      it = cache.emplace(key, shadeReference(enc, prepared_.intrinsics, prepared_.lights,
+                                             prepared_.ambient, model, 0, {}, positions))
+               .first;
+    return it->second;
+  }
+
+  // The error reference of every configuration of this frame: the windowed model in double from
+  // the fp32 G-buffer and the scene's own light ranges, so storage precision, light ranges,
+  // arithmetic and culling all show in err_* (error_vs_stored isolates the last two).
+  const ReferenceImage& sceneReference() {
+    if (!sceneReference_)
+      sceneReference_ = shadeReference(prepared_.encoded, prepared_.intrinsics,
+                                       scene_.ownRangeLights(prepared_), prepared_.ambient,
+                                       TS_MODEL_WINDOWED);
+    return *sceneReference_;
+  }
+
+ private:
+  BenchScene& scene_;
+  PreparedFrame prepared_;
+  size_t pixels_;
+  uint64_t geometry_;
+  std::map<std::pair<GBufferFormat, std::string>, EncodedGBuffer> layouts_;
+  std::map<std::pair<int, int>, ReferenceImage> references_, shadingReferences_;
+  std::optional<ReferenceImage> sceneReference_;
+};
+
+// Renders `repeat` times after the configuration's warm-up (its first frame only); keeps the
+// median by kernel time (the lower middle one for an even count).
+TimedFrame timeFrame(Entry& e, const EncodedGBuffer& enc, const PreparedFrame& prepared,
+                     const BenchOptions& o) {
+  ClContext& cl = *e.cl;
+  auto upload = [&] {
+    return DeviceFrame::upload(cl, enc, prepared.intrinsics, prepared.lights, prepared.ambient);
+  };
+  if (!e.warmed) {
+    for (int w = 0; w < o.warmup; ++w) {
+      DeviceFrame df = upload();
+      e.technique->render(df, FrameRequest{});
+    }
+    e.warmed = true;
+  }
+  std::vector<TimedFrame> reps;
+  for (int k = 0; k < o.repeat; ++k) {
+    auto t0 = Clock::now();
+    DeviceFrame df = upload();
+    cl.queue().finish();
+    double up = msSince(t0);
+    FrameResult r = e.technique->render(df, FrameRequest{});
+    double wall = msSince(t0);
+    reps.push_back({std::move(r), wall, up});
+  }
+  std::vector<size_t> idx(reps.size());
+  for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return reps[a].r.totalMs < reps[b].r.totalMs; });
+  return std::move(reps[idx[(idx.size() - 1) / 2]]);
+}
+
+// The errors of `image`, a configuration's render of `frame`.
+FrameErrors measureErrors(const Entry& e, GroupFrame& frame, const EncodedGBuffer& enc,
+                          const TechniqueConfig& tc, const std::vector<glm::vec4>& image) {
+  FrameErrors out;
+  out.reference = &frame.storedReference(enc, e.config.format, tc.shadingModel,
+                                         ReferencePositions::FromDepth);
+  out.errorStored = compareToReference(image, *out.reference, kTolerance * out.reference->peak);
+  const ReferenceImage& shading = frame.storedReference(enc, e.config.format, tc.shadingModel,
+                                                        ReferencePositions::KernelFloat);
+  out.errorShading = compareToReference(image, shading, kTolerance * shading.peak);
+  // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
+  bool same = e.config.format == GBufferFormat::FP32 && e.config.lightThreshold <= 0.0f &&
+              tc.shadingModel == TS_MODEL_WINDOWED;
+  const ReferenceImage& truth = same ? *out.reference : frame.sceneReference();
+  out.error = compareToReference(image, truth, kTolerance * truth.peak);
+  return out;
+}
+
+// The limit: G-buffer read once + float4 image written once; contributing evaluations (the
+// reference's ideal count when computed, else the technique's own) x the model's flops per
+// evaluation (shadeFlops); as a time when the device was calibrated.
+json limitJson(const Entry& e, size_t pixels, const EncodedGBuffer& enc, const TimedFrame& m,
+               const ReferenceImage* reference) {
+  double minBytes = double(pixels) * double(enc.bytesPerPixel()) + double(pixels) * 16.0;
+  double contributing = reference ? double(reference->contributing) : double(m.r.counters.evaluations);
+  double minFlops = contributing * shadeFlops(e.features.model);
+  json limit = {{"min_bytes", uint64_t(minBytes)},
+                {"min_flops", minFlops},
+                {"flops_basis", reference ? "reference" : "evaluations"}};
+  if (e.calibration) {
+    double lim = limitMs(*e.calibration, minBytes, minFlops);
+    limit["bandwidth_gbs"] = e.calibration->bandwidthGBs;
+    limit["peak_gflops"] = e.calibration->peakGflops;
+    limit["limit_ms"] = lim;
+    limit["limit_pct"] = m.r.totalMs > 0 ? 100.0 * lim / m.r.totalMs : 0.0;
+  }
+  return limit;
+}
+
+// The bench.json row of one measurement (bench.csv's columns are read from it: bench_columns.h).
+json rowJson(const Entry& e, const GroupFrame& frame, int f, const EncodedGBuffer& enc,
+             const TimedFrame& m, const FrameErrors& err, const BenchOptions& o) {
+  const PreparedFrame& prepared = frame.prepared();
+  json row = techniqueJson(e.config.technique, m.r, err.error, std::nullopt);
+  row["config_id"] = e.config.id();
+  row["config"] = configJson(e.config);
+  row["device_name"] = e.deviceName;
+  row["lanes_used"] = e.technique->lanes();
+  row["frame"] = f;
+  row["lights"] = prepared.lights.size();
+  row["geometry_pixels"] = frame.geometryPixels();
+  row["wall_ms"] = m.wallMs;
+  row["upload_ms"] = m.uploadMs;
+  row["compile_ms"] = e.compileMs;
+  row["raster_ms"] = prepared.rasterMs;
+  row["features_used"] = e.features.describe();
+  row["gbuffer_bytes_per_pixel"] = enc.bytesPerPixel();
+  row["kernel_options"] = e.kernelOptions;
+  row["warmup"] = o.warmup;
+  row["repeat"] = o.repeat;
+  row["limit"] = limitJson(e, frame.pixels(), enc, m, err.reference);
+  if (err.reference) row["reference_contributing"] = err.reference->contributing;
+  if (err.errorStored) row["error_vs_stored"] = errorJson(*err.errorStored);
+  if (err.errorShading) row["error_shading"] = errorJson(*err.errorShading);
+  return row;
+}
+
+// Refuses bad run options before anything else.
+void checkOptions(const BenchOptions& o) {
+  checkInteger("--warmup", o.warmup, 0, kMaxWarmup);
+  checkInteger("--repeat", o.repeat, 1, kMaxRepeat);
+  o.frames.validate();
+  selectErrorFrames(o.errorFrames, {0, 1, 2});
+  if (o.resume && o.overwrite) throw Error("--resume and --overwrite exclude each other");
+}
+
+// One `bench` run; runBench calls its stages in the order they are declared. Everything that
+// can be refused (configurations, devices, scenes, the earlier run's files) is refused before
+// startFiles() writes anything.
+class BenchRunner {
+ public:
+  explicit BenchRunner(const BenchOptions& o)
+      : o_(o),
+        csvPath_(o.outDir + "/bench.csv"),
+        jsonPath_(o.outDir + "/bench.json"),
+        summaryPath_(o.outDir + "/summary.csv") {}
+
+  void selectConfigurations();  // expands the sweep, keeps this shard's configurations
+  void checkOutputFiles();      // refuses to replace a run without --resume or --overwrite
+  void openDevices();           // one OpenCL context per device (calibrated on first use)
+  void loadScenes();            // one BenchScene per scene definition; each entry's frames
+  void loadResumeState();       // --resume: the earlier rows this run keeps
+  void countPending();          // the (configuration, frame) measurements left to run
+  void startFiles();            // bench.csv from its header and kept rows; the plan; the run record
+  void measureAll();            // every pending measurement, group by group, frame by frame
+  BenchRunResult finish();      // summaries, bench.json, summary.csv, the table
+
+ private:
+  ClContext& device(const std::string& spec);  // announced and calibrated on first use
+  std::vector<std::vector<Entry*>> frameGroups();
+  void createTechniques(const std::vector<Entry*>& group, BenchScene& scene);
+  void measureFrame(const std::vector<Entry*>& group, BenchScene& scene, int f);
+  json measure(Entry& e, GroupFrame& frame, int f);
+  void appendRow(json row);
+  void fail(Entry& e, const std::string& what);
+  void writeJson(bool finished);
+
+  const BenchOptions& o_;
+  const std::string csvPath_, jsonPath_, summaryPath_;
+  BenchRunResult result_;
+  std::vector<Entry> entries_;
+  bool csvExists_ = false;
+  std::map<std::string, std::unique_ptr<ClContext>> contexts_;  // by device spec
+  std::map<std::string, BenchScene> scenes_;                    // by sceneKey()
+  std::set<std::pair<std::string, int>> done_;                  // (config_id, frame) kept
+  json rows_ = json::array(), runs_ = json::array();            // bench.json's
+  std::vector<std::string> keptLines_;                          // of the earlier bench.csv
+  size_t pendingTotal_ = 0;
+  std::ofstream csv_;
+  json run_;                                                    // this run's record
+  std::map<std::string, Calibration> calibrations_;             // by device spec
+  std::set<std::string> announced_;
+  std::optional<Progress> progress_;
+  std::ostream& log_ = std::cout;
+};
+
+void BenchRunner::selectConfigurations() {
+  std::vector<BenchConfig> configs = expandSweep(o_.sweep);
+  result_.configurations = configs.size();
+  for (size_t i = 0; i < configs.size(); ++i)
+    if (o_.shard.selects(i)) {
+      Entry e;
+      e.index = i;
+      e.config = configs[i];
+      entries_.push_back(std::move(e));
+    }
+  result_.selected = entries_.size();
+}
+
+void BenchRunner::checkOutputFiles() {
+  std::error_code ec;
+  csvExists_ = fs::exists(csvPath_, ec);
+  if (csvExists_ && !o_.resume && !o_.overwrite)
+    throw Error(csvPath_ + " exists: pass --resume to continue that run or --overwrite to start over");
+  for (const auto& p : {csvPath_, jsonPath_, summaryPath_})
+    if (fs::exists(p, ec) && !fs::is_regular_file(p, ec))
+      throw Error(p + (fs::is_directory(p, ec) ? ": it is a directory" : " exists and is not a file"));
+}
+
+void BenchRunner::openDevices() {
+  for (const auto& e : entries_)
+    if (!contexts_.count(e.config.device))
+      contexts_.emplace(e.config.device, std::make_unique<ClContext>(e.config.device));
+}
+
+// Per scene definition: the scene (or imported G-buffer), its rasterizers, and its lights with
+// the scene's own ranges (before --light-threshold) for the error reference that every
+// configuration of the scene is measured against (src/bench/bench_frames.h).
+void BenchRunner::loadScenes() {
+  for (auto& e : entries_) {
+    std::string key = sceneKey(e.config);
+    auto it = scenes_.find(key);
+    if (it == scenes_.end())
+      it = outOfMemoryAs("loading scene " + e.config.scene,
+                         [&] { return scenes_.try_emplace(key, e.config).first; });
+    else
+      it->second.check(e.config);
+    e.frames = o_.frames.resolve(it->second.pathLength());
+    if (o_.error) {
+      auto ef = selectErrorFrames(o_.errorFrames, e.frames);
+      e.errorFrames.insert(ef.begin(), ef.end());
+    }
+  }
+}
+
+// bench.csv is the record of completed rows, of which only those this run would have written
+// itself are kept (bench_resume.h); bench.json gives their full JSON records (a row whose record
+// disagrees was edited and is dropped; one without a record, lost when a run was killed between
+// the two writes, is rebuilt from the CSV).
+void BenchRunner::loadResumeState() {
+  if (!csvExists_ || !o_.resume) return;
+  std::error_code ec;
+  std::map<std::string, ResumeExpectation> expected;
+  for (const auto& e : entries_)
+    expected[e.config.id()] = {e.config, contexts_.at(e.config.device)->deviceName(),
+                               {e.frames.begin(), e.frames.end()}, e.errorFrames};
+  ResumeScan scan = scanBenchCsv(csvPath_, expected, o_.warmup, o_.repeat);
+  std::map<std::pair<std::string, int>, json> recorded;
+  if (fs::exists(jsonPath_, ec)) {
+    // Cut short (a run killed while writing it) is said and survived; valid JSON that breaks
+    // the strict rules (a key twice, deep nesting) was made by hand and is an error.
+    const std::string text = readTextFile(jsonPath_, "bench results");
+    const json old = json::accept(text) ? parseStrictJson(text, jsonPath_) : json();
+    if (!old.is_object()) {
+      std::cerr << "tileshade: warning: bench --resume: " << jsonPath_
+                << " is not a bench.json; its rows come back from bench.csv, its earlier runs "
+                   "are lost\n";
+    } else {
+      if (old.contains("rows") && old["rows"].is_array())
+        for (const auto& r : old["rows"]) {
+          if (!r.is_object() || !r.contains("frame") || !r["frame"].is_number_integer()) continue;
+          recorded[{jsonTextOf(findKey(r, "config_id")), r["frame"].get<int>()}] = r;
+        }
+      if (old.contains("runs") && old["runs"].is_array()) runs_ = old["runs"];
+    }
+  }
+  const std::vector<std::string> columns = benchCsvColumns();
+  for (const auto& k : scan.kept) {
+    std::vector<std::string> fields;
+    for (const auto& c : columns) fields.push_back(k.fields.at(c));
+    json row = rowFromCsv(k.fields, csvPath_);
+    auto rec = recorded.find({k.configId, k.frame});
+    if (rec != recorded.end()) {
+      std::vector<std::string> fromJson;
+      try {
+        fromJson = csvFields(benchColumns(), rec->second);
+      } catch (const std::exception&) {
+      }
+      if (fromJson != fields) {
+        scan.drop("values that differ from its record in bench.json (edited?)", k.lineNumber);
+        continue;
+      }
+      row = rec->second;
+    }
+    done_.insert({k.configId, k.frame});
+    rows_.push_back(std::move(row));
+    keptLines_.push_back(k.line);
+  }
+  for (const auto& line : scan.describeDrops(csvPath_))
+    std::cerr << "tileshade: warning: bench --resume: " << line << "\n";
+}
+
+void BenchRunner::countPending() {
+  for (auto& e : entries_) {
+    std::string id = e.config.id();
+    for (int f : e.frames) {
+      if (done_.count({id, f})) ++result_.skippedRows;
+      else e.pending.insert(f);
+    }
+    pendingTotal_ += e.pending.size();
+  }
+}
+
+// bench.csv starts again from its header and the kept rows (never appended after rows that were
+// dropped), then grows a row per measurement.
+void BenchRunner::startFiles() {
+  std::error_code ec;
+  fs::create_directories(o_.outDir, ec);
+  if (ec) throw Error("cannot create output folder " + o_.outDir + ": " + ec.message());
+  if (o_.overwrite)
+    for (const auto& p : {csvPath_, jsonPath_, summaryPath_}) fs::remove(p, ec);
+  {
+    std::string text = csvLine(benchCsvColumns()) + "\n";
+    for (const auto& line : keptLines_) text += line + "\n";
+    writeFileAtomically(csvPath_, text);
+  }
+  csv_.open(csvPath_, std::ios::app);
+  if (!csv_) throw Error("cannot write " + csvPath_);
+
+  if (o_.printTable) {
+    log_ << "bench: " << result_.configurations << " configuration(s)";
+    if (o_.shard.count > 1)
+      log_ << ", " << result_.selected << " in shard " << o_.shard.index << "/" << o_.shard.count;
+    log_ << "; " << pendingTotal_ << " measurement(s) to run";
+    if (result_.skippedRows) log_ << ", " << result_.skippedRows << " already in " << csvPath_;
+    log_ << "\n";
+  }
+
+  run_ = {{"started", nowUtc()},
+          {"command", o_.command},
+          {"description", o_.description},
+          {"frames", o_.frames.text},
+          {"warmup", o_.warmup},
+          {"repeat", o_.repeat},
+          {"error", o_.error},
+          {"error_frames", o_.errorFrames},
+          {"shard", std::to_string(o_.shard.index) + "/" + std::to_string(o_.shard.count)},
+          {"shade_flops", {{"blinn-phong", TS_SHADE_FLOPS_BLINN_PHONG},
+                           {"metallic-roughness", TS_SHADE_FLOPS_METALLIC_ROUGHNESS}}},
+          {"devices", json::array()}};
+}
+
+void BenchRunner::writeJson(bool finished) {
+  json r = run_;
+  if (finished) r["finished"] = nowUtc();
+  json all = runs_;
+  all.push_back(r);
+  json doc = {{"tool", "tileshade bench"},
+              {"format_version", 1},
+              {"runs", all},
+              {"summaries", summarizeRows(rows_)},
+              {"rows", rows_}};
+  writeFileAtomically(jsonPath_, doc.dump(1) + "\n");
+}
+
+// Each device is calibrated once per run, when it is first used (before anything is timed).
+ClContext& BenchRunner::device(const std::string& spec) {
+  ClContext& cl = *contexts_.at(spec);
+  if (!announced_.insert(spec).second) return cl;
+  json device = {{"spec", spec.empty() ? "default" : spec},
+                 {"name", cl.deviceName()},
+                 {"type", cl.info().type},
+                 {"compute_units", cl.info().computeUnits}};
+  if (o_.calibrate) {
+    Calibration c = calibrate(cl, o_.calibration);
+    calibrations_[spec] = c;
+    device["calibration"] = c.toJson();
+    if (o_.printTable)
+      log_ << "device: " << cl.deviceName() << "\n"
+           << "calibration: copy bandwidth " << fixedText(c.bandwidthGBs, 1) << " GB/s (median of "
+           << c.copyMs.size() << ", " << (c.copyBytes >> 20) << " MiB read + written), peak "
+           << fixedText(c.peakGflops, 1) << " GFLOP/s (float" << (c.vectorWidth > 1 ? std::to_string(c.vectorWidth) : "")
+           << " multiply-add chains, median of " << c.fmaMs.size() << ")\n";
+  } else if (o_.printTable) {
+    log_ << "device: " << cl.deviceName() << " (not calibrated: no limit columns)\n";
+  }
+  run_["devices"].push_back(device);
+  return cl;
+}
+
+void BenchRunner::fail(Entry& e, const std::string& what) {
+  e.failed = true;
+  e.technique.reset();
+  std::string msg = e.config.key() + ": " + what;
+  result_.failures.push_back(msg);
+  progress_->note("bench: configuration failed: " + msg);
+}
+
+// Groups of configurations sharing the host-side frame (scene, lights, resolution), in sweep
+// order: each frame is rasterized once for the group, encoded once per layout, referenced once
+// per precision.
+std::vector<std::vector<Entry*>> BenchRunner::frameGroups() {
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<Entry*>> groups;
+  for (auto& e : entries_) {
+    if (e.pending.empty()) continue;
+    std::string k = e.config.frameKey();
+    if (!groups.count(k)) order.push_back(k);
+    groups[k].push_back(&e);
+  }
+  std::vector<std::vector<Entry*>> out;
+  for (const auto& k : order) out.push_back(std::move(groups[k]));
+  return out;
+}
+
+// The group's techniques on their devices (a configuration that cannot be built fails alone).
+void BenchRunner::createTechniques(const std::vector<Entry*>& group, BenchScene& scene) {
+  for (Entry* e : group) {
+    try {
+      ClContext& cl = device(e->config.device);
+      e->cl = &cl;
+      e->deviceName = cl.deviceName();
+      auto cal = calibrations_.find(e->config.device);
+      e->calibration = cal == calibrations_.end() ? nullptr : &cal->second;
+      double before = cl.compileMs();
+      TechniqueConfig tc = e->config.techniqueConfig();
+      tc.features = scene.features(e->config);
+      e->features = tc.features;
+      e->technique = createTechnique(e->config.technique, cl, tc);
+      e->kernelOptions = tc.kernelOptions();
+      e->compileMs = cl.compileMs() - before;
+    } catch (const Error& x) {
+      fail(*e, x.what());
+    } catch (const cl::Error& x) {
+      fail(*e, std::string("OpenCL error ") + x.what() + " (" + std::to_string(x.err()) + ")");
+    }
+  }
+}
+
+void BenchRunner::measureAll() {
+  progress_.emplace(pendingTotal_, o_.progress);
+  for (const auto& group : frameGroups()) {
+    BenchScene& scene = scenes_.at(sceneKey(group.front()->config));
+    createTechniques(group, scene);
+    std::set<int> frames;
+    for (Entry* e : group) frames.insert(e->pending.begin(), e->pending.end());
+    for (int f : frames) {
+      measureFrame(group, scene, f);
+      writeJson(false);
+    }
+    for (Entry* e : group) e->technique.reset();  // free the group's device buffers
+  }
+  progress_->finish();
+}
+
+// Frame `f` for every configuration of the group that still needs it.
+void BenchRunner::measureFrame(const std::vector<Entry*>& group, BenchScene& scene, int f) {
+  GroupFrame frame(scene, group.front()->config, f);
+  for (Entry* e : group) {
+    if (!e->pending.count(f)) continue;
+    std::string label = e->config.technique + " " + std::to_string(e->config.tileWidth) + "x" +
+                        std::to_string(e->config.tileHeight) + " " + toString(e->config.format) +
+                        " frame " + std::to_string(f);
+    if (e->failed) {
+      progress_->step(label + " (failed)");
+      continue;
+    }
+    try {
+      appendRow(measure(*e, frame, f));
+      e->pending.erase(f);
+    } catch (const Error& x) {
+      fail(*e, x.what());
+    } catch (const cl::Error& x) {
+      fail(*e, std::string("OpenCL error ") + x.what() + " (" + std::to_string(x.err()) + ")");
+    }
+    progress_->step(label);
+  }
+}
+
+// One configuration on one frame: timed, its error where wanted, as a bench.json row.
+json BenchRunner::measure(Entry& e, GroupFrame& frame, int f) {
+  const EncodedGBuffer& enc = frame.encoded(e.config.format, e.features);
+  TechniqueConfig tc = e.config.techniqueConfig();
+  tc.features = e.features;
+  TimedFrame m = timeFrame(e, enc, frame.prepared(), o_);
+  FrameErrors errors;
+  if (e.errorFrames.count(f)) errors = measureErrors(e, frame, enc, tc, m.r.image);
+  return rowJson(e, frame, f, enc, m, errors, o_);
+}
+
+// The row to bench.csv (flushed: the record a killed run resumes from) and to bench.json's rows.
+void BenchRunner::appendRow(json row) {
+  csv_ << csvLine(csvFields(benchColumns(), row)) << "\n";
+  flushChecked(csv_, csvPath_);
+  rows_.push_back(std::move(row));
+  ++result_.measuredRows;
+}
+
+BenchRunResult BenchRunner::finish() {
+  result_.summaries = summarizeRows(rows_);
+  writeJson(true);
+  writeFileAtomically(summaryPath_, summaryCsvText(result_.summaries));
+  if (o_.printTable) {
+    printSummaryTable(result_.summaries, log_);
+    log_ << "wrote " << csvPath_ << ", " << jsonPath_ << ", " << summaryPath_ << "\n";
+  }
+  return result_;
+}
 
 }  // namespace
 
@@ -122,419 +669,17 @@ std::vector<int> selectErrorFrames(const std::string& spec, const std::vector<in
 }
 
 BenchRunResult runBench(const BenchOptions& o) {
-  checkInteger("--warmup", o.warmup, 0, kMaxWarmup);
-  checkInteger("--repeat", o.repeat, 1, kMaxRepeat);
-  o.frames.validate();
-  selectErrorFrames(o.errorFrames, {0, 1, 2});
-  if (o.resume && o.overwrite) throw Error("--resume and --overwrite exclude each other");
-
-  BenchRunResult result;
-  std::vector<BenchConfig> configs = expandSweep(o.sweep);
-  result.configurations = configs.size();
-  std::vector<Entry> entries;
-  for (size_t i = 0; i < configs.size(); ++i)
-    if (o.shard.selects(i)) {
-      Entry e;
-      e.index = i;
-      e.config = configs[i];
-      entries.push_back(std::move(e));
-    }
-  result.selected = entries.size();
-
-  const std::string csvPath = o.outDir + "/bench.csv", jsonPath = o.outDir + "/bench.json",
-                    summaryPath = o.outDir + "/summary.csv";
-  std::error_code ec;
-  bool csvExists = fs::exists(csvPath, ec);
-  if (csvExists && !o.resume && !o.overwrite)
-    throw Error(csvPath + " exists: pass --resume to continue that run or --overwrite to start over");
-  for (const auto& p : {csvPath, jsonPath, summaryPath})
-    if (fs::exists(p, ec) && !fs::is_regular_file(p, ec))
-      throw Error(p + (fs::is_directory(p, ec) ? ": it is a directory" : " exists and is not a file"));
-
-  // Everything that can be refused is refused before any file is written: the devices (one
-  // context each, calibrated later, once, before anything is timed on it), the scenes, the frames.
-  std::map<std::string, std::unique_ptr<ClContext>> contexts;
-  for (const auto& e : entries)
-    if (!contexts.count(e.config.device))
-      contexts.emplace(e.config.device, std::make_unique<ClContext>(e.config.device));
-
-  // Scenes (one per distinct scene definition) and the frames each configuration times.
-  // Per scene definition: the scene (or imported G-buffer), its rasterizers, and its lights with
-  // the scene's own ranges (before --light-threshold) for the error reference that every
-  // configuration of the scene is measured against (src/bench/bench_frames.h).
-  std::map<std::string, BenchScene> scenes;
-  for (auto& e : entries) {
-    std::string key = sceneKey(e.config);
-    auto it = scenes.find(key);
-    if (it == scenes.end())
-      it = outOfMemoryAs("loading scene " + e.config.scene,
-                         [&] { return scenes.try_emplace(key, e.config).first; });
-    else
-      it->second.check(e.config);
-    e.frames = o.frames.resolve(it->second.pathLength());
-    if (o.error) {
-      auto ef = selectErrorFrames(o.errorFrames, e.frames);
-      e.errorFrames.insert(ef.begin(), ef.end());
-    }
-  }
-
-  // What is already there (resume): bench.csv is the record of completed rows, of which only
-  // those this run would have written itself are kept (bench_resume.h); bench.json gives their
-  // full JSON records (a row whose record disagrees was edited and is dropped; one without a
-  // record, lost when a run was killed between the two writes, is rebuilt from the CSV).
-  std::set<std::pair<std::string, int>> done;
-  json rows = json::array(), runs = json::array();
-  std::vector<std::string> keptLines;
-  if (csvExists && o.resume) {
-    std::map<std::string, ResumeExpectation> expected;
-    for (const auto& e : entries)
-      expected[e.config.id()] = {e.config, contexts.at(e.config.device)->deviceName(),
-                                 {e.frames.begin(), e.frames.end()}, e.errorFrames};
-    ResumeScan scan = scanBenchCsv(csvPath, expected, o.warmup, o.repeat);
-    std::map<std::pair<std::string, int>, json> recorded;
-    if (fs::exists(jsonPath, ec)) {
-      // Cut short (a run killed while writing it) is said and survived; valid JSON that breaks
-      // the strict rules (a key twice, deep nesting) was made by hand and is an error.
-      const std::string text = readTextFile(jsonPath, "bench results");
-      const json old = json::accept(text) ? parseStrictJson(text, jsonPath) : json();
-      if (!old.is_object()) {
-        std::cerr << "tileshade: warning: bench --resume: " << jsonPath
-                  << " is not a bench.json; its rows come back from bench.csv, its earlier runs "
-                     "are lost\n";
-      } else {
-        if (old.contains("rows") && old["rows"].is_array())
-          for (const auto& r : old["rows"]) {
-            if (!r.is_object() || !r.contains("frame") || !r["frame"].is_number_integer()) continue;
-            recorded[{jsonTextOf(findKey(r, "config_id")), r["frame"].get<int>()}] = r;
-          }
-        if (old.contains("runs") && old["runs"].is_array()) runs = old["runs"];
-      }
-    }
-    const std::vector<std::string> columns = benchCsvColumns();
-    for (const auto& k : scan.kept) {
-      std::vector<std::string> fields;
-      for (const auto& c : columns) fields.push_back(k.fields.at(c));
-      json row = rowFromCsv(k.fields, csvPath);
-      auto rec = recorded.find({k.configId, k.frame});
-      if (rec != recorded.end()) {
-        std::vector<std::string> fromJson;
-        try {
-          fromJson = csvFields(benchColumns(), rec->second);
-        } catch (const std::exception&) {
-        }
-        if (fromJson != fields) {
-          scan.drop("values that differ from its record in bench.json (edited?)", k.lineNumber);
-          continue;
-        }
-        row = rec->second;
-      }
-      done.insert({k.configId, k.frame});
-      rows.push_back(std::move(row));
-      keptLines.push_back(k.line);
-    }
-    for (const auto& line : scan.describeDrops(csvPath))
-      std::cerr << "tileshade: warning: bench --resume: " << line << "\n";
-  }
-
-  size_t pendingTotal = 0;
-  for (auto& e : entries) {
-    std::string id = e.config.id();
-    for (int f : e.frames) {
-      if (done.count({id, f})) ++result.skippedRows;
-      else e.pending.insert(f);
-    }
-    pendingTotal += e.pending.size();
-  }
-
-  // Now the files: bench.csv starts again from its header and the kept rows (never appended
-  // after rows that were dropped), then grows a row per measurement.
-  fs::create_directories(o.outDir, ec);
-  if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
-  if (o.overwrite)
-    for (const auto& p : {csvPath, jsonPath, summaryPath}) fs::remove(p, ec);
-  {
-    std::string text = csvLine(benchCsvColumns()) + "\n";
-    for (const auto& line : keptLines) text += line + "\n";
-    writeFileAtomically(csvPath, text);
-  }
-  std::ofstream csv(csvPath, std::ios::app);
-  if (!csv) throw Error("cannot write " + csvPath);
-
-  std::ostream& log = std::cout;
-  if (o.printTable) {
-    log << "bench: " << result.configurations << " configuration(s)";
-    if (o.shard.count > 1)
-      log << ", " << result.selected << " in shard " << o.shard.index << "/" << o.shard.count;
-    log << "; " << pendingTotal << " measurement(s) to run";
-    if (result.skippedRows) log << ", " << result.skippedRows << " already in " << csvPath;
-    log << "\n";
-  }
-
-  json run = {{"started", nowUtc()},
-              {"command", o.command},
-              {"description", o.description},
-              {"frames", o.frames.text},
-              {"warmup", o.warmup},
-              {"repeat", o.repeat},
-              {"error", o.error},
-              {"error_frames", o.errorFrames},
-              {"shard", std::to_string(o.shard.index) + "/" + std::to_string(o.shard.count)},
-              {"shade_flops", {{"blinn-phong", TS_SHADE_FLOPS_BLINN_PHONG},
-                               {"metallic-roughness", TS_SHADE_FLOPS_METALLIC_ROUGHNESS}}},
-              {"devices", json::array()}};
-  auto writeJson = [&](bool finished) {
-    json r = run;
-    if (finished) r["finished"] = nowUtc();
-    json all = runs;
-    all.push_back(r);
-    json doc = {{"tool", "tileshade bench"},
-                {"format_version", 1},
-                {"runs", all},
-                {"summaries", summarizeRows(rows)},
-                {"rows", rows}};
-    writeFileAtomically(jsonPath, doc.dump(1) + "\n");
-  };
-
-  // Each device is calibrated once per run, when it is first used (before anything is timed).
-  std::map<std::string, Calibration> calibrations;
-  std::set<std::string> announced;
-  auto context = [&](const std::string& spec) -> ClContext& {
-    ClContext& cl = *contexts.at(spec);
-    if (!announced.insert(spec).second) return cl;
-    json device = {{"spec", spec.empty() ? "default" : spec},
-                   {"name", cl.deviceName()},
-                   {"type", cl.info().type},
-                   {"compute_units", cl.info().computeUnits}};
-    if (o.calibrate) {
-      Calibration c = calibrate(cl, o.calibration);
-      calibrations[spec] = c;
-      device["calibration"] = c.toJson();
-      if (o.printTable)
-        log << "device: " << cl.deviceName() << "\n"
-            << "calibration: copy bandwidth " << fixedText(c.bandwidthGBs, 1) << " GB/s (median of "
-            << c.copyMs.size() << ", " << (c.copyBytes >> 20) << " MiB read + written), peak "
-            << fixedText(c.peakGflops, 1) << " GFLOP/s (float" << (c.vectorWidth > 1 ? std::to_string(c.vectorWidth) : "")
-            << " multiply-add chains, median of " << c.fmaMs.size() << ")\n";
-    } else if (o.printTable) {
-      log << "device: " << cl.deviceName() << " (not calibrated: no limit columns)\n";
-    }
-    run["devices"].push_back(device);
-    return cl;
-  };
-
-  Progress progress(pendingTotal, o.progress);
-  auto fail = [&](Entry& e, const std::string& what) {
-    e.failed = true;
-    e.technique.reset();
-    std::string msg = e.config.key() + ": " + what;
-    result.failures.push_back(msg);
-    progress.note("bench: configuration failed: " + msg);
-  };
-
-  // Groups of configurations sharing the host-side frame (scene, lights, resolution): each frame
-  // is rasterized once for the group, encoded once per precision, referenced once per precision.
-  std::vector<std::string> groupOrder;
-  std::map<std::string, std::vector<Entry*>> groups;
-  for (auto& e : entries) {
-    if (e.pending.empty()) continue;
-    std::string k = e.config.frameKey();
-    if (!groups.count(k)) groupOrder.push_back(k);
-    groups[k].push_back(&e);
-  }
-
-  for (const auto& gk : groupOrder) {
-    auto& group = groups[gk];
-    const BenchConfig& g = group.front()->config;
-    BenchScene& scene = scenes.at(sceneKey(g));
-    for (Entry* e : group) {
-      try {
-        ClContext& cl = context(e->config.device);
-        e->cl = &cl;
-        e->deviceName = cl.deviceName();
-        auto cal = calibrations.find(e->config.device);
-        e->calibration = cal == calibrations.end() ? nullptr : &cal->second;
-        double before = cl.compileMs();
-        TechniqueConfig tc = e->config.techniqueConfig();
-        tc.features = scene.features(e->config);
-        e->features = tc.features;
-        e->technique = createTechnique(e->config.technique, cl, tc);
-        e->kernelOptions = tc.kernelOptions();
-        e->compileMs = cl.compileMs() - before;
-      } catch (const Error& x) {
-        fail(*e, x.what());
-      } catch (const cl::Error& x) {
-        fail(*e, std::string("OpenCL error ") + x.what() + " (" + std::to_string(x.err()) + ")");
-      }
-    }
-    std::set<int> frames;
-    for (Entry* e : group) frames.insert(e->pending.begin(), e->pending.end());
-
-    for (int f : frames) {
-      PreparedFrame prepared = outOfMemoryAs(
-          "preparing a " + std::to_string(g.width) + "x" + std::to_string(g.height) + " frame of " +
-              g.scene,
-          [&] { return scene.prepare(g, f); });
-      // Each configuration's layout (precision x features), encoded once each, when needed.
-      std::map<std::pair<GBufferFormat, std::string>, EncodedGBuffer> layouts;
-      auto encoded = [&](GBufferFormat format, const SceneFeatures& features) -> const EncodedGBuffer& {
-        auto key = std::make_pair(format, features.describe());
-        auto it = layouts.find(key);
-        if (it == layouts.end())
-          it = layouts.emplace(key, encode(prepared.gbuffer, format, features)).first;
-        return it->second;
-      };
-      std::map<std::pair<int, int>, ReferenceImage> references, shadingReferences;
-      // The error reference of every configuration of this frame: the windowed model in double
-      // from the fp32 G-buffer and the scene's own light ranges, so storage precision, light
-      // ranges, arithmetic and culling all show in err_* (error_vs_stored isolates the last two).
-      std::optional<ReferenceImage> sceneReference;
-      auto sceneRef = [&]() -> const ReferenceImage& {
-        if (!sceneReference)
-          sceneReference = shadeReference(
-              prepared.encoded, prepared.intrinsics,
-              scene.ownRangeLights(prepared),
-              prepared.ambient, TS_MODEL_WINDOWED);
-        return *sceneReference;
-      };
-      const size_t pixels = size_t(g.width) * g.height;
-      const uint64_t geometry = prepared.gbuffer.geometryPixels();
-
-      for (Entry* e : group) {
-        if (!e->pending.count(f)) continue;
-        std::string label = e->config.technique + " " + std::to_string(e->config.tileWidth) + "x" +
-                            std::to_string(e->config.tileHeight) + " " + toString(e->config.format) +
-                            " frame " + std::to_string(f);
-        if (e->failed) {
-          progress.step(label + " (failed)");
-          continue;
-        }
-        try {
-          ClContext& cl = *e->cl;
-          const EncodedGBuffer& enc = encoded(e->config.format, e->features);
-          TechniqueConfig tc = e->config.techniqueConfig();
-          tc.features = e->features;
-          auto upload = [&] {
-            return DeviceFrame::upload(cl, enc, prepared.intrinsics, prepared.lights, prepared.ambient);
-          };
-          if (!e->warmed) {
-            for (int w = 0; w < o.warmup; ++w) {
-              DeviceFrame df = upload();
-              e->technique->render(df, FrameRequest{});
-            }
-            e->warmed = true;
-          }
-          struct Timed {
-            FrameResult r;
-            double wallMs, uploadMs;
-          };
-          std::vector<Timed> reps;
-          for (int k = 0; k < o.repeat; ++k) {
-            auto t0 = Clock::now();
-            DeviceFrame df = upload();
-            cl.queue().finish();
-            double up = msSince(t0);
-            FrameResult r = e->technique->render(df, FrameRequest{});
-            double wall = msSince(t0);
-            reps.push_back({std::move(r), wall, up});
-          }
-          std::vector<size_t> idx(reps.size());
-          for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-          std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return reps[a].r.totalMs < reps[b].r.totalMs; });
-          Timed& m = reps[idx[(idx.size() - 1) / 2]];
-
-          std::optional<ErrorStats> error, errorStored, errorShading;
-          const ReferenceImage* reference = nullptr;
-          if (e->errorFrames.count(f)) {
-            // The stored values decide the reference; the features' planes do not change them.
-            std::pair<int, int> key{int(e->config.format), tc.shadingModel};
-            auto it = references.find(key);
-            if (it == references.end())
-              it = references.emplace(key, shadeReference(enc, prepared.intrinsics, prepared.lights,
-                                                          prepared.ambient, tc.shadingModel)).first;
-            reference = &it->second;
-            errorStored = compareToReference(m.r.image, *reference, kTolerance * reference->peak);
-            // The same values with the kernels' float positions: the shading arithmetic alone.
-            auto shading = shadingReferences.find(key);
-            if (shading == shadingReferences.end())
-              shading = shadingReferences.emplace(key, shadeReference(enc, prepared.intrinsics,
-                                                      prepared.lights, prepared.ambient,
-                                                      tc.shadingModel, 0, {},
-                                                      ReferencePositions::KernelFloat)).first;
-            errorShading = compareToReference(m.r.image, shading->second,
-                                              kTolerance * shading->second.peak);
-            // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
-            bool same = e->config.format == GBufferFormat::FP32 &&
-                        e->config.lightThreshold <= 0.0f && tc.shadingModel == TS_MODEL_WINDOWED;
-            const ReferenceImage& truth = same ? *reference : sceneRef();
-            error = compareToReference(m.r.image, truth, kTolerance * truth.peak);
-          }
-
-          // The limit: G-buffer read once + float4 image written once; contributing evaluations
-          // (the reference's ideal count when computed, else the technique's own) x the model's
-          // flops per evaluation (shadeFlops).
-          double minBytes = double(pixels) * double(enc.bytesPerPixel()) + double(pixels) * 16.0;
-          double contributing = reference ? double(reference->contributing) : double(m.r.counters.evaluations);
-          double minFlops = contributing * shadeFlops(e->features.model);
-
-          json row = techniqueJson(e->config.technique, m.r, error, std::nullopt);
-          row["config_id"] = e->config.id();
-          row["config"] = configJson(e->config);
-          row["device_name"] = e->deviceName;
-          row["lanes_used"] = e->technique->lanes();
-          row["frame"] = f;
-          row["lights"] = prepared.lights.size();
-          row["geometry_pixels"] = geometry;
-          row["wall_ms"] = m.wallMs;
-          row["upload_ms"] = m.uploadMs;
-          row["compile_ms"] = e->compileMs;
-          row["raster_ms"] = prepared.rasterMs;
-          row["features_used"] = e->features.describe();
-          row["gbuffer_bytes_per_pixel"] = enc.bytesPerPixel();
-          row["kernel_options"] = e->kernelOptions;
-          row["warmup"] = o.warmup;
-          row["repeat"] = o.repeat;
-          json limit = {{"min_bytes", uint64_t(minBytes)},
-                        {"min_flops", minFlops},
-                        {"flops_basis", reference ? "reference" : "evaluations"}};
-          if (e->calibration) {
-            double lim = limitMs(*e->calibration, minBytes, minFlops);
-            limit["bandwidth_gbs"] = e->calibration->bandwidthGBs;
-            limit["peak_gflops"] = e->calibration->peakGflops;
-            limit["limit_ms"] = lim;
-            limit["limit_pct"] = m.r.totalMs > 0 ? 100.0 * lim / m.r.totalMs : 0.0;
-          }
-          row["limit"] = limit;
-          if (reference) row["reference_contributing"] = reference->contributing;
-          if (errorStored) row["error_vs_stored"] = errorJson(*errorStored);
-          if (errorShading) row["error_shading"] = errorJson(*errorShading);
-
-          csv << csvLine(csvFields(benchColumns(), row)) << "\n";
-          flushChecked(csv, csvPath);
-          rows.push_back(std::move(row));
-          ++result.measuredRows;
-          e->pending.erase(f);
-        } catch (const Error& x) {
-          fail(*e, x.what());
-        } catch (const cl::Error& x) {
-          fail(*e, std::string("OpenCL error ") + x.what() + " (" + std::to_string(x.err()) + ")");
-        }
-        progress.step(label);
-      }
-      writeJson(false);
-    }
-    for (Entry* e : group) e->technique.reset();  // free the group's device buffers
-  }
-  progress.finish();
-
-  result.summaries = summarizeRows(rows);
-  writeJson(true);
-  writeFileAtomically(summaryPath, summaryCsvText(result.summaries));
-
-  if (o.printTable) {
-    printSummaryTable(result.summaries, log);
-    log << "wrote " << csvPath << ", " << jsonPath << ", " << summaryPath << "\n";
-  }
-  return result;
+  checkOptions(o);
+  BenchRunner run(o);
+  run.selectConfigurations();
+  run.checkOutputFiles();
+  run.openDevices();
+  run.loadScenes();
+  run.loadResumeState();
+  run.countPending();
+  run.startFiles();
+  run.measureAll();
+  return run.finish();
 }
 
 }  // namespace ts
