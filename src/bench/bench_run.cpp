@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <cstdint>
 #include <ctime>
 #include <filesystem>
@@ -14,17 +13,12 @@
 #include <set>
 
 #include "bench/bench_frames.h"
+#include "bench/bench_measure.h"
 #include "bench/bench_resume.h"
 #include "bench/bench_stats.h"
 #include "bench/progress.h"
 #include "cl/cl_context.h"
-#include "reference/error_metrics.h"
-#include "reference/reference.h"
 #include "reference/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
-#include "render/frame_setup.h"
-#include "render/stats.h"
-#include "scene/light_range.h"
-#include "scene/scene_loader.h"
 #include "techniques/technique.h"
 #include "util/error.h"
 #include "util/file_read.h"
@@ -38,20 +32,6 @@ using json = nlohmann::json;
 
 namespace ts {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-// Relative tolerance (of the reference peak) for "pixels above tolerance", as in `render`.
-constexpr double kTolerance = 1e-4;
-// Floating-point operations of one contributing light evaluation (kernels/shading.h).
-double shadeFlops(ShadingModel model) {
-  return model == ShadingModel::MetallicRoughness ? TS_SHADE_FLOPS_METALLIC_ROUGHNESS
-                                                  : TS_SHADE_FLOPS_BLINN_PHONG;
-}
 
 std::string nowUtc() {
   std::time_t t = std::time(nullptr);
@@ -70,202 +50,6 @@ std::string sceneKey(const BenchConfig& c) {
     if (d.affectsFrame && d.name != "resolution" && d.name != "raster")
       k += d.name + "=" + d.get(c) + ";";
   return k;
-}
-
-json configJson(const BenchConfig& c) {
-  json j = json::object();
-  for (const auto& d : benchDimensions()) j[d.name] = d.get(c);
-  return j;
-}
-
-// One configuration of the run and its state.
-struct Entry {
-  size_t index = 0;  // in the expanded sweep
-  BenchConfig config;
-  std::vector<int> frames;          // timed frames
-  std::set<int> pending;            // not in the output yet
-  std::set<int> errorFrames;
-  std::unique_ptr<Technique> technique;
-  ClContext* cl = nullptr;
-  const Calibration* calibration = nullptr;
-  std::string deviceName;
-  double compileMs = 0.0;
-  SceneFeatures features;      // what its kernels and layout model (BenchScene::features)
-  std::string kernelOptions;   // its kernels' build options
-  bool warmed = false, failed = false;
-};
-
-// The median of a configuration's timed renders of one frame.
-struct TimedFrame {
-  FrameResult r;
-  double wallMs, uploadMs;
-};
-
-// The error of one frame against the references (only on the frames --error-frames selects).
-struct FrameErrors {
-  std::optional<ErrorStats> error;         // against the scene reference (err_*)
-  std::optional<ErrorStats> errorStored;   // against the stored values (error_vs_stored)
-  std::optional<ErrorStats> errorShading;  // the same with float positions (err_shading_*)
-  const ReferenceImage* reference = nullptr;  // the stored values' reference
-};
-
-// One frame of a group of configurations sharing it (scene, lights, resolution), rasterized once,
-// and what its configurations derive from it, each made once when first needed: the G-buffer in
-// each layout and the error references.
-class GroupFrame {
- public:
-  GroupFrame(BenchScene& scene, const BenchConfig& group, int frame)
-      : scene_(scene),
-        prepared_(outOfMemoryAs("preparing a " + std::to_string(group.width) + "x" +
-                                    std::to_string(group.height) + " frame of " + group.scene,
-                                [&] { return scene.prepare(group, frame); })),
-        pixels_(size_t(group.width) * group.height),
-        geometry_(prepared_.gbuffer.geometryPixels()) {}
-
-  const PreparedFrame& prepared() const { return prepared_; }
-  size_t pixels() const { return pixels_; }
-  uint64_t geometryPixels() const { return geometry_; }
-
-  // A configuration's layout (precision x features).
-  const EncodedGBuffer& encoded(GBufferFormat format, const SceneFeatures& features) {
-    auto key = std::make_pair(format, features.describe());
-    auto it = layouts_.find(key);
-    if (it == layouts_.end())
-      it = layouts_.emplace(key, encode(prepared_.gbuffer, format, features)).first;
-    return it->second;
-  }
-
-  // The stored values' reference (the features' planes do not change it): with the reference's
-  // positions, or with the kernels' float positions (the shading arithmetic alone).
-  const ReferenceImage& storedReference(const EncodedGBuffer& enc, GBufferFormat format, int model,
-                                        ReferencePositions positions) {
-    auto& cache = positions == ReferencePositions::KernelFloat ? shadingReferences_ : references_;
-    std::pair<int, int> key{int(format), model};
-    auto it = cache.find(key);
-    if (it == cache.end())
-      it = cache.emplace(key, shadeReference(enc, prepared_.intrinsics, prepared_.lights,
-                                             prepared_.ambient, model, 0, {}, positions))
-               .first;
-    return it->second;
-  }
-
-  // The error reference of every configuration of this frame: the windowed model in double from
-  // the fp32 G-buffer and the scene's own light ranges, so storage precision, light ranges,
-  // arithmetic and culling all show in err_* (error_vs_stored isolates the last two).
-  const ReferenceImage& sceneReference() {
-    if (!sceneReference_)
-      sceneReference_ = shadeReference(prepared_.encoded, prepared_.intrinsics,
-                                       scene_.ownRangeLights(prepared_), prepared_.ambient,
-                                       TS_MODEL_WINDOWED);
-    return *sceneReference_;
-  }
-
- private:
-  BenchScene& scene_;
-  PreparedFrame prepared_;
-  size_t pixels_;
-  uint64_t geometry_;
-  std::map<std::pair<GBufferFormat, std::string>, EncodedGBuffer> layouts_;
-  std::map<std::pair<int, int>, ReferenceImage> references_, shadingReferences_;
-  std::optional<ReferenceImage> sceneReference_;
-};
-
-// Renders `repeat` times after the configuration's warm-up (its first frame only); keeps the
-// median by kernel time (the lower middle one for an even count).
-TimedFrame timeFrame(Entry& e, const EncodedGBuffer& enc, const PreparedFrame& prepared,
-                     const BenchOptions& o) {
-  ClContext& cl = *e.cl;
-  auto upload = [&] {
-    return DeviceFrame::upload(cl, enc, prepared.intrinsics, prepared.lights, prepared.ambient);
-  };
-  if (!e.warmed) {
-    for (int w = 0; w < o.warmup; ++w) {
-      DeviceFrame df = upload();
-      e.technique->render(df, FrameRequest{});
-    }
-    e.warmed = true;
-  }
-  std::vector<TimedFrame> reps;
-  for (int k = 0; k < o.repeat; ++k) {
-    auto t0 = Clock::now();
-    DeviceFrame df = upload();
-    cl.queue().finish();
-    double up = msSince(t0);
-    FrameResult r = e.technique->render(df, FrameRequest{});
-    double wall = msSince(t0);
-    reps.push_back({std::move(r), wall, up});
-  }
-  std::vector<size_t> idx(reps.size());
-  for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-  std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return reps[a].r.totalMs < reps[b].r.totalMs; });
-  return std::move(reps[idx[(idx.size() - 1) / 2]]);
-}
-
-// The errors of `image`, a configuration's render of `frame`.
-FrameErrors measureErrors(const Entry& e, GroupFrame& frame, const EncodedGBuffer& enc,
-                          const TechniqueConfig& tc, const std::vector<glm::vec4>& image) {
-  FrameErrors out;
-  out.reference = &frame.storedReference(enc, e.config.format, tc.shadingModel,
-                                         ReferencePositions::FromDepth);
-  out.errorStored = compareToReference(image, *out.reference, kTolerance * out.reference->peak);
-  const ReferenceImage& shading = frame.storedReference(enc, e.config.format, tc.shadingModel,
-                                                        ReferencePositions::KernelFloat);
-  out.errorShading = compareToReference(image, shading, kTolerance * shading.peak);
-  // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
-  bool same = e.config.format == GBufferFormat::FP32 && e.config.lightThreshold <= 0.0f &&
-              tc.shadingModel == TS_MODEL_WINDOWED;
-  const ReferenceImage& truth = same ? *out.reference : frame.sceneReference();
-  out.error = compareToReference(image, truth, kTolerance * truth.peak);
-  return out;
-}
-
-// The limit: G-buffer read once + float4 image written once; contributing evaluations (the
-// reference's ideal count when computed, else the technique's own) x the model's flops per
-// evaluation (shadeFlops); as a time when the device was calibrated.
-json limitJson(const Entry& e, size_t pixels, const EncodedGBuffer& enc, const TimedFrame& m,
-               const ReferenceImage* reference) {
-  double minBytes = double(pixels) * double(enc.bytesPerPixel()) + double(pixels) * 16.0;
-  double contributing = reference ? double(reference->contributing) : double(m.r.counters.evaluations);
-  double minFlops = contributing * shadeFlops(e.features.model);
-  json limit = {{"min_bytes", uint64_t(minBytes)},
-                {"min_flops", minFlops},
-                {"flops_basis", reference ? "reference" : "evaluations"}};
-  if (e.calibration) {
-    double lim = limitMs(*e.calibration, minBytes, minFlops);
-    limit["bandwidth_gbs"] = e.calibration->bandwidthGBs;
-    limit["peak_gflops"] = e.calibration->peakGflops;
-    limit["limit_ms"] = lim;
-    limit["limit_pct"] = m.r.totalMs > 0 ? 100.0 * lim / m.r.totalMs : 0.0;
-  }
-  return limit;
-}
-
-// The bench.json row of one measurement (bench.csv's columns are read from it: bench_columns.h).
-json rowJson(const Entry& e, const GroupFrame& frame, int f, const EncodedGBuffer& enc,
-             const TimedFrame& m, const FrameErrors& err, const BenchOptions& o) {
-  const PreparedFrame& prepared = frame.prepared();
-  json row = techniqueJson(e.config.technique, m.r, err.error, std::nullopt);
-  row["config_id"] = e.config.id();
-  row["config"] = configJson(e.config);
-  row["device_name"] = e.deviceName;
-  row["lanes_used"] = e.technique->lanes();
-  row["frame"] = f;
-  row["lights"] = prepared.lights.size();
-  row["geometry_pixels"] = frame.geometryPixels();
-  row["wall_ms"] = m.wallMs;
-  row["upload_ms"] = m.uploadMs;
-  row["compile_ms"] = e.compileMs;
-  row["raster_ms"] = prepared.rasterMs;
-  row["features_used"] = e.features.describe();
-  row["gbuffer_bytes_per_pixel"] = enc.bytesPerPixel();
-  row["kernel_options"] = e.kernelOptions;
-  row["warmup"] = o.warmup;
-  row["repeat"] = o.repeat;
-  row["limit"] = limitJson(e, frame.pixels(), enc, m, err.reference);
-  if (err.reference) row["reference_contributing"] = err.reference->contributing;
-  if (err.errorStored) row["error_vs_stored"] = errorJson(*err.errorStored);
-  if (err.errorShading) row["error_shading"] = errorJson(*err.errorShading);
-  return row;
 }
 
 // Refuses bad run options before anything else.
@@ -300,18 +84,18 @@ class BenchRunner {
 
  private:
   ClContext& device(const std::string& spec);  // announced and calibrated on first use
-  std::vector<std::vector<Entry*>> frameGroups();
-  void createTechniques(const std::vector<Entry*>& group, BenchScene& scene);
-  void measureFrame(const std::vector<Entry*>& group, BenchScene& scene, int f);
-  json measure(Entry& e, GroupFrame& frame, int f);
+  std::vector<std::vector<BenchEntry*>> frameGroups();
+  void createTechniques(const std::vector<BenchEntry*>& group, BenchScene& scene);
+  void measureFrame(const std::vector<BenchEntry*>& group, BenchScene& scene, int f);
+  json measure(BenchEntry& e, GroupFrame& frame, int f);
   void appendRow(json row);
-  void fail(Entry& e, const std::string& what);
+  void fail(BenchEntry& e, const std::string& what);
   void writeJson(bool finished);
 
   const BenchOptions& o_;
   const std::string csvPath_, jsonPath_, summaryPath_;
   BenchRunResult result_;
-  std::vector<Entry> entries_;
+  std::vector<BenchEntry> entries_;
   bool csvExists_ = false;
   std::map<std::string, std::unique_ptr<ClContext>> contexts_;  // by device spec
   std::map<std::string, BenchScene> scenes_;                    // by sceneKey()
@@ -332,7 +116,7 @@ void BenchRunner::selectConfigurations() {
   result_.configurations = configs.size();
   for (size_t i = 0; i < configs.size(); ++i)
     if (o_.shard.selects(i)) {
-      Entry e;
+      BenchEntry e;
       e.index = i;
       e.config = configs[i];
       entries_.push_back(std::move(e));
@@ -521,7 +305,7 @@ ClContext& BenchRunner::device(const std::string& spec) {
   return cl;
 }
 
-void BenchRunner::fail(Entry& e, const std::string& what) {
+void BenchRunner::fail(BenchEntry& e, const std::string& what) {
   e.failed = true;
   e.technique.reset();
   std::string msg = e.config.key() + ": " + what;
@@ -532,23 +316,23 @@ void BenchRunner::fail(Entry& e, const std::string& what) {
 // Groups of configurations sharing the host-side frame (scene, lights, resolution), in sweep
 // order: each frame is rasterized once for the group, encoded once per layout, referenced once
 // per precision.
-std::vector<std::vector<Entry*>> BenchRunner::frameGroups() {
+std::vector<std::vector<BenchEntry*>> BenchRunner::frameGroups() {
   std::vector<std::string> order;
-  std::map<std::string, std::vector<Entry*>> groups;
+  std::map<std::string, std::vector<BenchEntry*>> groups;
   for (auto& e : entries_) {
     if (e.pending.empty()) continue;
     std::string k = e.config.frameKey();
     if (!groups.count(k)) order.push_back(k);
     groups[k].push_back(&e);
   }
-  std::vector<std::vector<Entry*>> out;
+  std::vector<std::vector<BenchEntry*>> out;
   for (const auto& k : order) out.push_back(std::move(groups[k]));
   return out;
 }
 
 // The group's techniques on their devices (a configuration that cannot be built fails alone).
-void BenchRunner::createTechniques(const std::vector<Entry*>& group, BenchScene& scene) {
-  for (Entry* e : group) {
+void BenchRunner::createTechniques(const std::vector<BenchEntry*>& group, BenchScene& scene) {
+  for (BenchEntry* e : group) {
     try {
       ClContext& cl = device(e->config.device);
       e->cl = &cl;
@@ -576,20 +360,20 @@ void BenchRunner::measureAll() {
     BenchScene& scene = scenes_.at(sceneKey(group.front()->config));
     createTechniques(group, scene);
     std::set<int> frames;
-    for (Entry* e : group) frames.insert(e->pending.begin(), e->pending.end());
+    for (BenchEntry* e : group) frames.insert(e->pending.begin(), e->pending.end());
     for (int f : frames) {
       measureFrame(group, scene, f);
       writeJson(false);
     }
-    for (Entry* e : group) e->technique.reset();  // free the group's device buffers
+    for (BenchEntry* e : group) e->technique.reset();  // free the group's device buffers
   }
   progress_->finish();
 }
 
 // Frame `f` for every configuration of the group that still needs it.
-void BenchRunner::measureFrame(const std::vector<Entry*>& group, BenchScene& scene, int f) {
+void BenchRunner::measureFrame(const std::vector<BenchEntry*>& group, BenchScene& scene, int f) {
   GroupFrame frame(scene, group.front()->config, f);
-  for (Entry* e : group) {
+  for (BenchEntry* e : group) {
     if (!e->pending.count(f)) continue;
     std::string label = e->config.technique + " " + std::to_string(e->config.tileWidth) + "x" +
                         std::to_string(e->config.tileHeight) + " " + toString(e->config.format) +
@@ -611,14 +395,14 @@ void BenchRunner::measureFrame(const std::vector<Entry*>& group, BenchScene& sce
 }
 
 // One configuration on one frame: timed, its error where wanted, as a bench.json row.
-json BenchRunner::measure(Entry& e, GroupFrame& frame, int f) {
+json BenchRunner::measure(BenchEntry& e, GroupFrame& frame, int f) {
   const EncodedGBuffer& enc = frame.encoded(e.config.format, e.features);
   TechniqueConfig tc = e.config.techniqueConfig();
   tc.features = e.features;
-  TimedFrame m = timeFrame(e, enc, frame.prepared(), o_);
+  TimedFrame m = timeFrame(e, enc, frame.prepared(), o_.warmup, o_.repeat);
   FrameErrors errors;
   if (e.errorFrames.count(f)) errors = measureErrors(e, frame, enc, tc, m.r.image);
-  return rowJson(e, frame, f, enc, m, errors, o_);
+  return measurementRow(e, frame, f, enc, m, errors, o_.warmup, o_.repeat);
 }
 
 // The row to bench.csv (flushed: the record a killed run resumes from) and to bench.json's rows.
