@@ -356,17 +356,19 @@ TEST(BenchColumns, OptionalValuesAndGroupsComeBackOnlyWhenWritten) {
   }
 }
 
+bool inTable(const std::vector<ts::BenchColumn>& table, const std::string& name) {
+  return std::any_of(table.begin(), table.end(),
+                     [&](const ts::BenchColumn& c) { return c.name == name; });
+}
+
 TEST(BenchColumns, TablesNameEveryDimensionOnceAndEveryColumnHasAPath) {
   for (const auto* table : {&ts::benchColumns(), &ts::summaryColumns()}) {
     std::set<std::string> names;
     for (const auto& c : *table) {
       EXPECT_TRUE(names.insert(c.name).second) << c.name;
       EXPECT_EQ(c.path.rfind('/', 0), 0u) << c.name << ": " << c.path;
-      bool presentIfKnown = c.presentIf.empty() ||
-                            std::any_of(table->begin(), table->end(), [&](const ts::BenchColumn& o) {
-                              return o.name == c.presentIf;
-                            });
-      EXPECT_TRUE(presentIfKnown) << c.name << " present if " << c.presentIf;
+      EXPECT_TRUE(c.presentIf.empty() || inTable(*table, c.presentIf))
+          << c.name << " present if " << c.presentIf;
     }
     for (const auto& d : ts::benchDimensions()) EXPECT_TRUE(names.count(d.name)) << d.name;
   }
@@ -456,7 +458,8 @@ TEST(BenchRun, WritesOneRowPerConfigurationAndFrameThenResumes) {
   // here): a value added to the row without a column in bench_columns.cpp fails here.
   std::set<std::string> columnPaths = {"/technique"};  // the technique dimension's value again
   for (const auto& c : ts::benchColumns()) columnPaths.insert(c.path);
-  for (const char* k : {"tolerance", "pixels_above_tolerance", "nonfinite_pixels", "reference_peak"})
+  for (const char* k :
+       {"tolerance", "pixels_above_tolerance", "nonfinite_pixels", "reference_peak"})
     columnPaths.insert(std::string("/error/") + k);
   for (const auto& r : doc["rows"]) {
     std::set<std::string> paths;

@@ -25,8 +25,8 @@ enum class BenchColumnType {
 };
 
 struct BenchColumn {
-  std::string name;       // CSV header
-  std::string path;       // JSON pointer into the record, e.g. "/limit/min_bytes"
+  std::string name;  // CSV header
+  std::string path;  // JSON pointer into the record, e.g. "/limit/min_bytes"
   BenchColumnType type;
   bool required = false;  // every row the runner writes has a value (--resume drops one without)
   // Read back, the record has this column's JSON value only when column `presentIf` has a value

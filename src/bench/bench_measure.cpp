@@ -37,7 +37,8 @@ json configJson(const BenchConfig& c) {
 json limitJson(const BenchEntry& e, size_t pixels, const EncodedGBuffer& enc, const TimedFrame& m,
                const ReferenceImage* reference) {
   double minBytes = double(pixels) * double(enc.bytesPerPixel()) + double(pixels) * 16.0;
-  double contributing = reference ? double(reference->contributing) : double(m.r.counters.evaluations);
+  double contributing =
+      reference ? double(reference->contributing) : double(m.r.counters.evaluations);
   double minFlops = contributing * shadeFlops(e.features.model);
   json limit = {{"min_bytes", uint64_t(minBytes)},
                 {"min_flops", minFlops},
@@ -76,17 +77,18 @@ const ReferenceImage& GroupFrame::storedReference(const EncodedGBuffer& enc, GBu
   std::pair<int, int> key{int(format), model};
   auto it = cache.find(key);
   if (it == cache.end())
-    it = cache.emplace(key, shadeReference(enc, prepared_.intrinsics, prepared_.lights,
-                                           prepared_.ambient, model, 0, {}, positions))
+    it = cache
+             .emplace(key, shadeReference(enc, prepared_.intrinsics, prepared_.lights,
+                                          prepared_.ambient, model, 0, {}, positions))
              .first;
   return it->second;
 }
 
 const ReferenceImage& GroupFrame::sceneReference() {
   if (!sceneReference_)
-    sceneReference_ = shadeReference(prepared_.encoded, prepared_.intrinsics,
-                                     scene_.ownRangeLights(prepared_), prepared_.ambient,
-                                     TS_MODEL_WINDOWED);
+    sceneReference_ =
+        shadeReference(prepared_.encoded, prepared_.intrinsics, scene_.ownRangeLights(prepared_),
+                       prepared_.ambient, TS_MODEL_WINDOWED);
   return *sceneReference_;
 }
 
@@ -115,18 +117,19 @@ TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFra
   }
   std::vector<size_t> idx(reps.size());
   for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-  std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return reps[a].r.totalMs < reps[b].r.totalMs; });
+  std::sort(idx.begin(), idx.end(),
+            [&](size_t a, size_t b) { return reps[a].r.totalMs < reps[b].r.totalMs; });
   return std::move(reps[idx[(idx.size() - 1) / 2]]);
 }
 
 FrameErrors measureErrors(const BenchEntry& e, GroupFrame& frame, const EncodedGBuffer& enc,
                           const TechniqueConfig& tc, const std::vector<glm::vec4>& image) {
   FrameErrors out;
-  out.reference = &frame.storedReference(enc, e.config.format, tc.shadingModel,
-                                         ReferencePositions::FromDepth);
+  out.reference =
+      &frame.storedReference(enc, e.config.format, tc.shadingModel, ReferencePositions::FromDepth);
   out.errorStored = compareToReference(image, *out.reference, kTolerance * out.reference->peak);
-  const ReferenceImage& shading = frame.storedReference(enc, e.config.format, tc.shadingModel,
-                                                        ReferencePositions::KernelFloat);
+  const ReferenceImage& shading =
+      frame.storedReference(enc, e.config.format, tc.shadingModel, ReferencePositions::KernelFloat);
   out.errorShading = compareToReference(image, shading, kTolerance * shading.peak);
   // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
   bool same = e.config.format == GBufferFormat::FP32 && e.config.lightThreshold <= 0.0f &&

@@ -28,16 +28,16 @@ namespace ts {
 struct BenchEntry {
   size_t index = 0;  // in the expanded sweep
   BenchConfig config;
-  std::vector<int> frames;          // timed frames
-  std::set<int> pending;            // not in the output yet
+  std::vector<int> frames;  // timed frames
+  std::set<int> pending;    // not in the output yet
   std::set<int> errorFrames;
   std::unique_ptr<Technique> technique;
   ClContext* cl = nullptr;
   const Calibration* calibration = nullptr;
   std::string deviceName;
   double compileMs = 0.0;
-  SceneFeatures features;      // what its kernels and layout model (BenchScene::features)
-  std::string kernelOptions;   // its kernels' build options
+  SceneFeatures features;     // what its kernels and layout model (BenchScene::features)
+  std::string kernelOptions;  // its kernels' build options
   bool warmed = false, failed = false;
 };
 
@@ -88,9 +88,9 @@ TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFra
 
 // The error of one frame against the references (on the frames --error-frames selects).
 struct FrameErrors {
-  std::optional<ErrorStats> error;         // against the scene reference (err_*)
-  std::optional<ErrorStats> errorStored;   // against the stored values (error_vs_stored)
-  std::optional<ErrorStats> errorShading;  // the same with float positions (err_shading_*)
+  std::optional<ErrorStats> error;            // against the scene reference (err_*)
+  std::optional<ErrorStats> errorStored;      // against the stored values (error_vs_stored)
+  std::optional<ErrorStats> errorShading;     // the same with float positions (err_shading_*)
   const ReferenceImage* reference = nullptr;  // the stored values' reference
 };
 

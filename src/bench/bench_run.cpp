@@ -104,8 +104,8 @@ class BenchRunner {
   std::vector<std::string> keptLines_;                          // of the earlier bench.csv
   size_t pendingTotal_ = 0;
   std::ofstream csv_;
-  json run_;                                                    // this run's record
-  std::map<std::string, Calibration> calibrations_;             // by device spec
+  json run_;                                         // this run's record
+  std::map<std::string, Calibration> calibrations_;  // by device spec
   std::set<std::string> announced_;
   std::optional<Progress> progress_;
   std::ostream& log_ = std::cout;
@@ -128,10 +128,12 @@ void BenchRunner::checkOutputFiles() {
   std::error_code ec;
   csvExists_ = fs::exists(csvPath_, ec);
   if (csvExists_ && !o_.resume && !o_.overwrite)
-    throw Error(csvPath_ + " exists: pass --resume to continue that run or --overwrite to start over");
+    throw Error(csvPath_ +
+                " exists: pass --resume to continue that run or --overwrite to start over");
   for (const auto& p : {csvPath_, jsonPath_, summaryPath_})
     if (fs::exists(p, ec) && !fs::is_regular_file(p, ec))
-      throw Error(p + (fs::is_directory(p, ec) ? ": it is a directory" : " exists and is not a file"));
+      throw Error(p +
+                  (fs::is_directory(p, ec) ? ": it is a directory" : " exists and is not a file"));
 }
 
 void BenchRunner::openDevices() {
@@ -150,8 +152,7 @@ void BenchRunner::loadScenes() {
     if (it == scenes_.end())
       it = outOfMemoryAs("loading scene " + e.config.scene,
                          [&] { return scenes_.try_emplace(key, e.config).first; });
-    else
-      it->second.check(e.config);
+    else it->second.check(e.config);
     e.frames = o_.frames.resolve(it->second.pathLength());
     if (o_.error) {
       auto ef = selectErrorFrames(o_.errorFrames, e.frames);
@@ -169,8 +170,10 @@ void BenchRunner::loadResumeState() {
   std::error_code ec;
   std::map<std::string, ResumeExpectation> expected;
   for (const auto& e : entries_)
-    expected[e.config.id()] = {e.config, contexts_.at(e.config.device)->deviceName(),
-                               {e.frames.begin(), e.frames.end()}, e.errorFrames};
+    expected[e.config.id()] = {e.config,
+                               contexts_.at(e.config.device)->deviceName(),
+                               {e.frames.begin(), e.frames.end()},
+                               e.errorFrames};
   ResumeScan scan = scanBenchCsv(csvPath_, expected, o_.warmup, o_.repeat);
   std::map<std::pair<std::string, int>, json> recorded;
   if (fs::exists(jsonPath_, ec)) {
@@ -262,8 +265,9 @@ void BenchRunner::startFiles() {
           {"error", o_.error},
           {"error_frames", o_.errorFrames},
           {"shard", std::to_string(o_.shard.index) + "/" + std::to_string(o_.shard.count)},
-          {"shade_flops", {{"blinn-phong", TS_SHADE_FLOPS_BLINN_PHONG},
-                           {"metallic-roughness", TS_SHADE_FLOPS_METALLIC_ROUGHNESS}}},
+          {"shade_flops",
+           {{"blinn-phong", TS_SHADE_FLOPS_BLINN_PHONG},
+            {"metallic-roughness", TS_SHADE_FLOPS_METALLIC_ROUGHNESS}}},
           {"devices", json::array()}};
 }
 
@@ -296,7 +300,8 @@ ClContext& BenchRunner::device(const std::string& spec) {
       log_ << "device: " << cl.deviceName() << "\n"
            << "calibration: copy bandwidth " << fixedText(c.bandwidthGBs, 1) << " GB/s (median of "
            << c.copyMs.size() << ", " << (c.copyBytes >> 20) << " MiB read + written), peak "
-           << fixedText(c.peakGflops, 1) << " GFLOP/s (float" << (c.vectorWidth > 1 ? std::to_string(c.vectorWidth) : "")
+           << fixedText(c.peakGflops, 1) << " GFLOP/s (float"
+           << (c.vectorWidth > 1 ? std::to_string(c.vectorWidth) : "")
            << " multiply-add chains, median of " << c.fmaMs.size() << ")\n";
   } else if (o_.printTable) {
     log_ << "device: " << cl.deviceName() << " (not calibrated: no limit columns)\n";
@@ -428,9 +433,11 @@ BenchRunResult BenchRunner::finish() {
 
 std::vector<int> selectErrorFrames(const std::string& spec, const std::vector<int>& timed) {
   std::string s = spec;
-  s.erase(std::remove_if(s.begin(), s.end(), [](unsigned char c) { return std::isspace(c); }), s.end());
+  s.erase(std::remove_if(s.begin(), s.end(), [](unsigned char c) { return std::isspace(c); }),
+          s.end());
   if (s.empty() || s == "all") return timed;
-  if (std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); }) && s.size() < 7) {
+  if (std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); }) &&
+      s.size() < 7) {
     size_t n = std::stoul(s);
     if (n < 1) throw Error("--error-frames: expected at least 1, got '" + shortText(spec) + "'");
     if (n >= timed.size()) return timed;
@@ -443,8 +450,10 @@ std::vector<int> selectErrorFrames(const std::string& spec, const std::vector<in
   try {
     listed = f.resolve(1 << 20);
   } catch (const Error&) {
-    throw Error("--error-frames: expected all, N (that many of the timed frames), A:B[:S] or "
-                "a;b;c, got '" + shortText(spec) + "'");
+    throw Error(
+        "--error-frames: expected all, N (that many of the timed frames), A:B[:S] or "
+        "a;b;c, got '" +
+        shortText(spec) + "'");
   }
   std::vector<int> out;
   for (int t : timed)

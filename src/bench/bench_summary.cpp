@@ -63,7 +63,8 @@ json summarizeRows(const json& rows) {
       }
       for (const auto& k : r.value("kernels", json::array())) {
         std::string name = k.at("name").get<std::string>();
-        auto it = std::find_if(kernels.begin(), kernels.end(), [&](const auto& p) { return p.first == name; });
+        auto it = std::find_if(kernels.begin(), kernels.end(),
+                               [&](const auto& p) { return p.first == name; });
         if (it == kernels.end()) {
           kernels.push_back({name, {}});
           it = kernels.end() - 1;
@@ -102,7 +103,9 @@ json summarizeRows(const json& rows) {
               {"limit_ms", summaryJson(summarize(limitMs))},
               {"limit_pct", summaryJson(summarize(limitPct))},
               {"nonfinite_pixels_max", uint64_t(nonfinite)},
-              {"flops_basis", bases.empty() ? "" : bases.size() == 1 ? *bases.begin() : "mixed"}};
+              {"flops_basis", bases.empty()       ? ""
+                              : bases.size() == 1 ? *bases.begin()
+                                                  : "mixed"}};
     if (!errMax.empty()) {
       // The worst frame, infinities kept: summarize() skips them, but a frame with NaN/inf pixels
       // has an infinite error (and PSNR -inf), and PSNR +inf (exact) only if every frame is.
@@ -156,10 +159,14 @@ void printSummaryTable(const json& summaries, std::ostream& out) {
     row.push_back(fixedText(num(s.at("raster_ms"), "median"), 2));
     std::string pct = fixedText(num(s.at("limit_pct"), "median"), 1);
     std::string basis = str(s, "flops_basis");
-    row.push_back(pct == "-" ? pct : pct + (basis == "reference" ? "" : basis == "evaluations" ? "*" : "~"));
+    row.push_back(pct == "-" ? pct
+                             : pct + (basis == "reference"     ? ""
+                                      : basis == "evaluations" ? "*"
+                                                               : "~"));
     std::string kernels;
     for (const auto& k : s.at("kernels"))
-      kernels += (kernels.empty() ? "" : " ") + k.at("name").get<std::string>() + "=" + fixedText(num(k, "median"), 3);
+      kernels += (kernels.empty() ? "" : " ") + k.at("name").get<std::string>() + "=" +
+                 fixedText(num(k, "median"), 3);
     row.push_back(kernels);
     table.push_back(row);
   }
@@ -178,8 +185,8 @@ void printSummaryTable(const json& summaries, std::ostream& out) {
     }
     out << line << "\n";
   }
-  out << "% limit: device limit time / measured kernel time (median over frames); limit = max(bytes "
-         "/ copy bandwidth, contributing evaluations x "
+  out << "% limit: device limit time / measured kernel time (median over frames); limit = "
+         "max(bytes / copy bandwidth, contributing evaluations x "
       << TS_SHADE_FLOPS_BLINN_PHONG << " (Blinn-Phong) or " << TS_SHADE_FLOPS_METALLIC_ROUGHNESS
       << " (metallic-roughness) FLOP / peak). Evaluations counted by the reference, or * by the "
          "technique itself (~ mixed).\n";
