@@ -1,12 +1,10 @@
 #include "bench/bench_resume.h"
 
 #include <algorithm>
-#include <cctype>
-#include <cmath>
 #include <cstdlib>
 #include <sstream>
 
-#include "bench/bench_run.h"
+#include "bench/bench_columns.h"
 #include "bench/bench_stats.h"
 #include "util/error.h"
 #include "util/file_read.h"
@@ -15,104 +13,12 @@
 namespace ts {
 namespace {
 
-// The type of a bench.csv column after the dimensions, as csvFieldsOf (bench_run.cpp) writes it.
-enum class Kind { Text, Integer, Time, Number, Kernels };
-struct ColumnKind {
-  Kind kind;
-  bool required;  // every row the runner writes has a value
-};
-
-ColumnKind columnKind(const std::string& name) {
-  static const std::map<std::string, ColumnKind> kinds = {
-      {"config_id", {Kind::Text, true}},
-      {"device_name", {Kind::Text, true}},
-      {"lanes_used", {Kind::Integer, true}},
-      {"features_used", {Kind::Text, false}},
-      {"gbuffer_bytes_per_pixel", {Kind::Integer, true}},
-      {"kernel_options", {Kind::Text, false}},
-      {"frame", {Kind::Integer, true}},
-      {"lights", {Kind::Integer, true}},
-      {"geometry_pixels", {Kind::Integer, true}},
-      {"total_ms", {Kind::Time, true}},
-      {"kernels", {Kind::Kernels, true}},
-      {"wall_ms", {Kind::Time, true}},
-      {"upload_ms", {Kind::Time, true}},
-      {"compile_ms", {Kind::Time, true}},
-      {"raster_ms", {Kind::Time, true}},
-      {"warmup", {Kind::Integer, true}},
-      {"repeat", {Kind::Integer, true}},
-      {"lighting_computations", {Kind::Integer, true}},
-      {"evaluations", {Kind::Integer, true}},
-      {"gbuffer_bytes_read", {Kind::Integer, true}},
-      {"nonfinite_pixels", {Kind::Integer, true}},
-      {"list_min", {Kind::Integer, false}},
-      {"list_mean", {Kind::Number, false}},
-      {"list_max", {Kind::Integer, false}},
-      {"min_bytes", {Kind::Integer, true}},
-      {"min_flops", {Kind::Number, true}},
-      {"flops_basis", {Kind::Text, true}},
-      {"bandwidth_gbs", {Kind::Number, false}},
-      {"peak_gflops", {Kind::Number, false}},
-      {"limit_ms", {Kind::Number, false}},
-      {"limit_pct", {Kind::Number, false}},
-      {"reference_contributing", {Kind::Integer, false}},
-      {"notes", {Kind::Text, false}},
-  };
-  auto it = kinds.find(name);
-  if (it != kinds.end()) return it->second;
-  if (name.rfind("err_", 0) == 0) return {Kind::Number, false};
-  throw Error("bench.csv column '" + name + "' has no type (src/bench/bench_resume.cpp)");
-}
-
-// A number as numberText writes it: the whole text, "inf"/"-inf" for infinities.
-bool isNumber(const std::string& s, bool finiteNonNegative) {
-  if (s.empty() || std::isspace((unsigned char)s[0])) return false;
-  char* end = nullptr;
-  double v = std::strtod(s.c_str(), &end);
-  if (end != s.c_str() + s.size() || std::isnan(v)) return false;
-  return !finiteNonNegative || (std::isfinite(v) && v >= 0.0);
-}
-
-// 1 to 18 digits: what rowFromCsv reads back.
-bool isInteger(const std::string& s) {
-  return !s.empty() && s.size() <= 18 &&
-         std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
-}
-
-// "name=ms;name=ms", every time a finite number >= 0.
-bool isKernelList(const std::string& s) {
-  if (s.empty()) return false;
-  for (const auto& item : splitList(s, ';')) {
-    size_t eq = item.find('=');
-    if (eq == 0 || eq == std::string::npos || !isNumber(item.substr(eq + 1), true)) return false;
-  }
-  return true;
-}
-
-bool wellTyped(const std::string& column, const std::string& value) {
-  ColumnKind k = columnKind(column);
-  if (value.empty()) return !k.required;
-  switch (k.kind) {
-    case Kind::Text: return true;
-    case Kind::Integer: return isInteger(value);
-    case Kind::Time: return isNumber(value, true);
-    case Kind::Number: return isNumber(value, false);
-    case Kind::Kernels: return isKernelList(value);
-  }
-  return false;
-}
-
 // Why a parsed row cannot be resumed, or "" when it can.
 std::string unusable(const std::map<std::string, std::string>& r,
                      const std::map<std::string, ResumeExpectation>& expected, int warmup,
                      int repeat) {
-  static const std::set<std::string> dims = [] {
-    std::set<std::string> names;
-    for (const auto& d : benchDimensions()) names.insert(d.name);
-    return names;
-  }();
-  for (const auto& [column, value] : r)
-    if (!dims.count(column) && !wellTyped(column, value))
+  for (const auto& column : benchColumns())
+    if (!wellTyped(column, r.at(column.name)))
       return "a value that is missing or not of its column's type";
   auto it = expected.find(r.at("config_id"));
   if (it == expected.end()) return "a configuration this sweep (or shard) does not run";

@@ -7,7 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/bench_columns.h"  // the files' columns (benchCsvColumns, rowFromCsv)
 #include "bench/bench_config.h"
+#include "bench/bench_summary.h"  // summarizeRows
 #include "bench/calibrate.h"
 
 namespace ts {
@@ -44,13 +46,6 @@ struct BenchRunResult {
 };
 
 BenchRunResult runBench(const BenchOptions& options);
-
-// Column names of DIR/bench.csv and DIR/summary.csv (dimension columns included).
-std::vector<std::string> benchCsvColumns();
-std::vector<std::string> summaryCsvColumns();
-
-// Per-configuration summaries (median/min/max over frames) of bench.json-style rows.
-nlohmann::json summarizeRows(const nlohmann::json& rows);
 
 // The time/frame subset with error: "all", "N" (N of `timed` spread evenly), or a FrameSpec
 // range/list intersected with `timed`. Throws ts::Error on a bad spec.

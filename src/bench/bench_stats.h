@@ -32,5 +32,7 @@ bool readCsv(const std::string& path, std::vector<std::string>& header,
 
 // A number as CSV text: 6 significant digits, "" for NaN, "inf" for infinities.
 std::string numberText(double v);
+// A number with `digits` decimals for a printed table; "-" when not finite.
+std::string fixedText(double v, int digits);
 
 }  // namespace ts

@@ -1,0 +1,169 @@
+#include "bench/bench_measure.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "reference/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
+#include "render/stats.h"
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+using json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Relative tolerance (of the reference peak) for "pixels above tolerance", as in `render`.
+constexpr double kTolerance = 1e-4;
+// Floating-point operations of one contributing light evaluation (kernels/shading.h).
+double shadeFlops(ShadingModel model) {
+  return model == ShadingModel::MetallicRoughness ? TS_SHADE_FLOPS_METALLIC_ROUGHNESS
+                                                  : TS_SHADE_FLOPS_BLINN_PHONG;
+}
+
+json configJson(const BenchConfig& c) {
+  json j = json::object();
+  for (const auto& d : benchDimensions()) j[d.name] = d.get(c);
+  return j;
+}
+
+// The limit: G-buffer read once + float4 image written once; contributing evaluations (the
+// reference's ideal count when computed, else the technique's own) x the model's flops per
+// evaluation (shadeFlops); as a time when the device was calibrated.
+json limitJson(const BenchEntry& e, size_t pixels, const EncodedGBuffer& enc, const TimedFrame& m,
+               const ReferenceImage* reference) {
+  double minBytes = double(pixels) * double(enc.bytesPerPixel()) + double(pixels) * 16.0;
+  double contributing =
+      reference ? double(reference->contributing) : double(m.r.counters.evaluations);
+  double minFlops = contributing * shadeFlops(e.features.model);
+  json limit = {{"min_bytes", uint64_t(minBytes)},
+                {"min_flops", minFlops},
+                {"flops_basis", reference ? "reference" : "evaluations"}};
+  if (e.calibration) {
+    double lim = limitMs(*e.calibration, minBytes, minFlops);
+    limit["bandwidth_gbs"] = e.calibration->bandwidthGBs;
+    limit["peak_gflops"] = e.calibration->peakGflops;
+    limit["limit_ms"] = lim;
+    limit["limit_pct"] = m.r.totalMs > 0 ? 100.0 * lim / m.r.totalMs : 0.0;
+  }
+  return limit;
+}
+
+}  // namespace
+
+GroupFrame::GroupFrame(BenchScene& scene, const BenchConfig& group, int frame)
+    : scene_(scene),
+      prepared_(outOfMemoryAs("preparing a " + std::to_string(group.width) + "x" +
+                                  std::to_string(group.height) + " frame of " + group.scene,
+                              [&] { return scene.prepare(group, frame); })),
+      pixels_(size_t(group.width) * group.height),
+      geometry_(prepared_.gbuffer.geometryPixels()) {}
+
+const EncodedGBuffer& GroupFrame::encoded(GBufferFormat format, const SceneFeatures& features) {
+  auto key = std::make_pair(format, features.describe());
+  auto it = layouts_.find(key);
+  if (it == layouts_.end())
+    it = layouts_.emplace(key, encode(prepared_.gbuffer, format, features)).first;
+  return it->second;
+}
+
+const ReferenceImage& GroupFrame::storedReference(const EncodedGBuffer& enc, GBufferFormat format,
+                                                  int model, ReferencePositions positions) {
+  auto& cache = positions == ReferencePositions::KernelFloat ? shadingReferences_ : references_;
+  std::pair<int, int> key{int(format), model};
+  auto it = cache.find(key);
+  if (it == cache.end())
+    it = cache
+             .emplace(key, shadeReference(enc, prepared_.intrinsics, prepared_.lights,
+                                          prepared_.ambient, model, 0, {}, positions))
+             .first;
+  return it->second;
+}
+
+const ReferenceImage& GroupFrame::sceneReference() {
+  if (!sceneReference_)
+    sceneReference_ =
+        shadeReference(prepared_.encoded, prepared_.intrinsics, scene_.ownRangeLights(prepared_),
+                       prepared_.ambient, TS_MODEL_WINDOWED);
+  return *sceneReference_;
+}
+
+TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFrame& prepared,
+                     int warmup, int repeat) {
+  ClContext& cl = *e.cl;
+  auto upload = [&] {
+    return DeviceFrame::upload(cl, enc, prepared.intrinsics, prepared.lights, prepared.ambient);
+  };
+  if (!e.warmed) {
+    for (int w = 0; w < warmup; ++w) {
+      DeviceFrame df = upload();
+      e.technique->render(df, FrameRequest{});
+    }
+    e.warmed = true;
+  }
+  std::vector<TimedFrame> reps;
+  for (int k = 0; k < repeat; ++k) {
+    auto t0 = Clock::now();
+    DeviceFrame df = upload();
+    cl.queue().finish();
+    double up = msSince(t0);
+    FrameResult r = e.technique->render(df, FrameRequest{});
+    double wall = msSince(t0);
+    reps.push_back({std::move(r), wall, up});
+  }
+  std::vector<size_t> idx(reps.size());
+  for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  std::sort(idx.begin(), idx.end(),
+            [&](size_t a, size_t b) { return reps[a].r.totalMs < reps[b].r.totalMs; });
+  return std::move(reps[idx[(idx.size() - 1) / 2]]);
+}
+
+FrameErrors measureErrors(const BenchEntry& e, GroupFrame& frame, const EncodedGBuffer& enc,
+                          const TechniqueConfig& tc, const std::vector<glm::vec4>& image) {
+  FrameErrors out;
+  out.reference =
+      &frame.storedReference(enc, e.config.format, tc.shadingModel, ReferencePositions::FromDepth);
+  out.errorStored = compareToReference(image, *out.reference, kTolerance * out.reference->peak);
+  const ReferenceImage& shading =
+      frame.storedReference(enc, e.config.format, tc.shadingModel, ReferencePositions::KernelFloat);
+  out.errorShading = compareToReference(image, shading, kTolerance * shading.peak);
+  // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
+  bool same = e.config.format == GBufferFormat::FP32 && e.config.lightThreshold <= 0.0f &&
+              tc.shadingModel == TS_MODEL_WINDOWED;
+  const ReferenceImage& truth = same ? *out.reference : frame.sceneReference();
+  out.error = compareToReference(image, truth, kTolerance * truth.peak);
+  return out;
+}
+
+json measurementRow(const BenchEntry& e, const GroupFrame& frame, int f, const EncodedGBuffer& enc,
+                    const TimedFrame& m, const FrameErrors& err, int warmup, int repeat) {
+  const PreparedFrame& prepared = frame.prepared();
+  json row = techniqueJson(e.config.technique, m.r, err.error, std::nullopt);
+  row["config_id"] = e.config.id();
+  row["config"] = configJson(e.config);
+  row["device_name"] = e.deviceName;
+  row["lanes_used"] = e.technique->lanes();
+  row["frame"] = f;
+  row["lights"] = prepared.lights.size();
+  row["geometry_pixels"] = frame.geometryPixels();
+  row["wall_ms"] = m.wallMs;
+  row["upload_ms"] = m.uploadMs;
+  row["compile_ms"] = e.compileMs;
+  row["raster_ms"] = prepared.rasterMs;
+  row["features_used"] = e.features.describe();
+  row["gbuffer_bytes_per_pixel"] = enc.bytesPerPixel();
+  row["kernel_options"] = e.kernelOptions;
+  row["warmup"] = warmup;
+  row["repeat"] = repeat;
+  row["limit"] = limitJson(e, frame.pixels(), enc, m, err.reference);
+  if (err.reference) row["reference_contributing"] = err.reference->contributing;
+  if (err.errorStored) row["error_vs_stored"] = errorJson(*err.errorStored);
+  if (err.errorShading) row["error_shading"] = errorJson(*err.errorShading);
+  return row;
+}
+
+}  // namespace ts
