@@ -2,7 +2,7 @@
  * G-buffer access and the shading entry points of every technique's kernels: one function decodes
  * a pixel into the values the shading function takes (ts_load_surface), one shades a light
  * (ts_shade_punctual, ts_shade_directionals). The host mirror of the decoding is
- * src/raster/gbuffer_layout.cpp (decodeSurface); a test (GBufferDecode in tests/pipeline_test.cpp)
+ * src/gbuffer/gbuffer_layout.cpp (decodeSurface); a test (GBufferDecode in tests/pipeline_test.cpp)
  * checks the two agree through the `decode_gbuffer` kernel (kernels/dump.cl).
  *
  * Planes (one element per pixel, row-major, row 0 = top of the screen), present only when the

@@ -7,7 +7,7 @@
 
 #include <glm/glm.hpp>
 
-#include "raster/gbuffer.h"
+#include "gbuffer/gbuffer.h"
 #include "scene/scene_features.h"
 
 namespace ts {

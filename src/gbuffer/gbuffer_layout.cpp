@@ -1,4 +1,4 @@
-#include "raster/gbuffer_layout.h"
+#include "gbuffer/gbuffer_layout.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #endif
 #include <Imath/half.h>
 
-#include "raster/plane_alloc.h"
+#include "gbuffer/plane_alloc.h"
 #include "reference/shading_cpu.h"
 #include "util/error.h"
 #include "util/short_text.h"
@@ -40,7 +40,7 @@ size_t emissiveBytes(GBufferFormat format) {
 template <typename F>
 std::vector<uint8_t> encodePacked(const std::vector<glm::vec4>& plane, size_t pixels, F pack) {
   std::vector<uint8_t> out;
-  raster_detail::assignZeroed(out, pixels * kPackedElement);
+  plane_alloc::assignZeroed(out, pixels * kPackedElement);
   uint32_t* dst = reinterpret_cast<uint32_t*>(out.data());
   for (size_t i = 0; i < pixels; ++i) dst[i] = pack(plane[i]);
   return out;
@@ -75,9 +75,9 @@ std::vector<uint8_t> encodePlane(const std::vector<glm::vec4>& plane, size_t pix
   if (format == GBufferFormat::FP32) {
     static_assert(sizeof(glm::vec4) == kFp32Element, "glm::vec4 must be 4 packed floats");
     const uint8_t* bytes = reinterpret_cast<const uint8_t*>(plane.data());
-    raster_detail::assignRange(out, bytes, bytes + pixels * kFp32Element);
+    plane_alloc::assignRange(out, bytes, bytes + pixels * kFp32Element);
   } else {
-    raster_detail::assignZeroed(out, pixels * kFp16Element);
+    plane_alloc::assignZeroed(out, pixels * kFp16Element);
     uint16_t* dst = reinterpret_cast<uint16_t*>(out.data());
     for (size_t i = 0; i < pixels; ++i)
       for (int c = 0; c < 4; ++c)
@@ -248,14 +248,14 @@ EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format,
   e.width = gbuffer.width;
   e.height = gbuffer.height;
   const bool mr = gbuffer.model == ShadingModel::MetallicRoughness;
-  raster_detail::assignRange(e.depth, gbuffer.depth.begin(), gbuffer.depth.end());
+  plane_alloc::assignRange(e.depth, gbuffer.depth.begin(), gbuffer.depth.end());
   if (format == GBufferFormat::PACKED) {
     e.normal = encodePacked(gbuffer.normal, n,
                             [](const glm::vec4& v) { return packed::encodeNormal(glm::vec3(v)); });
     // Blinn-Phong: kd rgb (alpha 1); metallic-roughness: base rgb + metallic.
     e.diffuse = encodePacked(gbuffer.diffuse, n, packUnorm8x4);
     if (mr) {
-      raster_detail::assignZeroed(e.specular, n);
+      plane_alloc::assignZeroed(e.specular, n);
       for (size_t i = 0; i < n; ++i) e.specular[i] = packed::encodeUnorm8(gbuffer.specular[i].x);
     } else if (e.hasSpecularPlane()) {
       e.specular = encodePacked(gbuffer.specular, n, [](const glm::vec4& v) {
