@@ -1,7 +1,7 @@
 /*
  * Writes, per pixel, the values the shading kernels read after decoding the G-buffer
  * (kernels/gbuffer.h) in DUMP_CHANNELS floats, the material terms as a rasterized G-buffer holds
- * them (src/raster/gbuffer.h) whatever the layout stores:
+ * them (src/gbuffer/gbuffer.h) whatever the layout stores:
  *   0-2 P.xyz   3-5 N.xyz (renormalised)   13-15 ke.rgb   16 mask
  *   Blinn-Phong          6-8 kd.rgb     9-11 ks.rgb      12 shininess
  *   metallic-roughness   6-8 base.rgb   9 roughness, 10-12 0   (metallic: host side)

@@ -1,9 +1,11 @@
 /*
  * G-buffer access and the shading entry points of every technique's kernels: one function decodes
  * a pixel into the values the shading function takes (ts_load_surface), one shades a light
- * (ts_shade_punctual, ts_shade_directionals). The host mirror of the decoding is
- * src/raster/gbuffer_layout.cpp (decodeSurface); a test (GBufferDecode in tests/pipeline_test.cpp)
- * checks the two agree through the `decode_gbuffer` kernel (kernels/dump.cl).
+ * (ts_shade_punctual, ts_shade_directionals). The per-element decoders are in
+ * kernels/gbuffer_codecs.h, which the host decodes with too (src/gbuffer/gbuffer_layout.cpp:
+ * decodeSurface, decodeStored); tests check the two agree through the `decode_gbuffer` kernel
+ * (kernels/dump.cl): GBufferDecode (tests/pipeline_test.cpp), MetallicRoughnessDecode and
+ * AccuracyKnobs.PackedDecodeMatchesTheHostForEveryCode.
  *
  * Planes (one element per pixel, row-major, row 0 = top of the screen), present only when the
  * scene needs them (SceneFeatures; the layout table is in docs/accuracy.md, "G-buffer layouts"):
@@ -169,6 +171,9 @@ static inline TS_LANE ts_pow_unit(TS_LANE x, TS_LANE s) {
 #endif
 #include "shading.h"
 #include "culling.h"
+#define TS_FLOAT3 float3
+#define TS_MAKE_FLOAT3(x, y, z) ((float3)((x), (y), (z)))
+#include "gbuffer_codecs.h"
 
 /* ---- Per-plane element types and decoders of the three precisions ---------------------- */
 #if defined(TS_GBUFFER_PACKED)
@@ -183,35 +188,21 @@ typedef uchar ts_gb_specular;
 typedef uint ts_gb_specular;
 #endif
 typedef half ts_gb_emissive;
-static inline float3 ts_unorm8x3(uint v) {
-  return (float3)((float)(v & 255u), (float)((v >> 8) & 255u), (float)((v >> 16) & 255u)) /
-         255.0f;
-}
 static inline float4 ts_decode_normal(int i, __global const ts_gb_normal *p) {
-  uint v = p[i];
-  float ex = fmax((float)(short)(v & 0xffffu) / 32767.0f, -1.0f);
-  float ey = fmax((float)(short)(v >> 16) / 32767.0f, -1.0f);
-  float3 n = (float3)(ex, ey, 1.0f - fabs(ex) - fabs(ey));
-  if (n.z < 0.0f) {
-    float nx = (1.0f - fabs(ey)) * (ex >= 0.0f ? 1.0f : -1.0f);
-    float ny = (1.0f - fabs(ex)) * (ey >= 0.0f ? 1.0f : -1.0f);
-    n.x = nx;
-    n.y = ny;
-  }
-  return (float4)(normalize(n), 0.0f);
+  return (float4)(normalize(ts_decode_octahedral(p[i])), 0.0f);
 }
 static inline float4 ts_decode_diffuse(int i, __global const ts_gb_diffuse *p) {
   uint v = p[i];
-  return (float4)(ts_unorm8x3(v), (float)(v >> 24) / 255.0f);
+  return (float4)(ts_decode_unorm8x3(v), ts_decode_unorm8(v >> 24));
 }
 #if TS_SHADING == 1
 static inline float4 ts_decode_specular(int i, __global const ts_gb_specular *p) {
-  return (float4)((float)p[i] / 255.0f, 0.0f, 0.0f, 0.0f);
+  return (float4)(ts_decode_roughness_byte(p[i]), 0.0f, 0.0f, 0.0f);
 }
 #else
 static inline float4 ts_decode_specular(int i, __global const ts_gb_specular *p) {
   uint v = p[i];
-  return (float4)(ts_unorm8x3(v), exp2((float)(v >> 24) * (11.0f / 255.0f)));
+  return (float4)(ts_decode_unorm8x3(v), ts_decode_shininess(v >> 24));
 }
 #endif
 static inline float3 ts_decode_emissive(int i, __global const ts_gb_emissive *p) {

@@ -1,6 +1,6 @@
 #version 330 core
 // The OpenGL rasterizer's fragment stage (src/raster/gl_rasterizer.cpp): writes the G-buffer
-// planes of src/raster/gbuffer.h into five render targets (and the triangle id into a sixth).
+// planes of src/gbuffer/gbuffer.h into five render targets (and the triangle id into a sixth).
 // The rules mirror the software rasterizer's resolve() (src/raster/rasterizer.cpp); the material
 // planes come from the one shared definition in material_planes.h.
 

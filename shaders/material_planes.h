@@ -4,7 +4,7 @@
  * Compiled as C++ by the software rasterizer (src/raster/rasterizer.cpp, resolve()) and as GLSL
  * by the OpenGL rasterizer (src/raster/gl_rasterizer.cpp prepends this file to
  * shaders/gbuffer.frag), so the two agree on which material term goes to which plane and how the
- * textures multiply them (the planes per model: the comment on GBuffer in src/raster/gbuffer.h).
+ * textures multiply them (the planes per model: the comment on GBuffer in src/gbuffer/gbuffer.h).
  * Written in the common subset: glm in C++ has GLSL's vec3/vec4 and constructors.
  *
  * The includer defines TS_SAMPLE(slot): the linear RGBA sample of the material's texture in

@@ -1,4 +1,4 @@
-// G-buffer storage layouts (src/raster/gbuffer_layout.cpp): sizes, format names, the fp32/fp16/
+// G-buffer storage layouts (src/gbuffer/gbuffer_layout.cpp): sizes, format names, the fp32/fp16/
 // packed encodings and decodeSurface, the host mirror of ts_load_surface in kernels/gbuffer.h.
 // The packed bounds checked here are the ones docs/accuracy.md documents.
 #include <gtest/gtest.h>
@@ -8,8 +8,9 @@
 #include <cstring>
 #include <random>
 
-#include "raster/gbuffer.h"
-#include "raster/gbuffer_layout.h"
+#include "gbuffer/gbuffer.h"
+#include "gbuffer/gbuffer_layout.h"
+#include "raster/rasterizer.h"
 #include "util/error.h"
 #include "random_draws.h"
 

@@ -17,7 +17,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "raster/egl_context.h"
-#include "raster/gbuffer_compare.h"
+#include "gbuffer/gbuffer_compare.h"
 #include "raster/gl_rasterizer.h"
 #include "raster/raster_backend.h"
 #include "reference_check.h"

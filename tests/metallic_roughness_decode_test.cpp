@@ -1,5 +1,5 @@
 // The metallic-roughness planes' per-element decoders of the kernels (kernels/gbuffer.h, through
-// decode_gbuffer in kernels/dump.cl) against the host's (decodeStored, src/raster/gbuffer_layout.cpp),
+// decode_gbuffer in kernels/dump.cl) against the host's (decodeStored, gbuffer/gbuffer_layout.cpp),
 // bit for bit, for every stored value: each of the 256 bytes of the packed base colour and
 // roughness, and spreads of fp16 and fp32 values (every finite half). GBufferDecode in
 // pipeline_test.cpp checks the Blinn-Phong layouts end to end on a rendered scene.
@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "raster/gbuffer_layout.h"
+#include "gbuffer/gbuffer_layout.h"
 #include "render/gbuffer_dump.h"
 #include "scene/scene_features.h"
 #include "techniques/device_frame.h"

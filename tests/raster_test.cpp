@@ -11,7 +11,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "raster/gbuffer.h"
+#include "raster/rasterizer.h"
 #include "util/error.h"
 #include "random_draws.h"
 

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "raster/gbuffer_layout.h"
+#include "gbuffer/gbuffer_layout.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
 #include "util/option_values.h"

@@ -1,5 +1,5 @@
 #pragma once
-// The OpenGL rasterizer (`--raster gl`): the same G-buffer as ts::rasterize (src/raster/gbuffer.h)
+// The OpenGL rasterizer (`--raster gl`): the same G-buffer as ts::rasterize (raster/rasterizer.h)
 // drawn by a real OpenGL implementation through a headless EGL context (src/raster/egl_context.h):
 // vertex + fragment shaders (shaders/gbuffer.*) write the planes into float render targets of a
 // framebuffer object, which are read back into a ts::GBuffer, so encode() and every technique
@@ -10,7 +10,7 @@
 #include <memory>
 #include <string>
 
-#include "raster/gbuffer.h"
+#include "raster/rasterizer.h"
 #include "scene/scene.h"
 
 namespace ts {

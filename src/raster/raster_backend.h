@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "raster/gbuffer.h"
+#include "raster/rasterizer.h"
 #include "scene/scene.h"
 
 namespace ts {

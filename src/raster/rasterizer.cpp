@@ -59,8 +59,8 @@
 #include <thread>
 #include <vector>
 
-#include "raster/gbuffer.h"
-#include "raster/plane_alloc.h"
+#include "raster/rasterizer.h"
+#include "gbuffer/plane_alloc.h"
 #include "raster/scene_validation.h"
 #include "shaders/material_planes.h"
 #include "util/error.h"
@@ -261,8 +261,8 @@ class Rasterizer {
     size_t n = scene_.vertices.size();
     viewPosition_.reserve(n);
     viewNormal_.reserve(n);
-    raster_detail::adviseHugePages(viewPosition_.data(), n * sizeof(glm::dvec3));
-    raster_detail::adviseHugePages(viewNormal_.data(), n * sizeof(glm::vec3));
+    plane_alloc::adviseHugePages(viewPosition_.data(), n * sizeof(glm::dvec3));
+    plane_alloc::adviseHugePages(viewNormal_.data(), n * sizeof(glm::vec3));
     viewPosition_.resize(n);
     viewNormal_.resize(n);
     parallelRanges(n, n < 4096 ? 1 : workers_, [&](size_t b, size_t e, int) {
@@ -314,9 +314,9 @@ class Rasterizer {
     out.setups.reserve(end - begin);
     out.subs.reserve(end - begin);
     out.fallbacks.reserve(end - begin);
-    raster_detail::adviseHugePages(out.setups.data(), out.setups.capacity() * sizeof(TriangleSetup));
-    raster_detail::adviseHugePages(out.subs.data(), out.subs.capacity() * sizeof(SubTriangle));
-    raster_detail::adviseHugePages(out.fallbacks.data(),
+    plane_alloc::adviseHugePages(out.setups.data(), out.setups.capacity() * sizeof(TriangleSetup));
+    plane_alloc::adviseHugePages(out.subs.data(), out.subs.capacity() * sizeof(SubTriangle));
+    plane_alloc::adviseHugePages(out.fallbacks.data(),
                                    out.fallbacks.capacity() * sizeof(SubFallback));
     const double zn = frame_.znear, zf = frame_.zfar;
     const double gx = frame_.guardX, gy = frame_.guardY;

@@ -8,7 +8,7 @@
 
 #include <glm/glm.hpp>
 
-#include "raster/gbuffer_layout.h"
+#include "gbuffer/gbuffer_layout.h"
 #include "techniques/device_frame.h"
 #include "techniques/technique.h"
 

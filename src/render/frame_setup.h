@@ -3,8 +3,8 @@
 // Shared by `render`, `bench` and the tests.
 #include <string>
 
-#include "raster/gbuffer.h"
-#include "raster/gbuffer_layout.h"
+#include "gbuffer/gbuffer.h"
+#include "gbuffer/gbuffer_layout.h"
 #include "raster/raster_backend.h"
 #include "scene/scene.h"
 #include "scene/scene_features.h"

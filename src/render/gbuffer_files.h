@@ -14,7 +14,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "raster/gbuffer_layout.h"
+#include "gbuffer/gbuffer_layout.h"
 #include "scene/scene.h"
 #include "techniques/device_frame.h"
 

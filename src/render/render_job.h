@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "raster/gbuffer_layout.h"
+#include "gbuffer/gbuffer_layout.h"
 
 namespace ts {
 

@@ -1,7 +1,7 @@
 #pragma once
 // What a scene needs from the pipeline: its shading model, the material terms it uses and its
 // light types. The kernels are built with only these (build options, kernelDefines) and the
-// G-buffer holds only the planes they read (src/raster/gbuffer_layout.h), so a diffuse-only scene
+// G-buffer holds only the planes they read (src/gbuffer/gbuffer_layout.h), so a diffuse-only scene
 // lit by point lights compiles and stores none of the rest. docs/features.md has the table.
 #include <string>
 

@@ -6,7 +6,7 @@
 #include <glm/glm.hpp>
 
 #include "cl/cl_context.h"
-#include "raster/gbuffer_layout.h"
+#include "gbuffer/gbuffer_layout.h"
 #include "scene/scene.h"
 
 namespace ts {

@@ -13,7 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "cl/cl_context.h"
-#include "raster/gbuffer_layout.h"
+#include "gbuffer/gbuffer_layout.h"
 #include "scene/scene_features.h"
 #include "techniques/device_frame.h"
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "raster/gbuffer.h"
+#include "gbuffer/gbuffer.h"
 
 namespace ts {
 

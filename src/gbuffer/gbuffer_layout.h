@@ -1,13 +1,15 @@
 #pragma once
-// Storage layouts of the G-buffer on the device, and the host decoder that mirrors
-// kernels/gbuffer.h exactly (the reference shades the same values the kernels read).
+// Storage layouts of the G-buffer on the device, and the host decoder: the kernels' own element
+// decoders (kernels/gbuffer_codecs.h, through gbuffer_codecs.h), put together as kernels/gbuffer.h
+// does, so the reference shades the same values the kernels read. Adding a layout: the steps are
+// at the layout table in gbuffer_layout.cpp.
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
-#include "raster/gbuffer.h"
+#include "gbuffer/gbuffer.h"
 #include "scene/scene_features.h"
 
 namespace ts {
@@ -59,7 +61,8 @@ EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format, const SceneF
 // Every plane, for the G-buffer's model (the general layout).
 EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format);
 
-// The packed layout's element codecs (kernels/gbuffer.h, TS_GBUFFER_PACKED), exposed for tests.
+// The packed layout's element codecs (kernels/gbuffer.h, TS_GBUFFER_PACKED), exposed for tests:
+// the encoders (host only) and the decoders of kernels/gbuffer_codecs.h.
 namespace packed {
 // Octahedral encoding, x in bits 0-15 and y in bits 16-31 (snorm16, scale 32767). Of the four
 // lattice points around the exact octahedral coordinates it picks the one whose decoded normal is

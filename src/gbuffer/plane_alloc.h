@@ -1,5 +1,6 @@
 #pragma once
-// Internal to src/raster/: allocation of the large per-pixel planes (a 1080p G-buffer is ~140 MB).
+// Internal to the G-buffer planes (src/gbuffer/) and the rasterizer that fills them: allocation of
+// the large per-pixel planes (a 1080p G-buffer is ~140 MB).
 // Fresh allocations of that size come straight from mmap, and first-touch page faults (4 KiB each)
 // can cost more than rasterizing the frame; asking for transparent huge pages before the first
 // touch cuts them ~500x. Advisory only (Linux madvise); elsewhere, or when refused, nothing changes.
@@ -11,7 +12,7 @@
 #include <sys/mman.h>
 #endif
 
-namespace ts::raster_detail {
+namespace ts::plane_alloc {
 
 inline void adviseHugePages(const void* data, size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
@@ -50,4 +51,4 @@ void assignRange(std::vector<T>& v, It first, It last) {
   v.assign(first, last);
 }
 
-}  // namespace ts::raster_detail
+}  // namespace ts::plane_alloc

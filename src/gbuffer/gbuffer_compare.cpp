@@ -1,4 +1,4 @@
-#include "raster/gbuffer_compare.h"
+#include "gbuffer/gbuffer_compare.h"
 
 #include <algorithm>
 #include <cmath>

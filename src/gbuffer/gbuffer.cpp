@@ -1,9 +1,9 @@
-#include "raster/gbuffer.h"
+#include "gbuffer/gbuffer.h"
 
 #include <cmath>
 #include <string>
 
-#include "raster/plane_alloc.h"
+#include "gbuffer/plane_alloc.h"
 #include "util/error.h"
 
 namespace ts {
@@ -48,11 +48,11 @@ void GBuffer::resize(int w, int h) {
   width = w;
   height = h;
   size_t n = pixelCount();
-  raster_detail::assignZeroed(depth, n);
-  raster_detail::assignZeroed(normal, n);
-  raster_detail::assignZeroed(diffuse, n);
-  raster_detail::assignZeroed(specular, n);
-  raster_detail::assignZeroed(emissive, n);
+  plane_alloc::assignZeroed(depth, n);
+  plane_alloc::assignZeroed(normal, n);
+  plane_alloc::assignZeroed(diffuse, n);
+  plane_alloc::assignZeroed(specular, n);
+  plane_alloc::assignZeroed(emissive, n);
   triangleId.clear();
   fragmentCount.clear();
 }

@@ -1,6 +1,7 @@
 #pragma once
-// The G-buffer as the rasterizer produces it (full float precision, view space), the camera
-// intrinsics that tie pixels to view rays, and the software rasterizer's entry point.
+// The G-buffer as the rasterizers produce it (full float precision, view space) and the camera
+// intrinsics that tie pixels to view rays (the kernels' camera). The rasterizers' entry points
+// are in src/raster/ (rasterizer.h, gl_rasterizer.h); the stored layouts in gbuffer_layout.h.
 #include <cstdint>
 #include <vector>
 
@@ -42,7 +43,8 @@ struct GBuffer {
   std::vector<glm::vec4> diffuse;   // see above
   std::vector<glm::vec4> specular;  // see above
   std::vector<glm::vec4> emissive;  // ke rgb, a unused (0)
-  // Instrumentation, filled only when RasterOptions asks for it (empty otherwise):
+  // Instrumentation, filled only when RasterOptions (src/raster/rasterizer.h) asks for it (empty
+  // otherwise):
   std::vector<int32_t> triangleId;      // visible triangle (index into Scene), -1 = background
   std::vector<uint32_t> fragmentCount;  // fragments passing the coverage/fill-rule test, counted
                                         // before the depth and far-plane tests (overdraw)
@@ -51,19 +53,5 @@ struct GBuffer {
   size_t pixelCount() const { return size_t(width) * size_t(height); }
   size_t geometryPixels() const;
 };
-
-struct RasterOptions {
-  ShadingModel model = ShadingModel::BlinnPhong;  // whose material terms the planes hold
-  int threads = 0;              // 0 = all hardware threads (at most 256); same output for any
-                                // count
-  bool triangleIds = false;     // fill GBuffer::triangleId
-  bool fragmentCounts = false;  // fill GBuffer::fragmentCount
-};
-
-// Renders the scene from `camera` into a G-buffer of width x height (1 to 65536 per side; throws
-// ts::Error otherwise, or for a scene with out-of-range vertex/material/texture indices).
-// Design notes (fill rule, clipping, precision, threading): src/raster/rasterizer.cpp.
-GBuffer rasterize(const Scene& scene, const Camera& camera, int width, int height,
-                  const RasterOptions& options = {});
 
 }  // namespace ts

@@ -1,4 +1,4 @@
-#include "raster/gbuffer_layout.h"
+#include "gbuffer/gbuffer_layout.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,8 @@
 #endif
 #include <Imath/half.h>
 
-#include "raster/plane_alloc.h"
+#include "gbuffer/gbuffer_codecs.h"
+#include "gbuffer/plane_alloc.h"
 #include "reference/shading_cpu.h"
 #include "util/error.h"
 #include "util/short_text.h"
@@ -23,24 +24,42 @@ constexpr size_t kFp32Element = 4 * sizeof(float);     // float4
 constexpr size_t kFp16Element = 4 * sizeof(uint16_t);  // half4
 constexpr size_t kPackedElement = sizeof(uint32_t);    // one uint (normal, diffuse, specular)
 
-// Bytes per pixel of the normal, diffuse and specular planes, and of the emissive plane.
-size_t elementBytes(GBufferFormat format) {
-  switch (format) {
-    case GBufferFormat::FP32: return kFp32Element;
-    case GBufferFormat::FP16: return kFp16Element;
-    case GBufferFormat::PACKED: return kPackedElement;
-  }
-  return kFp32Element;
+// The layouts, one row each: the build option that selects a layout's decoder in
+// kernels/gbuffer.h and the sizes of its elements. A new layout is
+//   1. its element codecs: the decoders in kernels/gbuffer_codecs.h (the kernels' and the host's
+//      one copy), the encoders in this file (host only; namespace packed shows the pattern);
+//   2. a GBufferFormat value (gbuffer_layout.h) with its name;
+//   3. a row here;
+//   4. in kernels/gbuffer.h, under the row's option, the plane element types and ts_decode_*
+//      written with those codecs; here, encode() and load/decodeStored() of the same planes;
+//   5. its bounds in docs/accuracy.md ("G-buffer precision"), checked in gbuffer_layout_test.cpp,
+//      and a test that decodes every code it stores on the device against the host (as
+//      AccuracyKnobs.PackedDecodeMatchesTheHostForEveryCode and MetallicRoughnessDecode do).
+struct LayoutRow {
+  GBufferFormat format;
+  const char* kernelDefine;  // OpenCL build option ("" = the header's default, fp32)
+  size_t elementBytes;       // per pixel of the normal, diffuse and (Blinn-Phong) specular planes
+  size_t emissiveBytes;      // per pixel of the emissive plane
+};
+constexpr LayoutRow kLayouts[] = {
+    {GBufferFormat::FP32, "", kFp32Element, kFp32Element},
+    {GBufferFormat::FP16, "-DTS_GBUFFER_FP16", kFp16Element, kFp16Element},
+    {GBufferFormat::PACKED, "-DTS_GBUFFER_PACKED", kPackedElement, kFp16Element},  // half4 HDR
+};
+
+const LayoutRow& layoutRow(GBufferFormat format) {
+  for (const LayoutRow& row : kLayouts)
+    if (row.format == format) return row;
+  throw Error("G-buffer format " + std::to_string(int(format)) + " has no layout row");
 }
-size_t emissiveBytes(GBufferFormat format) {
-  return format == GBufferFormat::FP32 ? kFp32Element : kFp16Element;  // packed: half4
-}
+size_t elementBytes(GBufferFormat format) { return layoutRow(format).elementBytes; }
+size_t emissiveBytes(GBufferFormat format) { return layoutRow(format).emissiveBytes; }
 
 // The packed layout's uint planes, one element per pixel.
 template <typename F>
 std::vector<uint8_t> encodePacked(const std::vector<glm::vec4>& plane, size_t pixels, F pack) {
   std::vector<uint8_t> out;
-  raster_detail::assignZeroed(out, pixels * kPackedElement);
+  plane_alloc::assignZeroed(out, pixels * kPackedElement);
   uint32_t* dst = reinterpret_cast<uint32_t*>(out.data());
   for (size_t i = 0; i < pixels; ++i) dst[i] = pack(plane[i]);
   return out;
@@ -50,11 +69,6 @@ uint32_t loadPacked(const std::vector<uint8_t>& plane, size_t i) {
   uint32_t v;
   std::memcpy(&v, plane.data() + i * kPackedElement, kPackedElement);
   return v;
-}
-
-glm::vec3 unorm8x3(uint32_t v) {
-  return {packed::decodeUnorm8(uint8_t(v)), packed::decodeUnorm8(uint8_t(v >> 8)),
-          packed::decodeUnorm8(uint8_t(v >> 16))};
 }
 
 uint32_t packUnorm8x4(const glm::vec4& c) {
@@ -75,9 +89,9 @@ std::vector<uint8_t> encodePlane(const std::vector<glm::vec4>& plane, size_t pix
   if (format == GBufferFormat::FP32) {
     static_assert(sizeof(glm::vec4) == kFp32Element, "glm::vec4 must be 4 packed floats");
     const uint8_t* bytes = reinterpret_cast<const uint8_t*>(plane.data());
-    raster_detail::assignRange(out, bytes, bytes + pixels * kFp32Element);
+    plane_alloc::assignRange(out, bytes, bytes + pixels * kFp32Element);
   } else {
-    raster_detail::assignZeroed(out, pixels * kFp16Element);
+    plane_alloc::assignZeroed(out, pixels * kFp16Element);
     uint16_t* dst = reinterpret_cast<uint16_t*>(out.data());
     for (size_t i = 0; i < pixels; ++i)
       for (int c = 0; c < 4; ++c)
@@ -114,19 +128,8 @@ glm::dvec3 normalizeLikeOpenCL(const glm::dvec3& v) {
 
 namespace packed {
 
-// Mirrors ts_decode_normal (kernels/gbuffer.h) operation by operation, in float.
-glm::vec3 decodeNormalUnnormalized(uint32_t v) {
-  float ex = std::fmax(float(int16_t(uint16_t(v & 0xffffu))) / 32767.0f, -1.0f);
-  float ey = std::fmax(float(int16_t(uint16_t(v >> 16))) / 32767.0f, -1.0f);
-  glm::vec3 n(ex, ey, 1.0f - std::fabs(ex) - std::fabs(ey));
-  if (n.z < 0.0f) {
-    float nx = (1.0f - std::fabs(ey)) * (ex >= 0.0f ? 1.0f : -1.0f);
-    float ny = (1.0f - std::fabs(ex)) * (ey >= 0.0f ? 1.0f : -1.0f);
-    n.x = nx;
-    n.y = ny;
-  }
-  return n;
-}
+// The decoders are the kernels' own (kernels/gbuffer_codecs.h); the encoders are host-only.
+glm::vec3 decodeNormalUnnormalized(uint32_t v) { return codecs::ts_decode_octahedral(v); }
 
 uint32_t encodeNormal(glm::vec3 n) {
   const glm::dvec3 d(n);
@@ -175,14 +178,14 @@ uint8_t encodeUnorm8(float c) {
   return uint8_t(std::floor(double(c) * 255.0 + 0.5));  // round half up, in double: exact
 }
 
-float decodeUnorm8(uint8_t b) { return float(b) / 255.0f; }
+float decodeUnorm8(uint8_t b) { return codecs::ts_decode_unorm8(b); }
 
 uint8_t encodeShininess(float s) {
   const double c = std::isnan(s) ? 1.0 : std::clamp(double(s), 1.0, 2048.0);
   return uint8_t(std::clamp(std::round(255.0 * std::log2(c) / 11.0), 0.0, 255.0));
 }
 
-float decodeShininess(uint8_t b) { return std::exp2(float(b) * (11.0f / 255.0f)); }
+float decodeShininess(uint8_t b) { return codecs::ts_decode_shininess(b); }
 
 }  // namespace packed
 
@@ -202,14 +205,7 @@ GBufferFormat parseGBufferFormat(const std::string& name) {
   throw Error("unknown G-buffer format '" + shortText(name) + "' (expected fp32, fp16 or packed)");
 }
 
-std::string gbufferKernelDefines(GBufferFormat format) {
-  switch (format) {
-    case GBufferFormat::FP32: return "";
-    case GBufferFormat::FP16: return "-DTS_GBUFFER_FP16";
-    case GBufferFormat::PACKED: return "-DTS_GBUFFER_PACKED";
-  }
-  return "";
-}
+std::string gbufferKernelDefines(GBufferFormat format) { return layoutRow(format).kernelDefine; }
 
 bool EncodedGBuffer::hasSpecularPlane() const {
   if (model == ShadingModel::MetallicRoughness) return format == GBufferFormat::PACKED;
@@ -248,14 +244,14 @@ EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format,
   e.width = gbuffer.width;
   e.height = gbuffer.height;
   const bool mr = gbuffer.model == ShadingModel::MetallicRoughness;
-  raster_detail::assignRange(e.depth, gbuffer.depth.begin(), gbuffer.depth.end());
+  plane_alloc::assignRange(e.depth, gbuffer.depth.begin(), gbuffer.depth.end());
   if (format == GBufferFormat::PACKED) {
     e.normal = encodePacked(gbuffer.normal, n,
                             [](const glm::vec4& v) { return packed::encodeNormal(glm::vec3(v)); });
     // Blinn-Phong: kd rgb (alpha 1); metallic-roughness: base rgb + metallic.
     e.diffuse = encodePacked(gbuffer.diffuse, n, packUnorm8x4);
     if (mr) {
-      raster_detail::assignZeroed(e.specular, n);
+      plane_alloc::assignZeroed(e.specular, n);
       for (size_t i = 0; i < n; ++i) e.specular[i] = packed::encodeUnorm8(gbuffer.specular[i].x);
     } else if (e.hasSpecularPlane()) {
       e.specular = encodePacked(gbuffer.specular, n, [](const glm::vec4& v) {
@@ -285,7 +281,7 @@ glm::vec4 decodeStored(const EncodedGBuffer& gbuffer, GBufferPlane plane, size_t
   // (packed); as a raster G-buffer holds it: (roughness, 0, 0, 0).
   if (mr && plane == GBufferPlane::Specular) {
     float roughness = gbuffer.format == GBufferFormat::PACKED
-                          ? packed::decodeUnorm8(gbuffer.specular[i])
+                          ? codecs::ts_decode_roughness_byte(gbuffer.specular[i])
                           : load4(gbuffer.normal, i, gbuffer.format).w;
     return glm::vec4(roughness, 0.0f, 0.0f, 0.0f);
   }
@@ -305,9 +301,10 @@ glm::vec4 decodeStored(const EncodedGBuffer& gbuffer, GBufferPlane plane, size_t
   if (plane == GBufferPlane::Emissive) return load4(bytes, i, GBufferFormat::FP16);
   const uint32_t v = loadPacked(bytes, i);
   switch (plane) {
-    case GBufferPlane::Normal: return glm::vec4(packed::decodeNormalUnnormalized(v), 0.0f);
-    case GBufferPlane::Diffuse: return glm::vec4(unorm8x3(v), packed::decodeUnorm8(uint8_t(v >> 24)));
-    default: return glm::vec4(unorm8x3(v), packed::decodeShininess(uint8_t(v >> 24)));
+    case GBufferPlane::Normal: return glm::vec4(codecs::ts_decode_octahedral(v), 0.0f);
+    case GBufferPlane::Diffuse:
+      return glm::vec4(codecs::ts_decode_unorm8x3(v), codecs::ts_decode_unorm8(v >> 24));
+    default: return glm::vec4(codecs::ts_decode_unorm8x3(v), codecs::ts_decode_shininess(v >> 24));
   }
 }
 
@@ -330,14 +327,15 @@ bool decodeSurface(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera
   const bool packedLayout = gbuffer.format == GBufferFormat::PACKED;
   glm::vec4 normal(0.0f), diffuse(0.0f), specular(0.0f, 0.0f, 0.0f, 1.0f);
   if (packedLayout) {
-    normal = glm::vec4(packed::decodeNormalUnnormalized(loadPacked(gbuffer.normal, i)), 0.0f);
+    normal = glm::vec4(codecs::ts_decode_octahedral(loadPacked(gbuffer.normal, i)), 0.0f);
     const uint32_t d = loadPacked(gbuffer.diffuse, i);
-    diffuse = glm::vec4(unorm8x3(d), packed::decodeUnorm8(uint8_t(d >> 24)));
+    diffuse = glm::vec4(codecs::ts_decode_unorm8x3(d), codecs::ts_decode_unorm8(d >> 24));
     if (gbuffer.model == ShadingModel::MetallicRoughness) {
-      specular.x = packed::decodeUnorm8(gbuffer.specular[i]);
+      specular.x = codecs::ts_decode_roughness_byte(gbuffer.specular[i]);
     } else if (gbuffer.hasSpecularPlane()) {
       const uint32_t spec = loadPacked(gbuffer.specular, i);
-      specular = glm::vec4(unorm8x3(spec), packed::decodeShininess(uint8_t(spec >> 24)));
+      specular =
+          glm::vec4(codecs::ts_decode_unorm8x3(spec), codecs::ts_decode_shininess(spec >> 24));
     }
   } else {
     normal = load4(gbuffer.normal, i, gbuffer.format);
