@@ -18,10 +18,16 @@ bin="${TILESHADE:-$(cd "$(dirname "$0")/../.." && pwd)/build/tileshade}"
 [ -x "$bin" ] || { echo "run_shards.sh: error: no tileshade binary at $bin (set TILESHADE)" >&2; exit 1; }
 mkdir -p "$out"
 # -q: the options reach tileshade as they are (a frame list such as '0;4;8' is not split by a
-# shell); --halt: the first shard that fails stops the others; --tag: each line says its shard.
-parallel -q --will-cite --halt now,fail=1 --tag -j "${JOBS:-$n}" \
-  "$bin" bench "$@" --quiet --resume --shard "{}/$n" --out "$out/shard-{}" ::: $(seq 0 $((n - 1)))
+# shell); --tag: each line says its shard. A shard with a failed configuration still writes its
+# other rows and exits 1, as one run does: every shard runs to its end, the merge follows, and
+# the script's status is then parallel's (the number of shards that failed).
+status=0
+parallel -q --will-cite --tag -j "${JOBS:-$n}" \
+  "$bin" bench "$@" --quiet --resume --shard "{}/$n" --out "$out/shard-{}" ::: $(seq 0 $((n - 1))) ||
+  status=$?
 shards=()
 for ((k = 0; k < n; k++)); do shards+=("$out/shard-$k"); done
 # The merged files are made from the shards: a rerun replaces them.
-exec "$bin" bench merge --overwrite "$out" "${shards[@]}"
+"$bin" bench merge --overwrite "$out" "${shards[@]}"
+[ "$status" -eq 0 ] || echo "run_shards.sh: error: $status shard(s) failed (reasons above); the merge holds the rows they wrote" >&2
+exit "$status"

@@ -130,7 +130,8 @@ CLI::App* addMergeCommand(CLI::App& bench, BenchMergeOptions& m) {
       "once (see bench/README.md)");
   merge->add_option("OUT", m.outDir, "output folder: bench.csv, bench.json, summary.csv")
       ->required();
-  merge->add_option("SHARD_DIR", m.shardDirs, "the shards' --out folders, in any order")->required();
+  merge->add_option("SHARD_DIR", m.shardDirs, "the shards' --out folders, in any order")
+      ->required();
   merge->add_flag("--overwrite", m.overwrite, "replace OUT's results if it has some");
   return merge;
 }
