@@ -225,6 +225,11 @@ TEST_F(BenchMerge, RefusesAShardTwiceOrMissing) {
       {"s1", "s1_again", "both shard 1/3"});
   expectOneLineError(
       [&] {
+        ts::mergeBenchShards(mergeOptions("out", {"s0", "s1", dir("s1") + "/", "s2"}));
+      },
+      {"s1 is given twice (shard 1/3)"});
+  expectOneLineError(
+      [&] {
         ts::mergeBenchShards(mergeOptions("out", {"s0", "s1"}));
       },
       {"shard 2/3 is missing", "2 of 3"});
@@ -320,6 +325,51 @@ TEST_F(BenchMerge, RefusesFoldersThatAreNotFinishedShards) {
       },
       {"s1_edited/bench.csv line 2", "technique 'brute'"});
   EXPECT_FALSE(fs::exists(dir("out")));
+}
+
+// A shard killed after some rows (bench.json's last run not finished, its last row lost) is refused
+// until --resume has finished it; then the merge equals the unsharded run again. A row of
+// bench.csv that bench.json lacks (lost between the two writes) comes back from bench.csv.
+TEST_F(BenchMerge, AShardFinishedByResumeMergesAsAnyOther) {
+  std::string d = copyOf("s1", "s1_killed");
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(d + "/bench.csv");
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+  }
+  lines.pop_back();
+  {
+    std::ofstream out(d + "/bench.csv");
+    for (const auto& l : lines) out << l << "\n";
+  }
+  json doc = json::parse(std::ifstream(d + "/bench.json"));
+  doc["runs"].back().erase("finished");
+  doc["rows"].erase(doc["rows"].begin());  // the first row now only in bench.csv
+  std::ofstream(d + "/bench.json") << doc.dump(1);
+  expectOneLineError(
+      [&] {
+        ts::mergeBenchShards(mergeOptions("out", {"s0", "s1_killed", "s2"}));
+      },
+      {"s1_killed: its run did not finish"});
+  ts::BenchOptions resume = sweepOptions(d, "1/3");
+  resume.resume = true;
+  ts::BenchRunResult r = ts::runBench(resume);
+  EXPECT_EQ(r.measuredRows, 1u);
+  ts::mergeBenchShards(mergeOptions("resumed", {"s0", "s1_killed", "s2"}));
+  json whole = json::parse(std::ifstream(dir("whole") + "/bench.json"));
+  json merged = json::parse(std::ifstream(dir("resumed") + "/bench.json"));
+  EXPECT_EQ(untimed(ts::benchColumns(), merged["rows"]),
+            untimed(ts::benchColumns(), whole["rows"]));
+  EXPECT_EQ(merged["runs"].size(), 4u);  // shard 1 ran twice
+
+  std::string lost = copyOf("s1", "s1_lost_record");
+  doc = json::parse(std::ifstream(lost + "/bench.json"));
+  doc["rows"].erase(doc["rows"].begin());
+  std::ofstream(lost + "/bench.json") << doc.dump(1);
+  ts::mergeBenchShards(mergeOptions("lost_record", {"s0", "s1_lost_record", "s2"}));
+  merged = json::parse(std::ifstream(dir("lost_record") + "/bench.json"));
+  EXPECT_EQ(untimed(ts::benchColumns(), merged["rows"]),
+            untimed(ts::benchColumns(), whole["rows"]));
 }
 
 TEST_F(BenchMerge, RefusesAnOutThatIsAFileOrAShard) {
