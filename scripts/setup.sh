@@ -11,6 +11,7 @@ PACKAGES=(
   # --raster gl: EGL + Mesa's llvmpipe (headless OpenGL without a GPU), GL loaded by libepoxy
   libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libepoxy-dev
   oclgrind  # the kernels under an OpenCL checker (CTest label oclgrind, tests/extra_tests.cmake)
+  parallel  # bench/parallel/run_shards.sh: a sweep's shards as local processes (CTest BenchShards.parallel)
   # the sanitizer build and the fuzzers of scripts/test.sh (clang's ASan/UBSan/libFuzzer runtimes,
   # llvm-symbolizer for readable reports)
   clang libclang-rt-14-dev llvm

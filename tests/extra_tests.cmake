@@ -116,3 +116,14 @@ endforeach()
 # released after the OpenCL runtime's exit handlers, an abort at exit).
 tileshade_oclgrind_test(tests.exit "--data-races ${TILESHADE_OCLGRIND_NOOPT}" $<TARGET_FILE:tileshade_tests>
   --gtest_filter=TiledSingleChunks.OnePixel*)
+
+# bench's shard recipes end to end (bench/README.md, "Sweeps beyond one process"): three shards as
+# separate processes, merged, equal one unsharded run; the GNU parallel one is skipped (77) where
+# `parallel` is absent, the Slurm array script runs as its tasks would without Slurm.
+foreach(mode parallel slurm)
+  add_test(NAME BenchShards.${mode}
+           COMMAND bash ${CMAKE_SOURCE_DIR}/tests/bench_shards_test.sh ${mode}
+                   $<TARGET_FILE:tileshade> ${CMAKE_SOURCE_DIR})
+  set_tests_properties(BenchShards.${mode} PROPERTIES SKIP_RETURN_CODE 77
+    ENVIRONMENT "TILESHADE_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
+endforeach()

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/bench_config.h"
+#include "bench/bench_merge.h"
 #include "bench/bench_run.h"
 #include "util/error.h"
 #include "util/file_read.h"
@@ -118,6 +119,30 @@ void runCommand(BenchCliState& s) {
   if (!r.failures.empty())
     throw Error(std::to_string(r.failures.size()) + " configuration(s) failed (listed above); the "
                 "others were written");
+}
+
+// `bench merge OUT SHARD_DIR…` (bench_merge.h); bench's own options do not apply to it.
+CLI::App* addMergeCommand(CLI::App& bench, BenchMergeOptions& m) {
+  CLI::App* merge = bench.add_subcommand(
+      "merge",
+      "join the output folders of the shards of one sweep (bench --shard k/n) into OUT as one "
+      "unsharded run writes it, after checking that they are every shard of the same sweep, each "
+      "once (see bench/README.md)");
+  merge->add_option("OUT", m.outDir, "output folder: bench.csv, bench.json, summary.csv")
+      ->required();
+  merge->add_option("SHARD_DIR", m.shardDirs, "the shards' --out folders, in any order")
+      ->required();
+  merge->add_flag("--overwrite", m.overwrite, "replace OUT's results if it has some");
+  return merge;
+}
+
+void runMerge(CLI::App& bench, BenchMergeOptions& m) {
+  for (const CLI::Option* opt : bench.get_options())
+    if (opt->count() && opt->get_name() != "--help")
+      throw Error("bench merge: " + opt->get_name() +
+                  " is an option of a sweep; give it to the shards' bench runs, not to merge");
+  m.command = commandLine();
+  mergeBenchShards(m);
 }
 
 }  // namespace
@@ -246,7 +271,12 @@ CliCommand addBenchCommand(CLI::App& app) {
   cmd->add_flag("--quiet", s.quiet, "no progress on stderr (failures are still reported)")->group(run);
   cmd->add_flag("--list", s.list, "print the expanded configurations (and the shard's) and exit")
       ->group(run);
-  return {cmd, [state] { runCommand(*state); }};
+  auto mergeOptions = std::make_shared<BenchMergeOptions>();
+  CLI::App* merge = addMergeCommand(*cmd, *mergeOptions);
+  return {cmd, [state, cmd, merge, mergeOptions] {
+            if (*merge) runMerge(*cmd, *mergeOptions);
+            else runCommand(*state);
+          }};
 }
 
 }  // namespace ts

@@ -61,15 +61,12 @@ std::vector<std::string> ResumeScan::describeDrops(const std::string& path) cons
   return out;
 }
 
-ResumeScan scanBenchCsv(const std::string& path,
-                        const std::map<std::string, ResumeExpectation>& expected, int warmup,
-                        int repeat) {
+std::vector<BenchCsvRecord> readBenchCsv(const std::string& path,
+                                         const std::string& otherHeaderAdvice) {
   std::istringstream in(readTextFile(path, "bench results"));
   const std::vector<std::string> columns = benchCsvColumns();
   const std::string headerLine = csvLine(columns);
-  ResumeScan scan;
-  std::map<std::pair<std::string, int>, size_t> keptAt;  // index into scan.kept
-  std::vector<bool> superseded;
+  std::vector<BenchCsvRecord> records;
   std::string line;
   bool sawHeader = false;
   for (size_t number = 1; std::getline(in, line); ++number) {
@@ -77,24 +74,44 @@ ResumeScan scanBenchCsv(const std::string& path,
     if (line.empty()) continue;
     if (!sawHeader) {
       if (line != headerLine)
-        throw Error(path + " has other columns than this version writes; resume into a new --out");
+        throw Error(path + " has other columns than this version writes; " + otherHeaderAdvice);
       sawHeader = true;
       continue;
     }
     if (line == headerLine) continue;  // `cat` of two files
+    BenchCsvRecord record;
+    record.lineNumber = number;
+    record.line = line;
     std::vector<std::string> fields;
     if (!parseCsvRecord(line, fields)) {
-      scan.drop("a quote that is not closed or is out of place", number);
-      continue;
+      record.malformed = "a quote that is not closed or is out of place";
+    } else if (fields.size() != columns.size()) {
+      record.malformed = fields.size() < columns.size()
+                             ? "fewer fields than the header (a truncated row)"
+                             : "more fields than the header";
+    } else {
+      for (size_t i = 0; i < columns.size(); ++i) record.fields[columns[i]] = fields[i];
     }
-    if (fields.size() != columns.size()) {
-      scan.drop(fields.size() < columns.size() ? "fewer fields than the header (a truncated row)"
-                                               : "more fields than the header",
-                number);
+    records.push_back(std::move(record));
+  }
+  if (in.bad()) throw Error("cannot read " + path);
+  return records;
+}
+
+ResumeScan scanBenchCsv(const std::string& path,
+                        const std::map<std::string, ResumeExpectation>& expected, int warmup,
+                        int repeat) {
+  ResumeScan scan;
+  std::map<std::pair<std::string, int>, size_t> keptAt;  // index into scan.kept
+  std::vector<bool> superseded;
+  for (BenchCsvRecord& record : readBenchCsv(path, "resume into a new --out")) {
+    const size_t number = record.lineNumber;
+    if (!record.malformed.empty()) {
+      scan.drop(record.malformed, number);
       continue;
     }
     ResumeScan::Row row;
-    for (size_t i = 0; i < columns.size(); ++i) row.fields[columns[i]] = fields[i];
+    row.fields = std::move(record.fields);
     std::string why = unusable(row.fields, expected, warmup, repeat);
     if (!why.empty()) {
       scan.drop(why, number);
@@ -102,7 +119,7 @@ ResumeScan scanBenchCsv(const std::string& path,
     }
     row.configId = row.fields.at("config_id");
     row.frame = int(std::strtol(row.fields.at("frame").c_str(), nullptr, 10));
-    row.line = line;
+    row.line = std::move(record.line);
     row.lineNumber = number;
     auto key = std::make_pair(row.configId, row.frame);
     auto old = keptAt.find(key);
@@ -115,7 +132,6 @@ ResumeScan scanBenchCsv(const std::string& path,
     scan.kept.push_back(std::move(row));
     superseded.push_back(false);
   }
-  if (in.bad()) throw Error("cannot read " + path);
   std::vector<ResumeScan::Row> kept;
   for (size_t i = 0; i < scan.kept.size(); ++i)
     if (!superseded[i]) kept.push_back(std::move(scan.kept[i]));

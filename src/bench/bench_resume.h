@@ -45,6 +45,21 @@ struct ResumeScan {
   std::vector<std::string> describeDrops(const std::string& path) const;
 };
 
+// One line of a bench.csv after its header, as a record of benchCsvColumns() or why it is not one
+// (readBenchCsv): the reading that --resume and `bench merge` share.
+struct BenchCsvRecord {
+  size_t lineNumber = 0;                      // 1-based
+  std::string line;                           // as it was in the file
+  std::map<std::string, std::string> fields;  // column -> value; empty when malformed
+  std::string malformed;                      // "" or why the line is not a record of the header
+};
+
+// Reads `path`, whose header must be benchCsvColumns() (else a ts::Error: another version's or
+// another tool's file, ending with `otherHeaderAdvice`), and returns its other non-empty lines in
+// file order (a repeated header, from `cat` of two files, is skipped).
+std::vector<BenchCsvRecord> readBenchCsv(const std::string& path,
+                                         const std::string& otherHeaderAdvice);
+
 // Reads `path`, whose header must be benchCsvColumns() (else a ts::Error: another version's or
 // another tool's file is not resumed at all). Rows whose config_id is not in `expected` belong
 // to another sweep or shard.

@@ -16,6 +16,7 @@
 #include "bench/bench_measure.h"
 #include "bench/bench_resume.h"
 #include "bench/bench_stats.h"
+#include "bench/bench_sweep_record.h"
 #include "bench/progress.h"
 #include "cl/cl_context.h"
 #include "reference/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
@@ -95,6 +96,7 @@ class BenchRunner {
   const BenchOptions& o_;
   const std::string csvPath_, jsonPath_, summaryPath_;
   BenchRunResult result_;
+  json sweep_;  // what identifies the sweep (bench_sweep_record.h)
   std::vector<BenchEntry> entries_;
   bool csvExists_ = false;
   std::map<std::string, std::unique_ptr<ClContext>> contexts_;  // by device spec
@@ -114,6 +116,9 @@ class BenchRunner {
 void BenchRunner::selectConfigurations() {
   std::vector<BenchConfig> configs = expandSweep(o_.sweep);
   result_.configurations = configs.size();
+  sweep_ =
+      sweepRecord(o_.sweep, configs,
+                  {o_.frames.text, o_.warmup, o_.repeat, o_.error, o_.errorFrames, o_.calibrate});
   for (size_t i = 0; i < configs.size(); ++i)
     if (o_.shard.selects(i)) {
       BenchEntry e;
@@ -265,6 +270,7 @@ void BenchRunner::startFiles() {
           {"error", o_.error},
           {"error_frames", o_.errorFrames},
           {"shard", std::to_string(o_.shard.index) + "/" + std::to_string(o_.shard.count)},
+          {"sweep", sweep_},
           {"shade_flops",
            {{"blinn-phong", TS_SHADE_FLOPS_BLINN_PHONG},
             {"metallic-roughness", TS_SHADE_FLOPS_METALLIC_ROUGHNESS}}},
