@@ -714,8 +714,7 @@ BenchRunResult runBench(const BenchOptions& o) {
         auto cal = calibrations.find(e->config.device);
         e->calibration = cal == calibrations.end() ? nullptr : &cal->second;
         double before = cl.compileMs();
-        TechniqueConfig tc = e->config.techniqueConfig();
-        tc.features = scene.features(e->config);
+        TechniqueConfig tc = e->config.techniqueConfig(scene.features(e->config));
         e->features = tc.features;
         e->technique = createTechnique(e->config.technique, cl, tc);
         e->kernelOptions = tc.kernelOptions();
@@ -771,8 +770,7 @@ BenchRunResult runBench(const BenchOptions& o) {
         try {
           ClContext& cl = *e->cl;
           const EncodedGBuffer& enc = encoded(e->config.format, e->features);
-          TechniqueConfig tc = e->config.techniqueConfig();
-          tc.features = e->features;
+          TechniqueConfig tc = e->config.techniqueConfig(e->features);
           auto upload = [&] {
             return DeviceFrame::upload(cl, enc, prepared.intrinsics, prepared.lights, prepared.ambient);
           };
@@ -806,11 +804,11 @@ BenchRunResult runBench(const BenchOptions& o) {
           const ReferenceImage* reference = nullptr;
           if (e->errorFrames.count(f)) {
             // The stored values decide the reference; the features' planes do not change them.
-            std::pair<int, int> key{int(e->config.format), tc.shadingModel};
+            std::pair<int, int> key{int(e->config.format), int(tc.rangeModel)};
             auto it = references.find(key);
             if (it == references.end())
               it = references.emplace(key, shadeReference(enc, prepared.intrinsics, prepared.lights,
-                                                          prepared.ambient, tc.shadingModel)).first;
+                                                          prepared.ambient, int(tc.rangeModel))).first;
             reference = &it->second;
             errorStored = compareToReference(m.r.image, *reference, kTolerance * reference->peak);
             // The same values with the kernels' float positions: the shading arithmetic alone.
@@ -818,13 +816,13 @@ BenchRunResult runBench(const BenchOptions& o) {
             if (shading == shadingReferences.end())
               shading = shadingReferences.emplace(key, shadeReference(enc, prepared.intrinsics,
                                                       prepared.lights, prepared.ambient,
-                                                      tc.shadingModel, 0, {},
+                                                      int(tc.rangeModel), 0, {},
                                                       ReferencePositions::KernelFloat)).first;
             errorShading = compareToReference(m.r.image, shading->second,
                                               kTolerance * shading->second.peak);
             // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
             bool same = e->config.format == GBufferFormat::FP32 &&
-                        e->config.lightThreshold <= 0.0f && tc.shadingModel == TS_MODEL_WINDOWED;
+                        e->config.lightThreshold <= 0.0f && tc.rangeModel == RangeModel::Windowed;
             const ReferenceImage& truth = same ? *reference : sceneRef();
             error = compareToReference(m.r.image, truth, kTolerance * truth.peak);
           }
