@@ -1,14 +1,21 @@
 // The knobs' name tables (util/enum_names.h): every value reads back from its name, an unknown
 // name is one line listing the known ones, and `render`, `bench` and `check` --help list exactly
-// the table's names; PipelineOptions makes the TechniqueConfig.
+// the table's names; PipelineOptions makes the TechniqueConfig; bench sweeps --depth-split.
 #include <gtest/gtest.h>
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <sstream>
 
+#include "bench/bench_cli.h"
 #include "bench/bench_config.h"
+#include "bench/bench_resume.h"
+#include "bench/bench_run.h"
+#include "bench/bench_stats.h"
 #include "raster/gbuffer_layout.h"
 #include "raster/raster_backend.h"
 #include "render/render_job.h"
@@ -142,6 +149,7 @@ TEST(ConfigCli, HelpListsTheTablesNames) {
   expectHelpLists(bench.output, "--gbuffer", gbufferFormatNames(), false);
   expectHelpLists(bench.output, "--raster", rasterBackendNames(), false);
   expectHelpLists(bench.output, "--shading-model", shadingModelNames(), false);
+  expectHelpLists(bench.output, "--depth-split", switchNames(), false);
 
   const test::CliRun check = test::runTileshade("check --help");
   ASSERT_EQ(check.status, 0) << check.output;
@@ -204,6 +212,70 @@ TEST(PipelineOptions, MakesTheTechniqueConfigAndSceneOptions) {
   EXPECT_EQ(s.lightCount, 12);
   EXPECT_EQ(s.lightRange, 2.5f);
   EXPECT_EQ(s.variant, "spot");
+}
+
+TEST(BenchDepthSplit, SweepGivesTwoConfigurationsWithOtherKernels) {
+  BenchSweep sweep;
+  sweep.set("depth_split", {"false,true"});
+  const std::vector<BenchConfig> configs = expandSweep(sweep);
+  ASSERT_EQ(configs.size(), 2u);
+  EXPECT_FALSE(configs[0].depthSplit);
+  EXPECT_TRUE(configs[1].depthSplit);
+  EXPECT_NE(configs[0].key(), configs[1].key());
+  EXPECT_NE(configs[0].id(), configs[1].id());
+  const SceneFeatures features = SceneFeatures::general(ShadingModel::BlinnPhong);
+  const std::string off = configs[0].techniqueConfig(features).kernelOptions();
+  const std::string on = configs[1].techniqueConfig(features).kernelOptions();
+  EXPECT_EQ(off.find("-DTS_DEPTH_SPLIT"), std::string::npos) << off;
+  EXPECT_NE(on.find("-DTS_DEPTH_SPLIT=1"), std::string::npos) << on;
+  // Off is the default: its key (so the id of every earlier sweep's configuration) is the one
+  // written before the dimension existed.
+  EXPECT_EQ(configs[0].key(), BenchConfig{}.key());
+  EXPECT_EQ(configs[0].key().find("depth_split"), std::string::npos) << configs[0].key();
+  EXPECT_NE(configs[1].key().find("depth_split=true"), std::string::npos) << configs[1].key();
+  // Its column: between culling and math, the others in their order.
+  const std::vector<std::string> columns = benchCsvColumns();
+  auto at = [&](const char* name) {
+    return std::find(columns.begin(), columns.end(), name) - columns.begin();
+  };
+  EXPECT_EQ(at("depth_split"), at("culling") + 1);
+  EXPECT_EQ(at("math"), at("depth_split") + 1);
+}
+
+TEST(BenchDepthSplit, ConfigFileTakesBooleansAndOptionRefusesOtherValues) {
+  BenchOptions o;
+  applyBenchConfig(R"({"depth_split": [false, true]})", "test", o,
+                   [](const std::string&) { return false; });
+  EXPECT_EQ(expandSweep(o.sweep).size(), 2u);
+  BenchSweep bad;
+  bad.set("depth_split", {"maybe"});
+  try {
+    expandSweep(bad);
+    ADD_FAILURE() << "no ts::Error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "--depth-split: expected one of false, true, got 'maybe'");
+  }
+}
+
+// A bench.csv of the version before the column is not resumed: one clear line, as for any file
+// with other columns.
+TEST(BenchDepthSplit, ResumeOfAFileWithoutTheColumnIsOneClearError) {
+  const fs::path dir = fs::temp_directory_path() /
+                       ("tileshade_depth_split_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::vector<std::string> old = benchCsvColumns();
+  old.erase(std::find(old.begin(), old.end(), "depth_split"));
+  const std::string path = (dir / "bench.csv").string();
+  std::ofstream(path) << csvLine(old) << "\n";
+  try {
+    scanBenchCsv(path, {}, 1, 1);
+    ADD_FAILURE() << "no ts::Error";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    EXPECT_NE(m.find("other columns"), std::string::npos) << m;
+  }
+  fs::remove_all(dir);
 }
 
 }  // namespace

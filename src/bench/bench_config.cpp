@@ -174,6 +174,13 @@ std::vector<BenchDimension> makeDimensions() {
         c.culling = cullTestNames().parseOption("--culling", v);
       },
       [](const BenchConfig& c) { return toString(c.culling); });
+  add("depth_split", "tiles: split each tile's depth range at its middle and cull against both "
+      "halves: " + switchNames().list(), false,
+      [](BenchConfig& c, const std::string& v) {
+        c.depthSplit = switchNames().parseOption("--depth-split", v);
+      },
+      [](const BenchConfig& c) { return std::string(switchNames().name(c.depthSplit)); });
+  d.back().keyedOffDefault = true;  // added after bench.csv files existed
   add("math", "shading arithmetic: " + mathModeNames().list(), false,
       [](BenchConfig& c, const std::string& v) { c.math = mathModeNames().parseOption("--math", v); },
       [](const BenchConfig& c) { return toString(c.math); });
@@ -231,7 +238,11 @@ void BenchSweep::set(const std::string& dimension, std::vector<std::string> list
 
 std::string BenchConfig::key() const {
   std::string k;
-  for (const auto& d : benchDimensions()) k += (k.empty() ? "" : ";") + d.name + "=" + d.get(*this);
+  for (const auto& d : benchDimensions()) {
+    const std::string value = d.get(*this);
+    if (d.keyedOffDefault && value == d.defaultValue) continue;
+    k += (k.empty() ? "" : ";") + d.name + "=" + value;
+  }
   return k;
 }
 

@@ -36,6 +36,9 @@ struct BenchDimension {
   std::string help;
   std::string defaultValue;  // canonical string of BenchConfig's default
   bool affectsFrame = false; // part of frameKey()
+  // A dimension added after bench.csv files were written: in key() (so in id()) only at a value
+  // other than its default, so that the configurations of earlier sweeps keep their ids.
+  bool keyedOffDefault = false;
   // Parses and validates a value into the config; throws ts::Error with one clear line.
   std::function<void(BenchConfig&, const std::string&)> set;
   // Canonical string of the config's value (what set() accepts).
