@@ -149,7 +149,7 @@ void runRender(const RenderOptions& options) {
                                       ? prepared.encoded
                                       : encode(prepared.gbuffer, GBufferFormat::FP32);
       physical = shadeReference(fp32, prepared.intrinsics, prepared.lights, prepared.ambient,
-                                TS_MODEL_PHYSICAL, 0, progress.pass("physical model"));
+                                int(RangeModel::Physical), 0, progress.pass("physical model"));
     });
   }
 
