@@ -34,11 +34,12 @@ struct TechniqueConfig {
                                 // frame's entries (off: start small and grow, as tests do)
   int localListCapacity = 256;  // tiled-single: lights its local-memory list holds before it
                                 // shades a chunk (raised to the work-group size if smaller)
-  RangeModel rangeModel = RangeModel::Windowed;
-  CullTest culling = CullTest::Rect;
+  // The knobs with named values (technique_knobs.h: meaning, kernel constant, name table).
+  RangeModel rangeModel = RangeModel::Windowed;  // TS_MODEL
+  CullTest culling = CullTest::Rect;             // TS_CULL: the per-tile test
   bool depthSplit = false;  // tiles: split the depth range at its middle (TS_DEPTH_SPLIT, tiled.cl)
-  SpotCulling spotCulling = SpotCulling::Cone;
-  MathMode math = MathMode::Precise;
+  SpotCulling spotCulling = SpotCulling::Cone;   // TS_SPOT_CULL
+  MathMode math = MathMode::Precise;             // shading arithmetic
   std::string buildOptions;  // extra OpenCL build options (e.g. -cl-fast-relaxed-math)
   // Pixels shaded together against each light (kernels/lanes.h): 0 = auto (createTechnique resolves
   // it: on CPU devices 16 for tiled, tiled-single, clustered and brute, 1 for the rest; 1 on
