@@ -64,7 +64,11 @@ int main(int argc, char** argv) {
 
   // render
   ts::RenderOptions render;
-  std::string tile = "16", format = "fp32";
+  // Knobs with a name table arrive as text and are parsed through it after the command line.
+  std::string tile = "16", format = ts::toString(render.format),
+              raster = ts::toString(render.raster), culling = ts::toString(render.culling),
+              spotCulling = ts::toString(render.spotCulling), math = ts::toString(render.math),
+              lanes = ts::lanesName(render.lanes);
   auto* renderCmd = app.add_subcommand("render", "render one frame with one or more techniques");
   auto* sceneOpt =
       renderCmd->add_option("--scene", render.scene, "builtin:street, builtin:atrium, or a .gltf/.glb path")
@@ -83,7 +87,7 @@ int main(int argc, char** argv) {
                             joined(ts::builtinVariants()) + " (scenes/README.md)");
   renderCmd->add_option("--shading-model", render.shadingModel,
                         "auto (the scene's own: metallic-roughness for glTF, blinn-phong for the "
-                        "built-ins), blinn-phong or metallic-roughness")
+                        "built-ins), " + ts::shadingModelNames().list())
       ->capture_default_str();
   renderCmd->add_option("--features", render.features,
                         "what the kernels and the G-buffer model: auto (what the scene needs), "
@@ -95,26 +99,18 @@ int main(int argc, char** argv) {
                         "0.01953125 (5/256); 0 keeps the scene's ranges (finite, >= 0)")
       ->capture_default_str()
       ->check(typedNumber(ts::NumberRule::AtLeastZero));
-  renderCmd->add_option("--culling", render.culling,
-                        "per-tile light test: rect (projected sphere + depth range), frustum "
-                        "(+ tile side planes), aabb (+ tile box)")
+  renderCmd->add_option("--culling", culling, "per-tile light test: " + ts::cullTestNames().help())
       ->capture_default_str();
-  renderCmd->add_option("--spot-culling", render.spotCulling,
-                        "spot lights culled as: cone (their cone: rectangle, depth extent and "
-                        "per-tile cone test), bound-sphere (the cone's bounding sphere), "
-                        "range-sphere (as a point light)")
+  renderCmd->add_option("--spot-culling", spotCulling,
+                        "spot lights culled as: " + ts::spotCullingNames().help())
       ->capture_default_str();
   renderCmd->add_flag("--depth-split", render.depthSplit,
                       "tiled: split each tile's depth range at its middle and cull against both "
                       "halves (fewer lights at depth discontinuities; docs/techniques.md)");
-  renderCmd->add_option("--math", render.math,
-                        "shading arithmetic: precise, fast (-cl-fast-relaxed-math), native "
-                        "(native_ functions)")
+  renderCmd->add_option("--math", math, "shading arithmetic: " + ts::mathModeNames().help())
       ->capture_default_str();
-  renderCmd->add_option("--lanes", render.lanes,
-                        "pixels shaded together per light: auto (on CPU devices 16 for tiled, "
-                        "tiled-single, clustered and brute, else 1), 1 (one work-item per pixel), "
-                        "2, 4, 8, 16 (vectors)")
+  renderCmd->add_option("--lanes", lanes,
+                        "pixels shaded together per light: " + ts::laneNames().help())
       ->capture_default_str();
   renderCmd->add_option("--seed", render.seed, "seed of the built-in scenes")->capture_default_str();
   renderCmd->add_option("--technique", render.techniques,
@@ -124,9 +120,7 @@ int main(int argc, char** argv) {
   renderCmd->add_option("--slices", render.clusterSlices, "depth slices of clustered shading")
       ->capture_default_str();
   auto* rasterOpt = renderCmd->add_option(
-      "--raster", render.raster,
-      "rasterizer of the G-buffer: software, or gl (OpenGL through a headless EGL context: a GPU's "
-      "driver, else Mesa's llvmpipe; docs/opengl.md)")
+      "--raster", raster, "rasterizer of the G-buffer: " + ts::rasterBackendNames().help())
       ->capture_default_str();
   auto* gbufferInOpt = renderCmd->add_option(
       "--gbuffer-in", render.gbufferIn,
@@ -135,8 +129,8 @@ int main(int argc, char** argv) {
       "camera, lights and shading model come from the files (the options that set them are "
       "refused), the layout too unless --gbuffer is given");
   auto* gbufferOpt = renderCmd->add_option("--gbuffer", format,
-                        "G-buffer precision: fp32, fp16 or packed (octahedral normals, unorm8 "
-                        "colours; see docs/accuracy.md)")
+                        "G-buffer precision: " + ts::gbufferFormatNames().help() +
+                            "; see docs/accuracy.md")
       ->capture_default_str();
   renderCmd->add_option("--width", render.width, "image width")->capture_default_str();
   renderCmd->add_option("--height", render.height, "image height")->capture_default_str();
@@ -202,7 +196,12 @@ int main(int argc, char** argv) {
       auto [tw, th] = ts::parseTileSize(tile);
       render.tileWidth = tw;
       render.tileHeight = th;
-      render.format = ts::parseGBufferFormat(format);
+      render.format = ts::gbufferFormatNames().parseOption("--gbuffer", format);
+      render.raster = ts::rasterBackendNames().parseOption("--raster", raster);
+      render.culling = ts::cullTestNames().parseOption("--culling", culling);
+      render.spotCulling = ts::spotCullingNames().parseOption("--spot-culling", spotCulling);
+      render.math = ts::mathModeNames().parseOption("--math", math);
+      render.lanes = ts::laneNames().parseOption("--lanes", lanes);
       render.keepInputLayout = gbufferOpt->count() == 0;
       ts::runRender(render);
     } else if (*bench.command) {

@@ -36,8 +36,8 @@ constexpr double kNativeMathBound = 1e-3;
 
 struct Knobs {
   GBufferFormat format = GBufferFormat::FP32;
-  int culling = TS_CULL_RECT;
-  std::string math = "precise";
+  CullTest culling = CullTest::Rect;
+  MathMode math = MathMode::Precise;
   int tile = 16;
   std::string technique = "tiled";
   int slices = 16;
@@ -81,18 +81,18 @@ TEST(AccuracyKnobs, CullingTestNeverChangesTheImage) {
     PreparedFrame f = prepareFrame(scene(name, lights), 20, kWidth, kHeight, GBufferFormat::FP32);
     ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
     FrameResult rect = renderTiled(f, {});
-    for (int mode : {TS_CULL_FRUSTUM, TS_CULL_AABB}) {
+    for (CullTest mode : {CullTest::Frustum, CullTest::Aabb}) {
       Knobs k;
       k.culling = mode;
       FrameResult r = renderTiled(f, k, true);
       EXPECT_EQ(countMissedContributions(*r.assignment, f.encoded, f.intrinsics, f.lights, 0), 0u)
-          << name << " " << cullingName(mode);
+          << name << " " << toString(mode);
       double maxDiff = 0.0;
       for (size_t i = 0; i < r.image.size(); ++i)
         for (int c = 0; c < 3; ++c)
           maxDiff = std::max(maxDiff, double(std::abs(r.image[i][c] - rect.image[i][c])));
-      RecordProperty(std::string(name) + "_" + cullingName(mode), sci(maxDiff / ref.peak));
-      EXPECT_LE(maxDiff, kExact * ref.peak) << name << " " << cullingName(mode);
+      RecordProperty(std::string(name) + "_" + toString(mode), sci(maxDiff / ref.peak));
+      EXPECT_LE(maxDiff, kExact * ref.peak) << name << " " << toString(mode);
       EXPECT_LE(r.counters.lightingComputations, rect.counters.lightingComputations);
     }
   }
@@ -254,14 +254,12 @@ TEST(AccuracyKnobs, RelaxedArithmeticWithinItsBound) {
   for (const auto& [math, bound] : {std::pair{"fast", kFastMathBound},
                                     std::pair{"native", kNativeMathBound}}) {
     Knobs k;
-    k.math = math;
+    k.math = mathModeNames().parse(math);
     double e = compareToReference(renderTiled(f, k).image, ref, 0.0).maxRelPeak;
     RecordProperty(math, sci(e));
     EXPECT_LE(e, bound) << math;
   }
-  Knobs bad;
-  bad.math = "sloppy";
-  EXPECT_THROW(renderTiled(f, bad), Error);
+  EXPECT_THROW(mathModeNames().parse("sloppy"), Error);
 }
 
 // The same bounds on every built-in scene, light set and variant, each in its own model and
@@ -287,7 +285,7 @@ TEST(AccuracyKnobs, RelaxedArithmeticWithinItsBoundOnEveryBuiltin) {
                                           std::pair{"native", kNativeMathBound}}) {
           TechniqueConfig config;
           config.features = features;
-          config.math = math;
+          config.math = mathModeNames().parse(math);
           const FrameResult r = test::renderOnly(f, test::cachedTechnique("tiled", config), false);
           const double e = compareToReference(r.image, ref, 0.0).maxRelPeak;
           worst[math] = std::max(worst[math], e);

@@ -30,7 +30,7 @@ using test::renderAndCheck;
 using test::renderOnly;
 
 Technique& technique(const std::string& name, GBufferFormat format, int tile, int slices,
-                     int culling = 0) {
+                     CullTest culling = CullTest::Rect) {
   TechniqueConfig config;
   config.format = format;
   config.tileWidth = config.tileHeight = tile;
@@ -100,12 +100,12 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(ClusteredCulling, FrustumAndBoxTestsStayConservative) {
   PreparedFrame f = prepareFrame(builtinScene("street", "many"), 0, 200, 120, GBufferFormat::FP32);
   uint64_t rectEvaluations = 0;
-  for (int culling : {0, 1, 2}) {
+  for (CullTest culling : {CullTest::Rect, CullTest::Frustum, CullTest::Aabb}) {
     Checked c = renderAndCheck(f, technique("clustered", GBufferFormat::FP32, 16, 16, culling));
-    EXPECT_EQ(c.missed, 0u) << "culling " << culling;
-    EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << "culling " << culling;
-    if (culling == 0) rectEvaluations = c.result.counters.evaluations;
-    else EXPECT_LE(c.result.counters.evaluations, rectEvaluations) << "culling " << culling;
+    EXPECT_EQ(c.missed, 0u) << "culling " << toString(culling);
+    EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << "culling " << toString(culling);
+    if (culling == CullTest::Rect) rectEvaluations = c.result.counters.evaluations;
+    else EXPECT_LE(c.result.counters.evaluations, rectEvaluations) << "culling " << toString(culling);
   }
 }
 

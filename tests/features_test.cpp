@@ -315,7 +315,7 @@ TEST(SpotCulling, ConesAroundTheCameraMissNothing) {
         for (const char* cull : {"cone", "bound-sphere"}) {
           TechniqueConfig config;
           config.features = need;
-          config.spotCulling = parseSpotCulling(cull);
+          config.spotCulling = spotCullingNames().parse(cull);
           config.tileWidth = config.tileHeight = 8;
           Checked c = renderAndCheck(f, test::cachedTechnique(technique, config), ref);
           EXPECT_EQ(c.missed, 0u) << name << " camera " << cam << " " << technique << " " << cull;
@@ -337,7 +337,7 @@ TEST(SpotCulling, ConesCullMoreThanSpheres) {
   for (const char* cull : {"cone", "bound-sphere", "range-sphere"}) {
     TechniqueConfig config;
     config.features = need;
-    config.spotCulling = parseSpotCulling(cull);
+    config.spotCulling = spotCullingNames().parse(cull);
     Checked c = renderAndCheck(f, test::cachedTechnique("tiled", config));
     EXPECT_EQ(c.missed, 0u) << cull;
     EXPECT_GT(c.result.counters.lightingComputations, previous) << cull;

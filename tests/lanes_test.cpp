@@ -39,11 +39,11 @@ FrameResult render(const PreparedFrame& f, const std::string& technique, Techniq
 TEST(Lanes, EveryWidthGivesThePerPixelImage) {
   PreparedFrame f = prepareFrame(test::builtinScene("street", "many"), 20, 150, 90,
                                  GBufferFormat::FP32);
-  for (int model : {0, 1}) {
+  for (RangeModel model : {RangeModel::Windowed, RangeModel::Physical}) {
     TechniqueConfig config;
     config.tileWidth = 10;
     config.tileHeight = 6;
-    config.shadingModel = model;
+    config.rangeModel = model;
     for (const auto& name : techniqueNames()) {
       FrameResult one = render(f, name, config, 1);
       ASSERT_TRUE(allFinite(one.image)) << name;
@@ -53,11 +53,11 @@ TEST(Lanes, EveryWidthGivesThePerPixelImage) {
         EXPECT_TRUE(allFinite(many.image)) << name << " lanes " << lanes;
         // Each lane does the per-pixel arithmetic; only the compiler's choices may differ.
         EXPECT_LE(relativeDifference(one.image, many.image), 1e-6)
-            << name << " lanes " << lanes << " model " << model;
+            << name << " lanes " << lanes << " model " << toString(model);
         EXPECT_EQ(many.counters.evaluations, one.counters.evaluations) << name;
         if (used == 1) break;  // no lanes path: the other widths run the same kernels
         EXPECT_EQ(used, lanes) << name;
-        if (model == 1) break;
+        if (model == RangeModel::Physical) break;
       }
     }
   }

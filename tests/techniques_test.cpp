@@ -111,11 +111,11 @@ TEST(TechniqueConfig, EveryFieldChangesTheKey) {
       {"clusterSlices", [](TechniqueConfig& c) { c.clusterSlices = 32; }},
       {"presizeLists", [](TechniqueConfig& c) { c.presizeLists = false; }},
       {"localListCapacity", [](TechniqueConfig& c) { c.localListCapacity = 64; }},
-      {"shadingModel", [](TechniqueConfig& c) { c.shadingModel = 1; }},
-      {"culling", [](TechniqueConfig& c) { c.culling = 2; }},
+      {"rangeModel", [](TechniqueConfig& c) { c.rangeModel = RangeModel::Physical; }},
+      {"culling", [](TechniqueConfig& c) { c.culling = CullTest::Aabb; }},
       {"depthSplit", [](TechniqueConfig& c) { c.depthSplit = true; }},
-      {"spotCulling", [](TechniqueConfig& c) { c.spotCulling = 1; }},
-      {"math", [](TechniqueConfig& c) { c.math = "fast"; }},
+      {"spotCulling", [](TechniqueConfig& c) { c.spotCulling = SpotCulling::BoundSphere; }},
+      {"math", [](TechniqueConfig& c) { c.math = MathMode::Fast; }},
       {"buildOptions", [](TechniqueConfig& c) { c.buildOptions = "-cl-opt-disable"; }},
       {"lanes", [](TechniqueConfig& c) { c.lanes = 4; }},
   };
@@ -167,15 +167,16 @@ TEST(TiledSingle, SameTileListsAsMultiKernelTiled) {
   DeviceFrame frame = f.upload(test::context());
   FrameRequest request;
   request.wantAssignment = true;
-  for (auto [culling, tile] : {std::pair{0, 16}, std::pair{1, 16}, std::pair{2, 16},
-                               std::pair{0, 32}}) {
+  for (auto [culling, tile] :
+       {std::pair{CullTest::Rect, 16}, std::pair{CullTest::Frustum, 16},
+        std::pair{CullTest::Aabb, 16}, std::pair{CullTest::Rect, 32}}) {
     TechniqueConfig config;
     config.culling = culling;
     config.tileWidth = config.tileHeight = tile;
     FrameResult a = createTechnique("tiled", test::context(), config)->render(frame, request);
     FrameResult b = createTechnique("tiled-single", test::context(), config)->render(frame, request);
     EXPECT_EQ(tileLists(*a.assignment), tileLists(*b.assignment))
-        << cullingName(culling) << " tile " << tile;
+        << toString(culling) << " tile " << tile;
     EXPECT_EQ(a.counters.lightingComputations, b.counters.lightingComputations);
     EXPECT_GT(a.counters.lightingComputations, 0u);
   }

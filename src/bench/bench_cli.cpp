@@ -53,13 +53,14 @@ std::vector<std::string> jsonValues(const std::string& key, const nlohmann::json
   std::vector<std::string> out;
   auto one = [&](const nlohmann::json& x) {
     if (x.is_string()) out.push_back(x.get<std::string>());
+    else if (x.is_boolean()) out.push_back(switchNames().name(x.get<bool>()));  // depth_split
     else if (x.is_number_integer()) out.push_back(std::to_string(x.get<long long>()));
     else if (x.is_number()) {
       std::ostringstream s;
       s << x.get<double>();
       out.push_back(s.str());
     } else {
-      throw Error("bench config: '" + shortText(key) + "' expects strings or numbers, got " +
+      throw Error("bench config: '" + shortText(key) + "' expects strings, numbers or booleans, got " +
                   shortText(x.dump()));
     }
   };

@@ -71,9 +71,12 @@ std::vector<BenchDimension> makeDimensions() {
         c.scene = s;
       },
       [](const BenchConfig& c) { return c.scene; });
-  add("raster", "rasterizer(s) of the G-buffer: software, gl (OpenGL; docs/opengl.md)", true,
-      [](BenchConfig& c, const std::string& v) { c.raster = oneOf("--raster", v, {"software", "gl"}); },
-      [](const BenchConfig& c) { return c.raster; });
+  add("raster", "rasterizer(s) of the G-buffer: " + rasterBackendNames().list() +
+      " (OpenGL; docs/opengl.md)", true,
+      [](BenchConfig& c, const std::string& v) {
+        c.raster = rasterBackendNames().parseOption("--raster", v);
+      },
+      [](const BenchConfig& c) { return toString(c.raster); });
   add("variant", "built-in scene variant(s), each a '+' list of " + joinedVariants() +
       " (none: the scene as designed)", true,
       [](BenchConfig& c, const std::string& v) {
@@ -88,10 +91,12 @@ std::vector<BenchDimension> makeDimensions() {
         std::replace(s.begin(), s.end(), ',', '+');
         return s;
       });
-  add("shading_model", "shading model(s): auto (the scene's own), blinn-phong, metallic-roughness",
+  add("shading_model", "shading model(s): auto (the scene's own), " + shadingModelNames().list(),
       true,
       [](BenchConfig& c, const std::string& v) {
-        c.shadingModel = oneOf("--shading-model", v, {"auto", "blinn-phong", "metallic-roughness"});
+        std::vector<std::string> known{"auto"};
+        for (const auto& name : shadingModelNames().names()) known.push_back(name);
+        c.shadingModel = oneOf("--shading-model", v, known);
       },
       [](const BenchConfig& c) { return c.shadingModel; });
   add("light_set", "light set(s) (street: many, few; atrium: small, big, mixed); default: the scene's",
@@ -127,9 +132,9 @@ std::vector<BenchDimension> makeDimensions() {
         c.height = h;
       },
       [](const BenchConfig& c) { return std::to_string(c.width) + "x" + std::to_string(c.height); });
-  add("gbuffer", "G-buffer precision(s): fp32, fp16, packed", false,
+  add("gbuffer", "G-buffer precision(s): " + gbufferFormatNames().list(), false,
       [](BenchConfig& c, const std::string& v) {
-        c.format = parseGBufferFormat(oneOf("--gbuffer", v, {"fp32", "fp16", "packed"}));
+        c.format = gbufferFormatNames().parseOption("--gbuffer", v);
       },
       [](const BenchConfig& c) { return toString(c.format); });
   add("features", "what the kernels and the G-buffer model: auto (the scene's needs), general, or "
@@ -159,22 +164,31 @@ std::vector<BenchDimension> makeDimensions() {
       [](const BenchConfig& c) {
         return std::to_string(c.tileWidth) + "x" + std::to_string(c.tileHeight);
       });
-  add("spot_culling", "spot lights culled as: cone, bound-sphere, range-sphere", false,
+  add("spot_culling", "spot lights culled as: " + spotCullingNames().list(), false,
       [](BenchConfig& c, const std::string& v) {
-        c.spotCulling = oneOf("--spot-culling", v, {"cone", "bound-sphere", "range-sphere"});
+        c.spotCulling = spotCullingNames().parseOption("--spot-culling", v);
       },
-      [](const BenchConfig& c) { return c.spotCulling; });
-  add("culling", "per-tile light test(s): rect, frustum, aabb", false,
-      [](BenchConfig& c, const std::string& v) { c.culling = oneOf("--culling", v, {"rect", "frustum", "aabb"}); },
-      [](const BenchConfig& c) { return c.culling; });
-  add("math", "shading arithmetic: precise, fast, native", false,
-      [](BenchConfig& c, const std::string& v) { c.math = oneOf("--math", v, {"precise", "fast", "native"}); },
-      [](const BenchConfig& c) { return c.math; });
+      [](const BenchConfig& c) { return toString(c.spotCulling); });
+  add("culling", "per-tile light test(s): " + cullTestNames().list(), false,
+      [](BenchConfig& c, const std::string& v) {
+        c.culling = cullTestNames().parseOption("--culling", v);
+      },
+      [](const BenchConfig& c) { return toString(c.culling); });
+  add("depth_split", "tiles: split each tile's depth range at its middle and cull against both "
+      "halves: " + switchNames().list(), false,
+      [](BenchConfig& c, const std::string& v) {
+        c.depthSplit = switchNames().parseOption("--depth-split", v);
+      },
+      [](const BenchConfig& c) { return std::string(switchNames().name(c.depthSplit)); });
+  d.back().keyedOffDefault = true;  // added after bench.csv files existed
+  add("math", "shading arithmetic: " + mathModeNames().list(), false,
+      [](BenchConfig& c, const std::string& v) { c.math = mathModeNames().parseOption("--math", v); },
+      [](const BenchConfig& c) { return toString(c.math); });
   add("slices", "depth slices of clustered shading", false,
       [](BenchConfig& c, const std::string& v) { c.clusterSlices = int(parseInteger("--slices", v, 1, kMaxClusterSlices)); },
       [](const BenchConfig& c) { return std::to_string(c.clusterSlices); });
-  add("lanes", "pixels shaded together per light: auto (on CPU devices 16 for tiled, tiled-single, clustered and brute, else 1), 1, 2, 4, 8, 16", false,
-      [](BenchConfig& c, const std::string& v) { c.lanes = parseLanes(trimmed(v)); },
+  add("lanes", "pixels shaded together per light: " + laneNames().help(), false,
+      [](BenchConfig& c, const std::string& v) { c.lanes = laneNames().parseOption("--lanes", v); },
       [](const BenchConfig& c) { return lanesName(c.lanes); });
   return d;
 }
@@ -222,32 +236,13 @@ void BenchSweep::set(const std::string& dimension, std::vector<std::string> list
   values[findDimension(dimension).name] = std::move(list);
 }
 
-TechniqueConfig BenchConfig::techniqueConfig() const {
-  TechniqueConfig t;
-  t.format = format;
-  t.tileWidth = tileWidth;
-  t.tileHeight = tileHeight;
-  t.clusterSlices = clusterSlices;
-  t.culling = parseCulling(culling);
-  t.spotCulling = parseSpotCulling(spotCulling);
-  t.math = math;
-  t.lanes = lanes;
-  return t;
-}
-
-SceneOptions BenchConfig::sceneOptions() const {
-  SceneOptions s;
-  s.lightSet = lightSet;
-  s.seed = seed;
-  s.lightCount = lightCount;
-  s.lightRange = lightRange;
-  s.variant = variant;
-  return s;
-}
-
 std::string BenchConfig::key() const {
   std::string k;
-  for (const auto& d : benchDimensions()) k += (k.empty() ? "" : ";") + d.name + "=" + d.get(*this);
+  for (const auto& d : benchDimensions()) {
+    const std::string value = d.get(*this);
+    if (d.keyedOffDefault && value == d.defaultValue) continue;
+    k += (k.empty() ? "" : ";") + d.name + "=" + value;
+  }
   return k;
 }
 

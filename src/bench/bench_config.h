@@ -1,8 +1,9 @@
 #pragma once
 // The benchmark's configuration space. A sweep gives a list of values per dimension; its cartesian
 // product is the list of configurations (one BenchConfig each). Adding a dimension = one field in
-// BenchConfig + one entry in benchDimensions() (bench_config.cpp): the command-line option, the
-// JSON config key, the CSV column and the configuration key all come from that entry.
+// PipelineOptions (render/pipeline_options.h) + one entry in benchDimensions() (bench_config.cpp):
+// the command-line option, the JSON config key, the CSV column and the configuration key all come
+// from that entry, and a knob's values from its name table (util/enum_names.h).
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -10,39 +11,16 @@
 #include <utility>
 #include <vector>
 
-#include "gbuffer/gbuffer_layout.h"
-#include "scene/scene_loader.h"
-#include "techniques/technique.h"
+#include "render/pipeline_options.h"
 #include "util/option_values.h"
 
 namespace ts {
 
-// One point of the sweep.
-struct BenchConfig {
-  std::string device;               // "" = default (see ClContext)
-  std::string scene = "builtin:street";
-  std::string lightSet;             // "" = the scene's default set
-  int lightCount = -1;              // -1 = the set's own count
-  float lightRange = 0.0f;          // > 0 overrides every light's range
-  float lightThreshold = 0.0f;      // > 0: ranges from the attenuation threshold
-  uint32_t seed = 1;
+// One point of the sweep: a pipeline (PipelineOptions: techniqueConfig(), sceneOptions()) and
+// the technique that runs it.
+struct BenchConfig : PipelineOptions {
   std::string technique = "tiled";
-  int tileWidth = 16, tileHeight = 16;
-  GBufferFormat format = GBufferFormat::FP32;
-  int width = 1280, height = 720;
-  std::string culling = "rect";
-  std::string math = "precise";
-  int clusterSlices = 16;
-  int lanes = 0;                    // TechniqueConfig::lanes; 0 = auto
-  std::string raster = "software";  // rasterizer of the G-buffer: software or gl
-  std::string variant;              // built-in scene variants (scene_loader.h), "" = none
-  std::string shadingModel = "auto";  // auto, blinn-phong, metallic-roughness
-  std::string features = "auto";   // auto, general, or a list (chooseFeatures)
-  std::string spotCulling = "cone"; // cone, bound-sphere, range-sphere
 
-  // Everything but the features, which depend on the scene (BenchScene::features).
-  TechniqueConfig techniqueConfig() const;
-  SceneOptions sceneOptions() const;
   // "device=…;scene=…;…" over every dimension, canonical values: equal keys = same configuration.
   std::string key() const;
   // The part of key() that decides the host-side frame (scene, lights, resolution): the G-buffer
@@ -58,6 +36,9 @@ struct BenchDimension {
   std::string help;
   std::string defaultValue;  // canonical string of BenchConfig's default
   bool affectsFrame = false; // part of frameKey()
+  // A dimension added after bench.csv files were written: in key() (so in id()) only at a value
+  // other than its default, so that the configurations of earlier sweeps keep their ids.
+  bool keyedOffDefault = false;
   // Parses and validates a value into the config; throws ts::Error with one clear line.
   std::function<void(BenchConfig&, const std::string&)> set;
   // Canonical string of the config's value (what set() accepts).

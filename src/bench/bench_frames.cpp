@@ -25,7 +25,7 @@ BenchScene::BenchScene(const BenchConfig& c) {
 }
 
 void BenchScene::check(const BenchConfig& c) {
-  const RasterBackend backend = parseRasterBackend(c.raster);
+  const RasterBackend backend = c.raster;
   if (imported_) {
     const PreparedFrame& f = imported_->frame;
     if (c.width != f.intrinsics.width || c.height != f.intrinsics.height)
@@ -60,7 +60,7 @@ SceneFeatures BenchScene::features(const BenchConfig& c) const {
 
 PreparedFrame BenchScene::prepare(const BenchConfig& c, int frame) {
   if (imported_) return imported_->frame;  // fp32, as read
-  SceneRasterizer& r = *rasterizers_.at(parseRasterBackend(c.raster));
+  SceneRasterizer& r = *rasterizers_.at(c.raster);
   return prepareFrame(r, frame, c.width, c.height, GBufferFormat::FP32,
                       SceneFeatures::general(features(c).model));
 }

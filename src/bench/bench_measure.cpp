@@ -126,14 +126,14 @@ FrameErrors measureErrors(const BenchEntry& e, GroupFrame& frame, const EncodedG
                           const TechniqueConfig& tc, const std::vector<glm::vec4>& image) {
   FrameErrors out;
   out.reference =
-      &frame.storedReference(enc, e.config.format, tc.shadingModel, ReferencePositions::FromDepth);
+      &frame.storedReference(enc, e.config.format, int(tc.rangeModel), ReferencePositions::FromDepth);
   out.errorStored = compareToReference(image, *out.reference, kTolerance * out.reference->peak);
   const ReferenceImage& shading =
-      frame.storedReference(enc, e.config.format, tc.shadingModel, ReferencePositions::KernelFloat);
+      frame.storedReference(enc, e.config.format, int(tc.rangeModel), ReferencePositions::KernelFloat);
   out.errorShading = compareToReference(image, shading, kTolerance * shading.peak);
   // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
   bool same = e.config.format == GBufferFormat::FP32 && e.config.lightThreshold <= 0.0f &&
-              tc.shadingModel == TS_MODEL_WINDOWED;
+              tc.rangeModel == RangeModel::Windowed;
   const ReferenceImage& truth = same ? *out.reference : frame.sceneReference();
   out.error = compareToReference(image, truth, kTolerance * truth.peak);
   return out;

@@ -351,8 +351,7 @@ void BenchRunner::createTechniques(const std::vector<BenchEntry*>& group, BenchS
       auto cal = calibrations_.find(e->config.device);
       e->calibration = cal == calibrations_.end() ? nullptr : &cal->second;
       double before = cl.compileMs();
-      TechniqueConfig tc = e->config.techniqueConfig();
-      tc.features = scene.features(e->config);
+      TechniqueConfig tc = e->config.techniqueConfig(scene.features(e->config));
       e->features = tc.features;
       e->technique = createTechnique(e->config.technique, cl, tc);
       e->kernelOptions = tc.kernelOptions();
@@ -408,8 +407,7 @@ void BenchRunner::measureFrame(const std::vector<BenchEntry*>& group, BenchScene
 // One configuration on one frame: timed, its error where wanted, as a bench.json row.
 json BenchRunner::measure(BenchEntry& e, GroupFrame& frame, int f) {
   const EncodedGBuffer& enc = frame.encoded(e.config.format, e.features);
-  TechniqueConfig tc = e.config.techniqueConfig();
-  tc.features = e.features;
+  TechniqueConfig tc = e.config.techniqueConfig(e.features);
   TimedFrame m = timeFrame(e, enc, frame.prepared(), o_.warmup, o_.repeat);
   FrameErrors errors;
   if (e.errorFrames.count(f)) errors = measureErrors(e, frame, enc, tc, m.r.image);

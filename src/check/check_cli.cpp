@@ -28,7 +28,8 @@ CliCommand addCheckCommand(CLI::App& app) {
   c.command->add_option("--case", parsed->options.cases, "hard case(s) to run (default: all; see --list)");
   c.command->add_option("--technique", parsed->options.techniques,
                         "technique(s) (default: all)");
-  c.command->add_option("--gbuffer", parsed->formats, "G-buffer layout(s): fp32, fp16, packed, all")
+  c.command->add_option("--gbuffer", parsed->formats,
+                        "G-buffer layout(s): " + gbufferFormatNames().list() + ", all")
       ->capture_default_str();
   c.command->add_option("--lanes", parsed->options.lanes, "lanes widths (a case may add its own)")
       ->capture_default_str();
@@ -48,7 +49,7 @@ CliCommand addCheckCommand(CLI::App& app) {
         o.formats = {GBufferFormat::FP32, GBufferFormat::FP16, GBufferFormat::PACKED};
         break;
       }
-      o.formats.push_back(parseGBufferFormat(f));
+      o.formats.push_back(gbufferFormatNames().parseOption("--gbuffer", f));
     }
     for (int lanes : o.lanes)
       if (lanes < 1) throw Error("--lanes takes widths 1, 2, 4, 8, 16");

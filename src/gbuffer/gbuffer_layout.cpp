@@ -189,20 +189,18 @@ float decodeShininess(uint8_t b) { return codecs::ts_decode_shininess(b); }
 
 }  // namespace packed
 
-std::string toString(GBufferFormat format) {
-  switch (format) {
-    case GBufferFormat::FP32: return "fp32";
-    case GBufferFormat::FP16: return "fp16";
-    case GBufferFormat::PACKED: return "packed";
-  }
-  return "?";
+const EnumNames<GBufferFormat>& gbufferFormatNames() {
+  static const EnumNames<GBufferFormat> names(
+      "G-buffer format", {{GBufferFormat::FP32, "fp32"},
+                          {GBufferFormat::FP16, "fp16"},
+                          {GBufferFormat::PACKED, "packed", "octahedral normals, unorm8 colours"}});
+  return names;
 }
 
+std::string toString(GBufferFormat format) { return gbufferFormatNames().name(format); }
+
 GBufferFormat parseGBufferFormat(const std::string& name) {
-  if (name == "fp32") return GBufferFormat::FP32;
-  if (name == "fp16") return GBufferFormat::FP16;
-  if (name == "packed") return GBufferFormat::PACKED;
-  throw Error("unknown G-buffer format '" + shortText(name) + "' (expected fp32, fp16 or packed)");
+  return gbufferFormatNames().parse(name);
 }
 
 std::string gbufferKernelDefines(GBufferFormat format) { return layoutRow(format).kernelDefine; }

@@ -11,6 +11,7 @@
 
 #include "gbuffer/gbuffer.h"
 #include "scene/scene_features.h"
+#include "util/enum_names.h"
 
 namespace ts {
 
@@ -20,13 +21,14 @@ namespace ts {
 // depends on the scene's features (EncodedGBuffer); with every plane, Blinn-Phong takes 68, 36 and
 // 24 B/pixel. Table and error bounds: docs/accuracy.md.
 enum class GBufferFormat { FP32, FP16, PACKED };
+const EnumNames<GBufferFormat>& gbufferFormatNames();  // "fp32", "fp16", "packed"
 
 // Half's largest finite value: fp16 planes (and the packed emissive) clamp to +-kMaxHalf instead
 // of storing inf (docs/accuracy.md).
 constexpr float kMaxHalf = 65504.0f;
 
 std::string toString(GBufferFormat format);
-// "fp32" | "fp16" | "packed"; throws ts::Error otherwise.
+// "fp32" | "fp16" | "packed"; throws ts::Error naming them otherwise.
 GBufferFormat parseGBufferFormat(const std::string& name);
 // OpenCL build option selecting the layout's decoder in kernels/gbuffer.h ("" for fp32).
 std::string gbufferKernelDefines(GBufferFormat format);

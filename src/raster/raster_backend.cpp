@@ -18,15 +18,18 @@ class GlRasterizer {
 };
 #endif
 
-std::string toString(RasterBackend backend) {
-  return backend == RasterBackend::Gl ? "gl" : "software";
+const EnumNames<RasterBackend>& rasterBackendNames() {
+  static const EnumNames<RasterBackend> names(
+      "rasterizer", {{RasterBackend::Software, "software"},
+                     {RasterBackend::Gl, "gl",
+                      "OpenGL through a headless EGL context: a GPU's driver, else Mesa's "
+                      "llvmpipe; docs/opengl.md"}});
+  return names;
 }
 
-RasterBackend parseRasterBackend(const std::string& name) {
-  if (name == "software") return RasterBackend::Software;
-  if (name == "gl") return RasterBackend::Gl;
-  throw Error("unknown rasterizer '" + shortText(name) + "' (expected software or gl)");
-}
+std::string toString(RasterBackend backend) { return rasterBackendNames().name(backend); }
+
+RasterBackend parseRasterBackend(const std::string& name) { return rasterBackendNames().parse(name); }
 
 SceneRasterizer::SceneRasterizer(const Scene& scene, RasterBackend backend)
     : scene_(scene), backend_(backend) {

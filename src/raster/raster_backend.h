@@ -7,10 +7,12 @@
 
 #include "raster/rasterizer.h"
 #include "scene/scene.h"
+#include "util/enum_names.h"
 
 namespace ts {
 
 enum class RasterBackend { Software, Gl };
+const EnumNames<RasterBackend>& rasterBackendNames();
 std::string toString(RasterBackend backend);  // "software" | "gl"
 // "software" | "gl"; throws ts::Error naming both otherwise.
 RasterBackend parseRasterBackend(const std::string& name);

@@ -29,17 +29,10 @@ RenderInput loadRenderInput(const RenderOptions& o) {
                                         input.frame.lights.directionalCount()) + " lights";
     return input;
   }
-  const RasterBackend backend = parseRasterBackend(o.raster);  // a bad name fails before work
-  SceneOptions sceneOptions;
-  sceneOptions.lightSet = o.lightSet;
-  sceneOptions.seed = o.seed;
-  sceneOptions.lightCount = o.lightCount;
-  sceneOptions.lightRange = o.lightRange;
-  sceneOptions.variant = o.variant;
-  Scene scene = loadScene(o.scene, sceneOptions);
+  Scene scene = loadScene(o.scene, o.sceneOptions());
   if (o.lightThreshold > 0.0f) applyThresholdRanges(scene.lights, o.lightThreshold);
   const SceneFeatures features = resolveFeatures(scene, o.shadingModel, o.features);
-  SceneRasterizer rasterizer(scene, backend);
+  SceneRasterizer rasterizer(scene, o.raster);
   input.frame = prepareFrame(rasterizer, o.frame, o.width, o.height, o.format, features);
   input.lightSummary = describeLights(scene.lights);
   input.sceneName = scene.name;

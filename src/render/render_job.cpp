@@ -86,13 +86,7 @@ void validateRenderOptions(const RenderOptions& o) {
   checkInteger("--slices", o.clusterSlices, 1, kMaxClusterSlices);
   checkNumber("--exposure", o.exposure, NumberRule::AboveZero);
   if (o.heatmap && !o.check) throw Error("--heatmap needs --check (it maps the error)");
-  parseCulling(o.culling);
-  parseSpotCulling(o.spotCulling);
-  parseLanes(o.lanes);
   if (o.shadingModel != "auto") parseShadingModel(o.shadingModel);
-  TechniqueConfig math;
-  math.math = o.math;
-  math.kernelOptions();  // rejects a bad --math
   for (const auto& t : expandTechniques(o.techniques)) findTechnique(t);
 }
 
@@ -124,17 +118,7 @@ void runRender(const RenderOptions& options) {
   o.format = prepared.encoded.format;
 
   DeviceFrame frame = prepared.upload(cl);
-  TechniqueConfig config;
-  config.format = o.format;
-  config.features = features;
-  config.tileWidth = o.tileWidth;
-  config.tileHeight = o.tileHeight;
-  config.clusterSlices = o.clusterSlices;
-  config.culling = parseCulling(o.culling);
-  config.spotCulling = parseSpotCulling(o.spotCulling);
-  config.depthSplit = o.depthSplit;
-  config.math = o.math;
-  config.lanes = parseLanes(o.lanes);
+  const TechniqueConfig config = o.techniqueConfig(features);
   // Every technique is created (its configuration checked, its kernels built) before the first
   // one renders: one that refuses the configuration (e.g. slices beyond the device's local
   // memory) fails before any file is written.
@@ -155,17 +139,17 @@ void runRender(const RenderOptions& options) {
   if (o.check) {
     outOfMemoryAs("computing the double-precision reference of a " + frameText(o) + " frame", [&] {
       reference = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
-                                 prepared.ambient, config.shadingModel, 0,
+                                 prepared.ambient, int(config.rangeModel), 0,
                                  progress.pass("windowed model"));
       shadingOnly = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
-                                   prepared.ambient, config.shadingModel, 0,
+                                   prepared.ambient, int(config.rangeModel), 0,
                                    progress.pass("windowed model, kernel positions"),
                                    ReferencePositions::KernelFloat);
       const EncodedGBuffer fp32 = o.format == GBufferFormat::FP32
                                       ? prepared.encoded
                                       : encode(prepared.gbuffer, GBufferFormat::FP32);
       physical = shadeReference(fp32, prepared.intrinsics, prepared.lights, prepared.ambient,
-                                TS_MODEL_PHYSICAL, 0, progress.pass("physical model"));
+                                int(RangeModel::Physical), 0, progress.pass("physical model"));
     });
   }
 
@@ -214,7 +198,7 @@ void runRender(const RenderOptions& options) {
                         float(1e-7 * reference->peak), float(1e-2 * reference->peak));
       if (r.assignment)
         missed = countMissedContributions(*r.assignment, prepared.encoded, prepared.intrinsics,
-                                          prepared.lights, config.shadingModel,
+                                          prepared.lights, int(config.rangeModel),
                                           progress.pass("missed lights of " + name));
     }
     results.push_back(techniqueJson(name, r, error, missed));
@@ -262,10 +246,10 @@ void runRender(const RenderOptions& options) {
       {"variant", o.variant},
       {"geometry_pixels", prepared.gbuffer.geometryPixels()},
       {"tile", {o.tileWidth, o.tileHeight}},
-      {"culling", o.culling},
-      {"spot_culling", o.spotCulling},
-      {"math", o.math},
-      {"lanes_requested", o.lanes},
+      {"culling", toString(o.culling)},
+      {"spot_culling", toString(o.spotCulling)},
+      {"math", toString(o.math)},
+      {"lanes_requested", lanesName(o.lanes)},
       {"light_threshold", o.lightThreshold},
       {"raster", input.raster},
       {"raster_renderer", input.rasterDetail},

@@ -57,16 +57,16 @@ glm::vec4 Texture::sample(glm::vec2 uv) const {
   return glm::mix(top, bottom, ty);
 }
 
-std::string toString(ShadingModel model) {
-  return model == ShadingModel::MetallicRoughness ? "metallic-roughness" : "blinn-phong";
+const EnumNames<ShadingModel>& shadingModelNames() {
+  static const EnumNames<ShadingModel> names(
+      "shading model", {{ShadingModel::BlinnPhong, "blinn-phong"},
+                        {ShadingModel::MetallicRoughness, "metallic-roughness"}});
+  return names;
 }
 
-ShadingModel parseShadingModel(const std::string& s) {
-  if (s == "blinn-phong") return ShadingModel::BlinnPhong;
-  if (s == "metallic-roughness") return ShadingModel::MetallicRoughness;
-  throw Error("unknown shading model '" + shortText(s) +
-              "' (known: blinn-phong, metallic-roughness)");
-}
+std::string toString(ShadingModel model) { return shadingModelNames().name(model); }
+
+ShadingModel parseShadingModel(const std::string& s) { return shadingModelNames().parse(s); }
 
 std::string toString(LightType type) {
   switch (type) {

@@ -7,6 +7,8 @@
 
 #include <glm/glm.hpp>
 
+#include "util/enum_names.h"
+
 namespace ts {
 
 // How a texture coordinate outside [0, 1] maps into the texture: glTF's (and OpenGL's) wrap modes.
@@ -30,6 +32,7 @@ struct Texture {
 //  BlinnPhong         the papers' model: Lambert diffuse kd + Blinn-Phong specular ks, shininess s
 //  MetallicRoughness  glTF's: base colour, metallic, roughness; Lambert + GGX/Smith/Schlick
 enum class ShadingModel { BlinnPhong = 0, MetallicRoughness = 1 };
+const EnumNames<ShadingModel>& shadingModelNames();
 std::string toString(ShadingModel model);              // "blinn-phong" | "metallic-roughness"
 ShadingModel parseShadingModel(const std::string& s);  // throws ts::Error otherwise
 

@@ -66,7 +66,7 @@ class ClusteredTechnique : public Technique {
       // Every light in every slice of its tile rectangle bounds the entries; capped, since many
       // slices make the bound loose (runUntilListFits covers a capped bound).
       reserveList(cl_, clusterLights_, capacity_,
-                  std::min(tileListBound(grid_, frame, config_.spotCulling) * size_t(config_.clusterSlices),
+                  std::min(tileListBound(grid_, frame, int(config_.spotCulling)) * size_t(config_.clusterSlices),
                            size_t(16) << 20));
     FrameResult result;
     uint32_t total = runUntilListFits(

@@ -110,7 +110,7 @@ class DeferredTechnique : public Technique {
     }
     std::vector<glm::ivec4> rects(frame.lights->size());
     for (size_t i = 0; i < rects.size(); ++i)
-      rects[i] = lightRectangle(*frame.lights, i, frame.camera, config_.spotCulling);
+      rects[i] = lightRectangle(*frame.lights, i, frame.camera, int(config_.spotCulling));
 
     timer_.clear();
     enqueueFrame(frame, rects);

@@ -52,27 +52,14 @@ const TechniqueInfo& findTechnique(const std::string& name) {
   throw Error("unknown technique '" + shortText(name) + "' (known: " + known.str() + ", all)");
 }
 
-namespace {
-// The widths kernels/lanes.h is built for (TS_LANES; floatN exists for these N).
-const int kLaneWidths[] = {1, 2, 4, 8, 16};
-
-bool isLaneWidth(int n) {
-  for (int w : kLaneWidths)
-    if (n == w) return true;
-  return false;
-}
-
-Error badLanes(const std::string& text) {
-  return Error("lanes must be auto, 1, 2, 4, 8 or 16, not '" + shortText(text) + "'");
-}
-}  // namespace
-
 std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& cl,
                                            const TechniqueConfig& config) {
   const TechniqueInfo& info = findTechnique(name);
   TechniqueConfig resolved = config;
   if (config.lanes == 0) resolved.lanes = cl.isGpu() ? 1 : info.autoLanesOnCpu;
-  else if (!isLaneWidth(config.lanes)) throw badLanes(std::to_string(config.lanes));
+  else if (lanesName(config.lanes) == "?")  // a width the kernels have no build for
+    throw Error("lanes must be one of " + laneNames().list() + ", not " +
+                std::to_string(config.lanes));
   std::unique_ptr<Technique> technique = info.create(cl, resolved);
   technique->features_ = resolved.features;
   return technique;
@@ -100,56 +87,15 @@ void checkFrameFeatures(const SceneFeatures& features, const DeviceFrame& frame)
   if (!features.directional && frame.directionalCount() > 0) fail("it has directional lights");
 }
 
-namespace {
-// A culling knob's names, in the order of the kernels' constants (kernels/culling.h).
-const char* const kCullingNames[] = {"rect", "frustum", "aabb"};                    // TS_CULL_*
-const char* const kSpotCullingNames[] = {"cone", "bound-sphere", "range-sphere"};  // TS_SPOT_CULL_*
-
-template <size_t N>
-int knobIndex(const char* const (&names)[N], const std::string& name, const std::string& knob) {
-  std::string known;
-  for (size_t i = 0; i < N; ++i) {
-    if (name == names[i]) return int(i);
-    known += (i ? ", " : "") + std::string(names[i]);
-  }
-  throw Error("unknown " + knob + " '" + shortText(name) + "' (known: " + known + ")");
-}
-
-template <size_t N>
-std::string knobName(const char* const (&names)[N], int index) {
-  return index >= 0 && index < int(N) ? names[index] : "?";
-}
-}  // namespace
-
-int parseCulling(const std::string& name) { return knobIndex(kCullingNames, name, "culling test"); }
-
-int parseSpotCulling(const std::string& name) {
-  return knobIndex(kSpotCullingNames, name, "spot culling");
-}
-
-std::string cullingName(int culling) { return knobName(kCullingNames, culling); }
-
-int parseLanes(const std::string& text) {
-  if (text == "auto") return 0;
-  for (int n : kLaneWidths)
-    if (text == std::to_string(n)) return n;
-  throw badLanes(text);
-}
-
-std::string lanesName(int lanes) { return lanes == 0 ? "auto" : std::to_string(lanes); }
-
 std::string TechniqueConfig::kernelOptions() const {
   std::ostringstream o;
   const std::string layout = gbufferKernelDefines(format);
   o << layout << (layout.empty() ? "" : " ") << features.kernelDefines()
-    << " -DTS_MODEL=" << shadingModel << " -DTS_CULL=" << culling;
+    << " -DTS_MODEL=" << int(rangeModel) << " -DTS_CULL=" << int(culling);
   if (depthSplit) o << " -DTS_DEPTH_SPLIT=1";
-  if (features.spot) o << " -DTS_SPOT_CULL=" << spotCulling;
-  if (math == "fast") o << " -cl-fast-relaxed-math";
-  else if (math == "native") o << " -DTS_NATIVE_MATH";
-  else if (math != "precise")
-    throw Error("unknown shading arithmetic '" + shortText(math) +
-                "' (known: precise, fast, native)");
+  if (features.spot) o << " -DTS_SPOT_CULL=" << int(spotCulling);
+  if (math == MathMode::Fast) o << " -cl-fast-relaxed-math";
+  else if (math == MathMode::Native) o << " -DTS_NATIVE_MATH";
   if (!buildOptions.empty()) o << " " << buildOptions;
   return o.str();
 }

@@ -16,6 +16,7 @@
 #include "gbuffer/gbuffer_layout.h"
 #include "scene/scene_features.h"
 #include "techniques/device_frame.h"
+#include "techniques/technique_knobs.h"
 
 namespace ts {
 
@@ -33,14 +34,12 @@ struct TechniqueConfig {
                                 // frame's entries (off: start small and grow, as tests do)
   int localListCapacity = 256;  // tiled-single: lights its local-memory list holds before it
                                 // shades a chunk (raised to the work-group size if smaller)
-  int shadingModel = 0;    // range model: TS_MODEL_WINDOWED (0) or TS_MODEL_PHYSICAL (1),
-                           // kernels/shading.h
-  int culling = 0;         // per-tile test: TS_CULL_RECT (0), _FRUSTUM (1), _AABB (2), culling.h
+  // The knobs with named values (technique_knobs.h: meaning, kernel constant, name table).
+  RangeModel rangeModel = RangeModel::Windowed;  // TS_MODEL
+  CullTest culling = CullTest::Rect;             // TS_CULL: the per-tile test
   bool depthSplit = false;  // tiles: split the depth range at its middle (TS_DEPTH_SPLIT, tiled.cl)
-  int spotCulling = 0;     // spot lights as: TS_SPOT_CULL_CONE (0), _BOUND_SPHERE (1),
-                           // _RANGE_SPHERE (2), culling.h
-  std::string math = "precise";  // shading arithmetic: precise, fast (-cl-fast-relaxed-math),
-                                 // native (native_ sqrt/powr/divide)
+  SpotCulling spotCulling = SpotCulling::Cone;   // TS_SPOT_CULL
+  MathMode math = MathMode::Precise;             // shading arithmetic
   std::string buildOptions;  // extra OpenCL build options (e.g. -cl-fast-relaxed-math)
   // Pixels shaded together against each light (kernels/lanes.h): 0 = auto (createTechnique resolves
   // it: on CPU devices 16 for tiled, tiled-single, clustered and brute, 1 for the rest; 1 on
@@ -138,16 +137,6 @@ struct TechniqueInfo {
 
 const std::vector<TechniqueInfo>& techniqueRegistry();
 std::vector<std::string> techniqueNames();
-// Culling test names <-> TechniqueConfig::culling ("rect", "frustum", "aabb"); throws ts::Error.
-int parseCulling(const std::string& name);
-std::string cullingName(int culling);
-// Spot culling names -> TechniqueConfig::spotCulling ("cone", "bound-sphere", "range-sphere").
-int parseSpotCulling(const std::string& name);
-// "auto" -> 0, or the number of lanes (1, 2, 4, 8, 16); throws ts::Error otherwise.
-int parseLanes(const std::string& text);
-// "auto" for 0, else the number.
-std::string lanesName(int lanes);
-
 // Both throw ts::Error naming the known techniques when `name` is not one of them.
 const TechniqueInfo& findTechnique(const std::string& name);
 // Throws ts::Error naming the known techniques when `name` is not one of them, or for a bad

@@ -31,7 +31,7 @@ class TiledTechnique : public Technique {
   FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
     if (config_.presizeLists)
-      reserveList(cl_, tileLights_, capacity_, tileListBound(grid_, frame, config_.spotCulling));
+      reserveList(cl_, tileLights_, capacity_, tileListBound(grid_, frame, int(config_.spotCulling)));
     FrameResult result;
     uint32_t total = runUntilListFits(
         cl_, tileLights_, capacity_, total_,
