@@ -22,11 +22,11 @@
 #include "cl/cl_context.h"
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
-#include "reference/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
 #include "render/frame_setup.h"
 #include "render/stats.h"
 #include "scene/light_range.h"
 #include "scene/scene_loader.h"
+#include "shading/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
 #include "techniques/technique.h"
 #include "util/error.h"
 #include "util/file_read.h"

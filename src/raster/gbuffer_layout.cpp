@@ -12,7 +12,7 @@
 #include <Imath/half.h>
 
 #include "raster/plane_alloc.h"
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 #include "util/error.h"
 #include "util/short_text.h"
 
