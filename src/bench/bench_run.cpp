@@ -18,7 +18,6 @@
 #include "bench/bench_frames.h"
 #include "bench/bench_resume.h"
 #include "bench/bench_stats.h"
-#include "bench/progress.h"
 #include "cl/cl_context.h"
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
@@ -32,6 +31,7 @@
 #include "util/file_read.h"
 #include "util/file_write.h"
 #include "util/option_values.h"
+#include "util/progress.h"
 #include "util/short_text.h"
 #include "util/strict_json.h"
 

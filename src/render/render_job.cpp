@@ -23,10 +23,10 @@
 #include "scene/scene_loader.h"
 #include "shading/shading_cpu.h"
 #include "techniques/technique.h"
-#include "bench/progress.h"
 #include "util/error.h"
 #include "util/file_write.h"
 #include "util/option_values.h"
+#include "util/progress.h"
 
 namespace fs = std::filesystem;
 
