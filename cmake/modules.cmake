@@ -43,7 +43,7 @@ function(tileshade_module name)
   cmake_parse_arguments(PARSE_ARGV 1 M "" "EXCLUDE" "DEPS;LIBS")
   foreach(dep IN LISTS M_DEPS)
     if(NOT TARGET tileshade_${dep})
-      message(FATAL_ERROR "module ${name}: dependency ${dep} is not a module above it in the list")
+      message(FATAL_ERROR "module ${name}: dependency ${dep} is no module declared before it")
     endif()
   endforeach()
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/src/${name}/*.cpp)
@@ -65,7 +65,7 @@ function(tileshade_module name)
       "${TILESHADE_MODULE_DEPS_TEXT}set(TILESHADE_DEPS_${name} ${deps_text})\n" PARENT_SCOPE)
 endfunction()
 
-# Bottom to top: a module lists only modules above it in this list (so the graph has no cycle).
+# The lowest layer first: a module depends only on modules declared before it (so no cycle).
 set(TILESHADE_GL_SOURCES "/(gl_|egl_)[^/]*\\.cpp$")
 if(TILESHADE_WITH_GL)
   set(TILESHADE_GL_SOURCES "")
@@ -77,6 +77,9 @@ endif()
 tileshade_module(util LIBS CLI11::CLI11 nlohmann_json::nlohmann_json Threads::Threads)
 tileshade_module(shading)
 tileshade_module(cl DEPS util LIBS OpenCL::OpenCL)
+target_compile_definitions(tileshade_cl PUBLIC
+  CL_HPP_TARGET_OPENCL_VERSION=120 CL_HPP_MINIMUM_OPENCL_VERSION=120 CL_HPP_ENABLE_EXCEPTIONS)
+target_include_directories(tileshade_cl PUBLIC ${OPENCL_CLHPP_INCLUDE})
 tileshade_module(scene DEPS util shading
                  LIBS TinyGLTF::TinyGLTF nlohmann_json::nlohmann_json Threads::Threads
                       ${TILESHADE_OIIO_LIBS})
@@ -90,6 +93,15 @@ tileshade_module(bench DEPS util cl raster reference render scene shading techni
                  LIBS CLI11::CLI11 nlohmann_json::nlohmann_json)
 tileshade_module(check DEPS util cl raster reference render scene shading techniques
                  LIBS CLI11::CLI11 nlohmann_json::nlohmann_json Threads::Threads)
+
+# A directory of src/ that is no module would build into nothing (and fail only at link time).
+file(GLOB TILESHADE_SRC_ENTRIES RELATIVE ${CMAKE_SOURCE_DIR}/src ${CMAKE_SOURCE_DIR}/src/*)
+foreach(entry IN LISTS TILESHADE_SRC_ENTRIES)
+  if(IS_DIRECTORY ${CMAKE_SOURCE_DIR}/src/${entry} AND NOT entry IN_LIST TILESHADE_MODULES)
+    message(FATAL_ERROR "src/${entry}/ is no module: add tileshade_module(${entry} DEPS ...) to "
+                        "cmake/modules.cmake")
+  endif()
+endforeach()
 
 # Everything: the binary, the tests and the fuzzers link this.
 add_library(tileshade_core INTERFACE)
