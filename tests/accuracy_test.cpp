@@ -12,7 +12,7 @@
 
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 #include "render/frame_setup.h"
 #include "render/gbuffer_dump.h"
 #include "scene/light_range.h"

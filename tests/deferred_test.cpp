@@ -11,7 +11,7 @@
 
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 #include "render/frame_setup.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"

@@ -16,7 +16,7 @@
 #include "bench/bench_cli.h"
 #include "bench/bench_config.h"
 #include "bench/bench_run.h"
-#include "bench/progress.h"
+#include "util/progress.h"
 #include "gltf_builder.h"
 #include "reference/error_metrics.h"
 #include "render/stats.h"

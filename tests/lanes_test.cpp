@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 #include "render/frame_setup.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"

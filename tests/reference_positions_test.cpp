@@ -6,7 +6,7 @@
 
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 #include "reference_check.h"
 
 namespace ts {

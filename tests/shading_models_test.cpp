@@ -9,7 +9,7 @@
 #include <functional>
 #include <random>
 
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 #include "util/pi.h"
 #include "random_draws.h"
 

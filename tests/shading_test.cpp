@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 #include "util/pi.h"
 #include "random_draws.h"
 

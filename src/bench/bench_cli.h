@@ -6,13 +6,9 @@
 #include <CLI/CLI.hpp>
 
 #include "bench/bench_run.h"
+#include "util/cli_command.h"
 
 namespace ts {
-
-struct CliCommand {
-  CLI::App* command = nullptr;
-  std::function<void()> run;
-};
 
 CliCommand addBenchCommand(CLI::App& app);
 

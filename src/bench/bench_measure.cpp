@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "reference/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
+#include "shading/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
 #include "render/stats.h"
 #include "util/error.h"
 

@@ -17,14 +17,14 @@
 #include "bench/bench_resume.h"
 #include "bench/bench_stats.h"
 #include "bench/bench_sweep_record.h"
-#include "bench/progress.h"
 #include "cl/cl_context.h"
-#include "reference/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
+#include "shading/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
 #include "techniques/technique.h"
 #include "util/error.h"
 #include "util/file_read.h"
 #include "util/file_write.h"
 #include "util/option_values.h"
+#include "util/progress.h"
 #include "util/short_text.h"
 #include "util/strict_json.h"
 

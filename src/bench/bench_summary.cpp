@@ -9,7 +9,7 @@
 #include "bench/bench_columns.h"
 #include "bench/bench_config.h"
 #include "bench/bench_stats.h"
-#include "reference/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
+#include "shading/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
 #include "render/stats.h"
 
 namespace ts {

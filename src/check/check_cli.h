@@ -3,7 +3,7 @@
 // ts::Error (exit status 1) when any run fails.
 #include <CLI/CLI.hpp>
 
-#include "bench/bench_cli.h"
+#include "util/cli_command.h"
 
 namespace ts {
 

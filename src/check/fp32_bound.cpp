@@ -5,7 +5,7 @@
 #include <limits>
 #include <thread>
 
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 
 namespace ts {
 namespace {

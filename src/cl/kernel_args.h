@@ -20,7 +20,9 @@ class KernelArgs {
   // A group of arguments in order (DeviceFrame's planes and lights).
   template <typename... Ts>
   KernelArgs& add(const std::tuple<Ts...>& group) {
-    std::apply([this](const auto&... value) { (add(value), ...); }, group);
+    // this-> spelled out: clang's -Wunused-lambda-capture misses the implicit one in a generic
+    // lambda (and g++ needs the capture).
+    std::apply([this](const auto&... value) { (this->add(value), ...); }, group);
     return *this;
   }
   // Leaves the next argument to be set before each launch: `index` receives its index.

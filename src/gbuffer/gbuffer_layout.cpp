@@ -13,7 +13,7 @@
 
 #include "gbuffer/gbuffer_codecs.h"
 #include "gbuffer/plane_alloc.h"
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 #include "util/error.h"
 #include "util/short_text.h"
 

@@ -6,7 +6,7 @@
 #include <mutex>
 #include <thread>
 
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 
 namespace ts {
 namespace {

@@ -9,8 +9,8 @@
 #include <glm/glm.hpp>
 
 #include "gbuffer/gbuffer_layout.h"
-#include "techniques/device_frame.h"
-#include "techniques/technique.h"
+#include "shading/light_assignment.h"
+#include "shading/view_lights.h"
 
 namespace ts {
 

@@ -7,7 +7,7 @@
 #include <limits>
 #include <set>
 
-#include "reference/shading_cpu.h"  // TS_DMIN
+#include "shading/shading_cpu.h"  // TS_DMIN
 #include "util/error.h"
 #include "util/file_read.h"
 #include "util/float_limit.h"

@@ -14,7 +14,6 @@
 #include "cl/work_group.h"
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
-#include "reference/shading_cpu.h"
 #include "render/frame_setup.h"
 #include "render/gbuffer_dump.h"
 #include "render/image_io.h"
@@ -22,11 +21,12 @@
 #include "render/stats.h"
 #include "scene/light_range.h"
 #include "scene/scene_loader.h"
+#include "shading/shading_cpu.h"
 #include "techniques/technique.h"
-#include "bench/progress.h"
 #include "util/error.h"
 #include "util/file_write.h"
 #include "util/option_values.h"
+#include "util/progress.h"
 
 namespace fs = std::filesystem;
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 #include "util/error.h"
 
 namespace ts {

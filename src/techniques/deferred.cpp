@@ -23,7 +23,7 @@
 // The light assignment is the rectangle per light (pixelBin empty).
 #include <algorithm>
 
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 #include "cl/kernel_args.h"
 #include "cl/work_group.h"
 #include "techniques/tile_grid.h"

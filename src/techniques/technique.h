@@ -15,6 +15,7 @@
 #include "cl/cl_context.h"
 #include "gbuffer/gbuffer_layout.h"
 #include "scene/scene_features.h"
+#include "shading/light_assignment.h"
 #include "techniques/device_frame.h"
 #include "techniques/technique_knobs.h"
 
@@ -77,14 +78,6 @@ struct WorkCounters {
   double listMean = 0.0;
   uint32_t listMax = 0;
   std::vector<std::string> notes;  // e.g. "light list buffer grown to N entries"
-};
-
-// Which lights a pixel considers, for conservativeness tests: either bins (tiles/clusters) that
-// pixels map to, or per-light screen rectangles (traditional deferred), or both.
-struct LightAssignment {
-  std::vector<uint32_t> binOffset, binCount, binLights;  // per bin: a range of binLights
-  std::vector<int32_t> pixelBin;                         // per pixel; -1 = shades no light
-  std::vector<glm::ivec4> lightRect;  // per light: x0, y0, x1, y1 (exclusive); empty = unused
 };
 
 struct FrameResult {

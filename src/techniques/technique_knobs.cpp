@@ -1,6 +1,6 @@
 #include "techniques/technique_knobs.h"
 
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 
 namespace ts {
 

@@ -4,7 +4,7 @@
 
 #include "cl/kernel_args.h"
 #include "cl/work_group.h"
-#include "reference/shading_cpu.h"
+#include "shading/shading_cpu.h"
 
 namespace ts {
 

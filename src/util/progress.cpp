@@ -1,4 +1,4 @@
-#include "bench/progress.h"
+#include "util/progress.h"
 
 #include <unistd.h>
 
