@@ -33,7 +33,7 @@ set_tests_properties(WorkGroupLimits.PoclEnforcesSixtyFour PROPERTIES
 # the label `check`: `ctest -L check` runs it alone.
 add_executable(tileshade_check_tests ${CMAKE_SOURCE_DIR}/tests/check/hard_cases_test.cpp)
 target_link_libraries(tileshade_check_tests PRIVATE tileshade_core GTest::gtest GTest::gtest_main)
-target_include_directories(tileshade_check_tests PRIVATE ${CMAKE_SOURCE_DIR}/tests)
+target_include_directories(tileshade_check_tests PRIVATE ${CMAKE_SOURCE_DIR}/tests/support)
 target_compile_definitions(tileshade_check_tests PRIVATE TILESHADE_BINARY="$<TARGET_FILE:tileshade>"
                            TILESHADE_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
 add_dependencies(tileshade_check_tests tileshade)
