@@ -1,4 +1,4 @@
-# CTest entries beyond the GoogleTest cases discovered in CMakeLists.txt (included from there).
+# CTest entries beyond the GoogleTest cases discovered in tests/CMakeLists.txt (included from there).
 
 # tiled-single's chunk loop under PoCL's `loops` work-group method too: PoCL 3.1 miscompiled it
 # (issue #12, kernels/tiled_single.cl) into writes past the image with its default method (a
