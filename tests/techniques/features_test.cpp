@@ -75,8 +75,9 @@ TEST_P(SpecialisedPipeline, SameImageAsTheGeneralOne) {
                                  {GBufferFormat::FP16, 4}}) {
       PreparedFrame fs = prepareFrame(s, 30, 96, 64, format, need);
       PreparedFrame fg = prepareFrame(s, 30, 96, 64, format, general);
-      if (need.specular != general.specular || need.emissive != general.emissive)
+      if (need.specular != general.specular || need.emissive != general.emissive) {
         EXPECT_LT(fs.encoded.bytesPerPixel(), fg.encoded.bytesPerPixel()) << variant;
+      }
       TechniqueConfig cs, cg;
       cs.format = cg.format = format;
       cs.lanes = cg.lanes = lanes;
