@@ -5,7 +5,7 @@
  * so what the reference shades cannot drift from what the kernels read. Tests decode every stored
  * code on the device (decode_gbuffer, kernels/dump.cl) against the host
  * (AccuracyKnobs.PackedDecodeMatchesTheHostForEveryCode, MetallicRoughnessDecode), and
- * GBufferCodecs (tests/gbuffer_codecs_test.cpp) fails on a decoder written anywhere else.
+ * GBufferCodecs (tests/gbuffer/gbuffer_codecs_test.cpp) fails on a decoder written anywhere else.
  *
  * The includer defines first:
  *   uint                  32-bit unsigned (built in in OpenCL; uint32_t in C++)

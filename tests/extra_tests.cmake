@@ -1,4 +1,4 @@
-# CTest entries beyond the GoogleTest cases discovered in CMakeLists.txt (included from there).
+# CTest entries beyond the GoogleTest cases discovered in tests/CMakeLists.txt (included from there).
 
 # tiled-single's chunk loop under PoCL's `loops` work-group method too: PoCL 3.1 miscompiled it
 # (issue #12, kernels/tiled_single.cl) into writes past the image with its default method (a
@@ -33,7 +33,7 @@ set_tests_properties(WorkGroupLimits.PoclEnforcesSixtyFour PROPERTIES
 # the label `check`: `ctest -L check` runs it alone.
 add_executable(tileshade_check_tests ${CMAKE_SOURCE_DIR}/tests/check/hard_cases_test.cpp)
 target_link_libraries(tileshade_check_tests PRIVATE tileshade_core GTest::gtest GTest::gtest_main)
-target_include_directories(tileshade_check_tests PRIVATE ${CMAKE_SOURCE_DIR}/tests)
+target_include_directories(tileshade_check_tests PRIVATE ${CMAKE_SOURCE_DIR}/tests/support)
 target_compile_definitions(tileshade_check_tests PRIVATE TILESHADE_BINARY="$<TARGET_FILE:tileshade>"
                            TILESHADE_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
 add_dependencies(tileshade_check_tests tileshade)
@@ -122,7 +122,7 @@ tileshade_oclgrind_test(tests.exit "--data-races ${TILESHADE_OCLGRIND_NOOPT}" $<
 # `parallel` is absent, the Slurm array script runs as its tasks would without Slurm.
 foreach(mode parallel slurm)
   add_test(NAME BenchShards.${mode}
-           COMMAND bash ${CMAKE_SOURCE_DIR}/tests/bench_shards_test.sh ${mode}
+           COMMAND bash ${CMAKE_SOURCE_DIR}/tests/bench/bench_shards_test.sh ${mode}
                    $<TARGET_FILE:tileshade> ${CMAKE_SOURCE_DIR})
   set_tests_properties(BenchShards.${mode} PROPERTIES SKIP_RETURN_CODE 77
     ENVIRONMENT "TILESHADE_SOURCE_DIR=${CMAKE_SOURCE_DIR}")

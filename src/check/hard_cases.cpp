@@ -57,7 +57,7 @@ HardCaseFrame frameOf(Scene scene, int width = 64, int height = 48) {
 // Every draw is its own statement: C++ leaves the order of a call's arguments unspecified (g++ on
 // x86-64 evaluates them right to left, clang left to right), so a call that draws twice builds
 // another case under each compiler. The cases draw in the order g++ did (a call's last argument
-// first: range, colour, position), so its cases are unchanged (tests/hard_case_pins_test.cpp).
+// first: range, colour, position), so its cases are unchanged (tests/check/hard_case_pins_test.cpp).
 // Braced lists ({in(), in()}) are evaluated left to right and may draw several times.
 struct Placer {
   SceneRandom rng;

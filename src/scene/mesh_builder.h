@@ -17,7 +17,7 @@ namespace ts {
 // operands of +) unspecified, so two draws in one expression give another scene on another
 // compiler. Where the generators once had such expressions, the locals are drawn in the order
 // g++ on x86-64 evaluated them (arguments right to left), which keeps the scenes as they were;
-// BuiltinScenePins (tests/scene_test.cpp) holds values of each scene.
+// BuiltinScenePins (tests/scene/scene_pins_test.cpp) holds values of each scene.
 class SceneRandom {
  public:
   explicit SceneRandom(uint32_t seed) : rng_(seed) {}

@@ -219,7 +219,7 @@ TEST(GBufferLayout, DecodedPositionsReconstructTheRasterizedPlane) {
         ts::SurfaceD s;
         ASSERT_TRUE(ts::decodeSurface(e, in, x, y, s));
         // P lies on the pixel's ray at the stored depth, and on the plane.
-        double ndcX = 2.0 * (x + 0.5) / W - 1.0, ndcY = 1.0 - 2.0 * (y + 0.5) / H;
+        double ndcX = 2.0 * (x + 0.5) / W - 1.0;
         double depth = g.depth[size_t(y) * W + x];
         EXPECT_EQ(s.P.z, -depth);
         EXPECT_NEAR(s.P.x, ndcX * in.tanHalfFovX * depth, 1e-12);
@@ -405,8 +405,9 @@ TEST(GBufferLayout, PackedEmissiveIsHalfAndDepthFloat) {
       if (!ts::decodeSurface(e, cam, x, y, s)) continue;
       for (int c = 0; c < 3; ++c) {
         EXPECT_EQ(s.ke[c], halfToDouble(halfBits(e.emissive, i, c)));
-        if (std::abs(g.emissive[i][c]) >= 6.2e-5f && std::abs(g.emissive[i][c]) <= ts::kMaxHalf)
+        if (std::abs(g.emissive[i][c]) >= 6.2e-5f && std::abs(g.emissive[i][c]) <= ts::kMaxHalf) {
           EXPECT_LE(std::abs(s.ke[c] - g.emissive[i][c]), std::abs(g.emissive[i][c]) * 0x1p-11);
+        }
       }
       EXPECT_NEAR(-s.P.z, double(g.depth[i]), 1e-15);
       // Normal and colours through the codecs.

@@ -259,7 +259,9 @@ TEST(Culling, PerTileTestsAreConservative) {
     for (int mode : {TS_CULL_FRUSTUM, TS_CULL_AABB}) {
       int pass = ts_sphere_meets_tile(c, r, mode, px0, py0, px1, py1, width, height, tx, ty, zmin,
                                       zmax);
-      if (inside) ASSERT_TRUE(pass) << "mode " << mode << " rejected a sphere inside the tile";
+      if (inside) {
+        ASSERT_TRUE(pass) << "mode " << mode << " rejected a sphere inside the tile";
+      }
       if (!pass) ++rejected[mode];
     }
   }

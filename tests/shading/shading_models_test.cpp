@@ -216,7 +216,9 @@ TEST(ShadingModels, ContinuousWhereTheLightCrossesTheSurfacePlane) {
       dvec3 L = P + dvec3(0, lift, 2.0);  // towards the camera, almost in the plane
       dvec3 c = sd::ts_punctual_light(&p, dvec3(0.5), dvec3(0.9), dvec4(L, 10.0), dvec4(1.0),
                                       dvec4(0, 0, 0, -1), TS_MODEL_WINDOWED, shading, 1, 0);
-      if (previous >= 0.0) EXPECT_LE(c.x, previous * 1.0001 + 1e-300) << shading << " " << lift;
+      if (previous >= 0.0) {
+        EXPECT_LE(c.x, previous * 1.0001 + 1e-300) << shading << " " << lift;
+      }
       EXPECT_LE(c.x, 10.0 * lift + 1e-300) << shading << " lift " << lift;
       previous = c.x;
     }
@@ -362,7 +364,9 @@ TEST(ConeVolumes, PerTileTestsAreConservative) {
         }
         int pass = sd::ts_light_meets_tile(&v, mode, px0, py0, px1, py1, width, height, tx, ty,
                                            zmin, zmax);
-        if (inside) ASSERT_TRUE(pass) << "cone " << i << " mode " << mode;
+        if (inside) {
+          ASSERT_TRUE(pass) << "cone " << i << " mode " << mode;
+        }
         ++tested;
         rejected += !pass;
       }

@@ -1,7 +1,8 @@
 // Hostile use of the command line and its outputs (issue #12): options that make no sense, every
 // failed or truncated write, images with NaN/inf pixels (never reported as exact), bench configs
 // with absurd values. The expected outcome is one line "tileshade: error: ..." and exit status 1
-// before any file is written, or an honest report.
+// before any file is written, or an honest report. The same subjects in-process, without the binary:
+// util/hostile_values_test.cpp, reference/hostile_stats_test.cpp, bench/hostile_bench_test.cpp.
 
 #include <cmath>
 #include <filesystem>
@@ -96,40 +97,7 @@ TEST(HostileOptions, SceneExportRefusesOtherExtensions) {
   fs::remove_all(out);
 }
 
-TEST(HostileOptions, SharedValidatorsRefuseNanInfAndRanges) {
-  using ts::NumberRule;
-  for (const char* bad : {"nan", "inf", "-inf", "-1", "1e39", "abc", "", "1.5x"})
-    EXPECT_THROW(ts::parseNumber("--x", bad, NumberRule::AtLeastZero), ts::Error) << bad;
-  EXPECT_EQ(ts::parseNumber("--x", " 0.25 ", NumberRule::AtLeastZero), 0.25f);
-  EXPECT_THROW(ts::parseNumber("--x", "0", NumberRule::AboveZero), ts::Error);
-  EXPECT_THROW(ts::checkNumber("--x", std::nan(""), NumberRule::AtLeastZero), ts::Error);
-  EXPECT_THROW(ts::parseInteger("--n", "99999999999999999999", 0, 10), ts::Error);
-  try {
-    ts::checkNumber("--exposure", -1.0, NumberRule::AboveZero);
-    ADD_FAILURE();
-  } catch (const ts::Error& e) {
-    EXPECT_EQ(std::string(e.what()), "--exposure: expected a finite number > 0, got '-1'");
-  }
-}
-
 // ---- item 5: every write is checked ----------------------------------------------------------
-
-TEST(HostileWrites, WriteFileReportsAFullDisk) {
-  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
-  try {
-    ts::writeFile("/dev/full", std::string(100000, 'x'));
-    ADD_FAILURE() << "no error writing /dev/full";
-  } catch (const ts::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
-  }
-  std::ofstream stream("/dev/full");
-  stream << std::string(100000, 'x');
-  EXPECT_THROW(ts::flushChecked(stream, "/dev/full"), ts::Error);
-  fs::path dir = freshDir("write_into_file");
-  std::ofstream(dir / "file") << "x";
-  EXPECT_THROW(ts::writeFile((dir / "file" / "stats.json").string(), "{}"), ts::Error);
-  fs::remove_all(dir);
-}
 
 // Each output file of `render` in turn is a link to /dev/full (a full disk): one error line, exit 1,
 // no "wrote DIR/".
@@ -200,50 +168,6 @@ TEST(HostileWrites, BenchOutputsAreChecked) {
 
 // ---- item 3: NaN/inf pixels are counted, never reported as exact -------------------------------
 
-TEST(HostileStats, NonFinitePixelsAreCountedAndNeverExact) {
-  ts::ReferenceImage ref;
-  ref.width = 2;
-  ref.height = 1;
-  ref.rgb = {glm::dvec3(0.5), glm::dvec3(1.0)};
-  ref.peak = 1.0;
-  std::vector<glm::vec4> exact = {glm::vec4(0.5f), glm::vec4(1.0f)};
-  ts::ErrorStats e = ts::compareToReference(exact, ref, 1e-4);
-  EXPECT_TRUE(std::isinf(e.psnr) && e.psnr > 0);  // exact
-  EXPECT_EQ(e.nonfinitePixels, 0u);
-
-  std::vector<glm::vec4> broken = {glm::vec4(std::nanf("")), glm::vec4(1.0f)};
-  e = ts::compareToReference(broken, ref, 1e-4);
-  EXPECT_EQ(e.nonfinitePixels, 1u);
-  EXPECT_EQ(e.pixelsAboveTolerance, 1u);
-  EXPECT_TRUE(std::isinf(e.maxAbs) && e.maxAbs > 0);
-  EXPECT_TRUE(std::isinf(e.psnr) && e.psnr < 0);
-  json j = ts::errorJson(e);
-  EXPECT_EQ(j["psnr_db"], "-inf");
-  EXPECT_EQ(j["max_abs"], "inf");
-  EXPECT_EQ(j["rmse"], "inf");
-  EXPECT_EQ(j["nonfinite_pixels"], 1);
-  for (auto it = j.begin(); it != j.end(); ++it) EXPECT_FALSE(it->is_null()) << it.key();
-  EXPECT_EQ(ts::countNonFinitePixels({glm::vec4(INFINITY), glm::vec4(0.0f), glm::vec4(-NAN)}), 2u);
-  // The heat map's error of such a pixel is infinite (white), not NaN.
-  EXPECT_TRUE(std::isinf(ts::errorMap(broken, ref)[0]));
-}
-
-TEST(HostileStats, BenchSummariesKeepInfiniteErrors) {
-  auto row = [](int frame, json error) {
-    return json{{"config_id", "c"}, {"config", {{"technique", "tiled"}}}, {"technique", "tiled"},
-                {"frame", frame}, {"total_ms", 1.0}, {"error", error}, {"nonfinite_pixels", frame}};
-  };
-  json rows = json::array({row(0, {{"max_abs", 0.0}, {"rmse", 0.0}, {"psnr_db", "inf"}, {"max_rel_peak", 0.0}}),
-                           row(1, {{"max_abs", "inf"}, {"rmse", "inf"}, {"psnr_db", "-inf"}, {"max_rel_peak", "inf"}})});
-  json s = ts::summarizeRows(rows);
-  ASSERT_EQ(s.size(), 1u);
-  EXPECT_EQ(s[0]["error"]["psnr_db"], "-inf");  // not "inf" (exact), not the finite frame's
-  EXPECT_EQ(s[0]["error"]["max_abs"], "inf");
-  EXPECT_EQ(s[0]["nonfinite_pixels_max"], 1);
-  json exact = ts::summarizeRows(json::array({rows[0]}));
-  EXPECT_EQ(exact[0]["error"]["psnr_db"], "inf");
-}
-
 // A valid scene whose light is as bright as a float allows would overflow the float image (inf
 // pixels) where the double reference does not: the pipeline refuses it before any work with one
 // line (src/scene/shading_range.h), so no image with inf pixels is written or reported as exact.
@@ -265,63 +189,6 @@ TEST(HostileStats, RenderRefusesScenesThatWouldOverflowFp32) {
 }
 
 // ---- bench configs with absurd values ----------------------------------------------------------
-
-void expectConfigError(const std::string& text, const std::string& needle) {
-  ts::BenchOptions o;
-  try {
-    ts::applyBenchConfig(text, "c.json", o, [](const std::string&) { return false; });
-    ts::expandSweep(o.sweep);
-    ADD_FAILURE() << "no error for " << text;
-  } catch (const ts::Error& e) {
-    std::string m = e.what();
-    EXPECT_NE(m.find(needle), std::string::npos) << m;
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-  }
-}
-
-TEST(HostileBenchConfig, AbsurdValuesAreOneLineErrors) {
-  expectConfigError(R"({"calib_mib": -1})", "calib_mib");  // was shifted into a huge size_t
-  expectConfigError(R"({"warmup": 4294967297})", "warmup");  // was truncated to 1
-  expectConfigError(R"({"repeat": 0})", "repeat");
-  expectConfigError(R"({"frames": 1e30})", "frames");
-  expectConfigError(R"({"light_threshold": "nan"})", "--light-threshold");
-  expectConfigError(R"({"light_range": 1e39})", "--light-range");
-  expectConfigError(R"({"slices": 0})", "--slices");
-  // A product of lists far beyond what could run: refused before it is built.
-  std::string many;
-  for (int i = 1; i <= 60; ++i) many += (i > 1 ? "," : "") + std::to_string(i);
-  expectConfigError(R"({"seed": [)" + many + R"(], "light_count": [)" + many +
-                        R"(], "tile": [)" + many + R"(], "slices": [)" + many + "]}",
-                    "configurations");
-  // Repeated values do not multiply: 1000 copies of one tile size are one configuration.
-  ts::BenchOptions o;
-  std::string same;
-  for (int i = 0; i < 1000; ++i) same += std::string(i ? "," : "") + "\"16\"";
-  ts::applyBenchConfig(R"({"tile": [)" + same + R"(], "seed": [)" + same + "]}", "c.json", o,
-                       [](const std::string&) { return false; });
-  EXPECT_EQ(ts::expandSweep(o.sweep).size(), 1u);
-}
-
-// Bench configs the fuzzer found slow or crashing (tests/data/fuzz/*.json): each is applied and
-// expanded, ending in success or one line.
-TEST(HostileBenchConfig, FuzzerFindingsParseOrFailCleanly) {
-  fs::path dir = fs::path(ts::test::sourceDir()) / "tests" / "data" / "fuzz";
-  size_t files = 0;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    if (e.path().extension() != ".json") continue;
-    ++files;
-    std::ifstream in(e.path());
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    ts::BenchOptions o;
-    try {
-      ts::applyBenchConfig(text, e.path().string(), o, [](const std::string&) { return false; });
-      ts::expandSweep(o.sweep);
-    } catch (const ts::Error& x) {
-      EXPECT_EQ(std::string(x.what()).find('\n'), std::string::npos) << x.what();
-    }
-  }
-  EXPECT_GT(files, 0u);
-}
 
 TEST(HostileBenchConfig, ResumeFromACorruptedCsvDropsTheRowInOneLine) {
   if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
@@ -360,16 +227,6 @@ TEST(HostileBenchMessages, UnknownDeviceIsRefusedBeforeAnyFileEvenQuiet) {
                      {"no OpenCL device matches 'no-such-device'"});
   EXPECT_FALSE(fs::exists(out / "run")) << "files written before the device was checked";
   fs::remove_all(out);
-}
-
-TEST(HostileBenchMessages, QuietNeverHidesAFailure) {
-  ::testing::internal::CaptureStderr();
-  {
-    ts::Progress quiet(3, false);
-    quiet.step("a");
-    quiet.note("bench: configuration failed: why");
-  }
-  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "bench: configuration failed: why\n");
 }
 
 TEST(HostileBenchMessages, ShardStatesTheLimitItApplies) {

@@ -2,7 +2,7 @@
 # The shard recipes of bench/README.md end to end on a small sweep: the shards run as separate
 # processes and merged by `tileshade bench merge` equal one unsharded run's bench.csv and
 # summary.csv apart from the time columns, row order included.
-#   tests/bench_shards_test.sh parallel|slurm TILESHADE_BINARY SOURCE_DIR
+#   tests/bench/bench_shards_test.sh parallel|slurm TILESHADE_BINARY SOURCE_DIR
 # parallel: bench/parallel/run_shards.sh with GNU parallel (exit 77, skipped, where it is absent).
 # slurm: bench/slurm/bench_array.sbatch run by bash as the tasks of an array of 3 would run it
 # (SLURM_ARRAY_* set by hand), then as the dependent merge job.

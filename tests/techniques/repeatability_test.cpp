@@ -84,8 +84,9 @@ TEST(Repeatability, BinListsInLightIndexOrder) {
       }
       EXPECT_GT(listed, 0u) << name;
       bool outgrewFirstBuffer = listed > 8 * a.binCount.size();  // it starts at 8 per tile
-      if (!presize && run == 0 && std::string(name) != "tiled-single" && outgrewFirstBuffer)
+      if (!presize && run == 0 && std::string(name) != "tiled-single" && outgrewFirstBuffer) {
         EXPECT_FALSE(r.counters.notes.empty()) << name << ": the list did not grow";
+      }
       EXPECT_EQ(unordered, 0u) << name << (presize ? "" : " (grown list)") << ", run " << run + 1
                                << ": entries out of order";
     }

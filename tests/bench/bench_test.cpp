@@ -1,5 +1,6 @@
-// `tileshade bench`: sweep expansion, value parsing, shards, statistics, CSV, calibration, and a
-// tiny end-to-end run (64x36, two frames) with resume; plus a smoke test of bench/plot.py.
+// `tileshade bench` on the device: calibration, a tiny end-to-end run (64x36, two frames) with
+// resume and shards; plus a smoke test of bench/plot.py. (The sweep, shards and statistics on
+// their own: bench_config_test.cpp, bench_stats_test.cpp.)
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -19,6 +20,7 @@
 #include "bench/bench_run.h"
 #include "bench/bench_stats.h"
 #include "bench/calibrate.h"
+#include "bench_test_support.h"
 #include "test_support.h"
 #include "util/error.h"
 
@@ -27,28 +29,8 @@ namespace fs = std::filesystem;
 namespace {
 
 using ts::BenchSweep;
-
-// A fresh folder per test (tests run in parallel processes).
-std::string tempDir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() /
-               ("tileshade_bench_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p.string();
-}
-
-// Expects a ts::Error whose message is one line containing every needle.
-template <typename F>
-void expectOneLineError(F&& f, std::vector<std::string> needles) {
-  try {
-    f();
-    ADD_FAILURE() << "no ts::Error thrown";
-  } catch (const ts::Error& e) {
-    std::string m = e.what();
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-    for (const auto& n : needles) EXPECT_NE(m.find(n), std::string::npos) << m << " lacks " << n;
-  }
-}
+using ts::test::expectOneLineError;
+using ts::test::tempDir;
 
 size_t csvRows(const std::string& path, std::vector<std::string>* header = nullptr,
                std::vector<std::map<std::string, std::string>>* out = nullptr) {
@@ -75,306 +57,6 @@ ts::BenchOptions tinyOptions(const std::string& out) {
   o.progress = false;
   o.printTable = false;
   return o;
-}
-
-TEST(BenchSweep, CartesianProductInDimensionOrder) {
-  BenchSweep s;
-  s.set("tile", {"8,32x16"});
-  s.set("gbuffer", {"fp32", "fp16"});
-  s.set("resolution", {"64x36"});
-  s.set("light_count", {"1,10,100"});
-  auto configs = ts::expandSweep(s);
-  ASSERT_EQ(configs.size(), 2u * 2u * 3u);
-  // light_count is outermost of these, then gbuffer, then tile (benchDimensions() order).
-  EXPECT_EQ(configs[0].lightCount, 1);
-  EXPECT_EQ(configs[0].format, ts::GBufferFormat::FP32);
-  EXPECT_EQ(configs[0].tileWidth, 8);
-  EXPECT_EQ(configs[0].tileHeight, 8);
-  EXPECT_EQ(configs[1].tileWidth, 32);
-  EXPECT_EQ(configs[1].tileHeight, 16);
-  EXPECT_EQ(configs[2].format, ts::GBufferFormat::FP16);
-  EXPECT_EQ(configs[4].lightCount, 10);
-  std::set<std::string> keys, ids;
-  for (const auto& c : configs) {
-    EXPECT_EQ(c.width, 64);
-    EXPECT_EQ(c.height, 36);
-    keys.insert(c.key());
-    ids.insert(c.id());
-  }
-  EXPECT_EQ(keys.size(), configs.size());
-  EXPECT_EQ(ids.size(), configs.size());
-}
-
-TEST(BenchSweep, DefaultsDuplicatesAndAll) {
-  auto one = ts::expandSweep(BenchSweep{});
-  ASSERT_EQ(one.size(), 1u);
-  EXPECT_EQ(one[0].technique, "tiled");
-  EXPECT_EQ(one[0].width, 1280);
-  BenchSweep s;
-  s.set("tile", {"16", "16x16", " 16 "});
-  EXPECT_EQ(ts::expandSweep(s).size(), 1u);  // the same configuration
-  BenchSweep all;
-  all.set("technique", {"all"});
-  EXPECT_EQ(ts::expandSweep(all).size(), ts::techniqueNames().size());
-  // The key is stable and names every dimension (but those added later, at their default).
-  std::string key = one[0].key();
-  for (const auto& d : ts::benchDimensions())
-    EXPECT_EQ(key.find(d.name + "=") != std::string::npos, !d.keyedOffDefault) << d.name;
-  EXPECT_EQ(one[0].id(), ts::expandSweep(BenchSweep{})[0].id());
-}
-
-TEST(BenchSweep, TileSizesIncludingNonSquare) {
-  EXPECT_EQ(ts::parseTileSize("16"), std::make_pair(16, 16));
-  EXPECT_EQ(ts::parseTileSize("32x16"), std::make_pair(32, 16));
-  EXPECT_EQ(ts::parseTileSize("8X64"), std::make_pair(8, 64));
-  EXPECT_EQ(ts::parseTileSize(" 64 "), std::make_pair(64, 64));
-  for (const char* bad : {"0", "abc", "16x", "x16", "300", "16x0", "-8", "16x16x2", ""})
-    expectOneLineError([&] { ts::parseTileSize(bad); }, {"--tile"});
-  EXPECT_EQ(ts::parseResolution("1920x1080"), std::make_pair(1920, 1080));
-  expectOneLineError([] { ts::parseResolution("1920"); }, {"--resolution", "'1920'"});
-}
-
-TEST(BenchSweep, InvalidValuesGiveOneClearLine) {
-  auto expand = [](const std::string& dim, const std::string& value) {
-    BenchSweep s;
-    s.set(dim, {value});
-    ts::expandSweep(s);
-  };
-  expectOneLineError([&] { expand("gbuffer", "fp8"); }, {"--gbuffer", "fp8", "fp16"});
-  expectOneLineError([&] { expand("technique", "nope"); }, {"--technique", "nope", "tiled"});
-  expectOneLineError([&] { expand("tile", "16,abc"); }, {"--tile", "abc"});
-  expectOneLineError([&] { expand("light_count", "many"); }, {"--light-count", "many"});
-  expectOneLineError([&] { expand("light_range", "-3"); }, {"--light-range", "-3"});
-  expectOneLineError([&] { expand("culling", "sphere"); }, {"--culling", "sphere"});
-  expectOneLineError([&] { expand("tile", ","); }, {"--tile", "empty"});
-  expectOneLineError([] { BenchSweep s; s.set("colour", {"red"}); }, {"colour", "technique"});
-}
-
-TEST(BenchSweep, OptionsAndColumnsAreUnique) {
-  std::set<std::string> options;
-  for (const auto& d : ts::benchDimensions()) {
-    EXPECT_TRUE(options.insert(d.optionName()).second) << d.optionName();
-    EXPECT_TRUE(d.matchesKey(d.name));
-  }
-  EXPECT_EQ(ts::findDimension("lights").name, "light_set");  // the option stem works as a key
-  for (const auto& cols : {ts::benchCsvColumns(), ts::summaryCsvColumns()}) {
-    std::set<std::string> unique(cols.begin(), cols.end());
-    EXPECT_EQ(unique.size(), cols.size());
-  }
-}
-
-TEST(BenchSweep, FrameSpecs) {
-  EXPECT_EQ(ts::FrameSpec{"0:120:10"}.resolve(240),
-            (std::vector<int>{0, 10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110}));
-  EXPECT_EQ(ts::FrameSpec{"5:8"}.resolve(240), (std::vector<int>{5, 6, 7}));
-  EXPECT_EQ(ts::FrameSpec{"4"}.resolve(240), (std::vector<int>{0, 60, 120, 180}));
-  EXPECT_EQ(ts::FrameSpec{"3"}.resolve(1), (std::vector<int>{0, 1, 2}));  // a one-camera path
-  EXPECT_EQ(ts::FrameSpec{"all"}.resolve(5), (std::vector<int>{0, 1, 2, 3, 4}));
-  EXPECT_EQ(ts::FrameSpec{"7;1;3;3"}.resolve(240), (std::vector<int>{1, 3, 7}));
-  for (const char* bad : {"5:2", "x", "0:10:0", "0", "1,2", ""})
-    expectOneLineError([&] { ts::FrameSpec{bad}.validate(); }, {"--frames"});
-  std::vector<int> timed{0, 20, 40, 60, 80, 100};
-  EXPECT_EQ(ts::selectErrorFrames("all", timed), timed);
-  EXPECT_EQ(ts::selectErrorFrames("2", timed), (std::vector<int>{0, 60}));
-  EXPECT_EQ(ts::selectErrorFrames("40:200", timed), (std::vector<int>{40, 60, 80, 100}));
-  EXPECT_EQ(ts::selectErrorFrames("20;21", timed), (std::vector<int>{20}));
-  expectOneLineError([&] { ts::selectErrorFrames("soon", timed); }, {"--error-frames"});
-}
-
-TEST(BenchSweep, ShardsPartitionTheConfigurationsExactly) {
-  BenchSweep s;
-  s.set("tile", {"8,16,32,64,32x16"});
-  s.set("gbuffer", {"fp32,fp16"});
-  s.set("light_count", {"1,2,3"});
-  auto configs = ts::expandSweep(s);
-  ASSERT_EQ(configs.size(), 30u);
-  for (int n : {1, 2, 3, 4, 7, 31}) {
-    std::vector<int> owners(configs.size(), 0);
-    std::vector<size_t> perShard(size_t(n), 0);
-    for (int k = 0; k < n; ++k) {
-      ts::Shard sh = ts::Shard::parse(std::to_string(k) + "/" + std::to_string(n));
-      for (size_t i = 0; i < configs.size(); ++i)
-        if (sh.selects(i)) {
-          ++owners[i];
-          ++perShard[size_t(k)];
-          EXPECT_EQ(int(i % size_t(n)), k);
-        }
-    }
-    for (int o : owners) EXPECT_EQ(o, 1) << "n=" << n;
-    for (size_t c : perShard) EXPECT_LE(c, (configs.size() + size_t(n) - 1) / size_t(n));
-  }
-  for (const char* bad : {"3/3", "1", "a/b", "-1/2", "0/0"})
-    expectOneLineError([&] { ts::Shard::parse(bad); }, {"--shard"});
-}
-
-TEST(BenchStats, MedianMinMaxOnKnownInputs) {
-  ts::Summary s = ts::summarize({3.0, 1.0, 2.0});
-  EXPECT_EQ(s.n, 3u);
-  EXPECT_DOUBLE_EQ(s.median, 2.0);
-  EXPECT_DOUBLE_EQ(s.min, 1.0);
-  EXPECT_DOUBLE_EQ(s.max, 3.0);
-  EXPECT_DOUBLE_EQ(s.mean, 2.0);
-  s = ts::summarize({4.0, 1.0, 3.0, 2.0, 100.0, 0.5});
-  EXPECT_DOUBLE_EQ(s.median, 2.5);
-  EXPECT_DOUBLE_EQ(s.min, 0.5);
-  EXPECT_DOUBLE_EQ(s.max, 100.0);
-  s = ts::summarize({7.0});
-  EXPECT_DOUBLE_EQ(s.median, 7.0);
-  s = ts::summarize({1.0, std::nan(""), 5.0, INFINITY});
-  EXPECT_EQ(s.n, 2u);
-  EXPECT_DOUBLE_EQ(s.median, 3.0);
-  EXPECT_EQ(ts::summarize({}).n, 0u);
-
-  // summarizeRows: per configuration over frames, the last row of a repeated frame wins.
-  nlohmann::json rows = nlohmann::json::array();
-  auto row = [](const std::string& id, int frame, double ms) {
-    return nlohmann::json{{"config_id", id}, {"config", {{"technique", "t"}}}, {"frame", frame},
-                          {"total_ms", ms}, {"wall_ms", ms + 1},
-                          {"kernels", {{{"name", "k"}, {"ms", ms}}}}};
-  };
-  rows.push_back(row("a", 0, 10));
-  rows.push_back(row("a", 1, 30));
-  rows.push_back(row("b", 0, 5));
-  rows.push_back(row("a", 2, 20));
-  rows.push_back(row("a", 1, 40));  // re-measured frame 1
-  auto sum = ts::summarizeRows(rows);
-  ASSERT_EQ(sum.size(), 2u);
-  EXPECT_EQ(sum[0]["config_id"], "a");
-  EXPECT_EQ(sum[0]["frames"], 3);
-  EXPECT_DOUBLE_EQ(sum[0]["total_ms"]["median"].get<double>(), 20.0);
-  EXPECT_DOUBLE_EQ(sum[0]["total_ms"]["min"].get<double>(), 10.0);
-  EXPECT_DOUBLE_EQ(sum[0]["total_ms"]["max"].get<double>(), 40.0);
-  EXPECT_DOUBLE_EQ(sum[0]["kernels"][0]["median"].get<double>(), 20.0);
-  EXPECT_DOUBLE_EQ(sum[1]["wall_ms"]["median"].get<double>(), 6.0);
-}
-
-TEST(BenchStats, CsvQuotingRoundTripsAndRepeatedHeadersAreSkipped) {
-  std::vector<std::string> f = {"plain", "a,b", "say \"hi\"", "", "x;y=1"};
-  std::vector<std::string> back;
-  EXPECT_TRUE(ts::parseCsvRecord(ts::csvLine(f), back));
-  EXPECT_EQ(back, f);
-  std::string dir = tempDir("csv");
-  std::ofstream(dir + "/cat.csv") << "a,b\n1,2\na,b\n3,\"4,5\"\n";
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  ASSERT_TRUE(ts::readCsv(dir + "/cat.csv", header, rows));
-  EXPECT_EQ(header, (std::vector<std::string>{"a", "b"}));
-  ASSERT_EQ(rows.size(), 2u);
-  EXPECT_EQ(rows[1]["b"], "4,5");
-  EXPECT_FALSE(ts::readCsv(dir + "/missing.csv", header, rows));
-  fs::remove_all(dir);
-}
-
-// ---- the column tables (bench_columns.h) drive writing and reading back ----------------------
-
-// A field of every column, each of its type and unlike anything a default run writes.
-std::map<std::string, std::string> fabricatedFields() {
-  std::map<std::string, std::string> fields;
-  int i = 0;
-  for (const auto& c : ts::benchColumns()) {
-    ++i;
-    std::string& v = fields[c.name];
-    switch (c.type) {
-      case ts::BenchColumnType::Text: v = "text " + std::to_string(i) + ", \"quoted\""; break;
-      case ts::BenchColumnType::Integer: v = std::to_string(1000003 * i); break;
-      case ts::BenchColumnType::Time: v = ts::numberText(0.125 * i); break;
-      case ts::BenchColumnType::Number: v = ts::numberText(-1.5e7 * i); break;
-      case ts::BenchColumnType::Kernels: v = "clear=0.25;shade=" + std::to_string(i); break;
-      case ts::BenchColumnType::KernelMedians: break;  // summary.csv only
-      case ts::BenchColumnType::Notes: v = "first note | second note"; break;
-    }
-  }
-  fields["err_psnr_db"] = "inf";  // an exact image: infinities come back as the string
-  fields["err_p50"] = "-inf";
-  return fields;
-}
-
-std::vector<std::string> inColumnOrder(const std::map<std::string, std::string>& fields) {
-  std::vector<std::string> out;
-  for (const auto& name : ts::benchCsvColumns()) out.push_back(fields.at(name));
-  return out;
-}
-
-TEST(BenchColumns, EveryColumnOfAWrittenRowReadsBackTheSame) {
-  const auto fields = fabricatedFields();
-  for (const auto& c : ts::benchColumns())
-    EXPECT_TRUE(ts::wellTyped(c, fields.at(c.name))) << c.name << " = " << fields.at(c.name);
-  nlohmann::json row = ts::rowFromCsv(fields, "fabricated.csv");
-  // Every column has its value at its path, of its JSON type.
-  for (const auto& c : ts::benchColumns()) {
-    nlohmann::json::json_pointer path(c.path);
-    ASSERT_TRUE(row.contains(path)) << c.name << " at " << c.path;
-    const nlohmann::json& v = row.at(path);
-    switch (c.type) {
-      case ts::BenchColumnType::Text: EXPECT_EQ(v, fields.at(c.name)) << c.name; break;
-      case ts::BenchColumnType::Integer:
-        EXPECT_EQ(v.dump(), fields.at(c.name)) << c.name;
-        EXPECT_TRUE(v.is_number_integer()) << c.name;
-        break;
-      case ts::BenchColumnType::Time:
-      case ts::BenchColumnType::Number:
-        EXPECT_TRUE(v.is_number() || v == "inf" || v == "-inf") << c.name << " = " << v;
-        break;
-      case ts::BenchColumnType::Kernels: EXPECT_EQ(v.size(), 2u) << c.name; break;
-      case ts::BenchColumnType::KernelMedians: ADD_FAILURE() << c.name << " in bench.csv"; break;
-      case ts::BenchColumnType::Notes:
-        EXPECT_EQ(v, (nlohmann::json{"first note", "second note"})) << c.name;
-        break;
-    }
-  }
-  EXPECT_EQ(row["technique"], fields.at("technique"));  // techniqueJson's own key
-  // Written again, every field is what it was; read again, the row is what it was.
-  const std::vector<std::string> written = ts::csvFields(ts::benchColumns(), row);
-  EXPECT_EQ(written, inColumnOrder(fields));
-  std::map<std::string, std::string> again;
-  for (size_t i = 0; i < written.size(); ++i) again[ts::benchCsvColumns()[i]] = written[i];
-  EXPECT_EQ(ts::rowFromCsv(again, "fabricated.csv"), row);
-  // And through a CSV line (the quoting of text fields) too.
-  std::vector<std::string> parsed;
-  ASSERT_TRUE(ts::parseCsvRecord(ts::csvLine(written), parsed));
-  EXPECT_EQ(parsed, written);
-}
-
-TEST(BenchColumns, OptionalValuesAndGroupsComeBackOnlyWhenWritten) {
-  auto fields = fabricatedFields();
-  for (const auto& c : ts::benchColumns())
-    if (!c.required && c.presentIf.empty()) fields[c.name] = "";
-  fields["reference_contributing"] = "";
-  fields["err_max_abs"] = "";  // the group's first: no error object, whatever the others hold
-  fields["err_shading_max_rel_peak"] = "";
-  nlohmann::json row = ts::rowFromCsv(fields, "fabricated.csv");
-  EXPECT_FALSE(row.contains("reference_contributing"));
-  EXPECT_FALSE(row.contains("error"));
-  EXPECT_FALSE(row.contains("error_shading"));
-  EXPECT_TRUE(row["limit"]["limit_ms"].is_null());  // always there, null when empty
-  EXPECT_EQ(row["notes"], nlohmann::json::array());
-  for (const auto& c : ts::benchColumns())
-    EXPECT_TRUE(!c.required || !ts::wellTyped(c, "")) << c.name;
-  for (const auto& c : ts::benchColumns()) {
-    if (c.type != ts::BenchColumnType::Integer) continue;
-    EXPECT_FALSE(ts::wellTyped(c, "12.5")) << c.name;
-    EXPECT_FALSE(ts::wellTyped(c, "1234567890123456789")) << c.name;  // 19 digits
-  }
-}
-
-bool inTable(const std::vector<ts::BenchColumn>& table, const std::string& name) {
-  return std::any_of(table.begin(), table.end(),
-                     [&](const ts::BenchColumn& c) { return c.name == name; });
-}
-
-TEST(BenchColumns, TablesNameEveryDimensionOnceAndEveryColumnHasAPath) {
-  for (const auto* table : {&ts::benchColumns(), &ts::summaryColumns()}) {
-    std::set<std::string> names;
-    for (const auto& c : *table) {
-      EXPECT_TRUE(names.insert(c.name).second) << c.name;
-      EXPECT_EQ(c.path.rfind('/', 0), 0u) << c.name << ": " << c.path;
-      EXPECT_TRUE(c.presentIf.empty() || inTable(*table, c.presentIf))
-          << c.name << " present if " << c.presentIf;
-    }
-    for (const auto& d : ts::benchDimensions()) EXPECT_TRUE(names.count(d.name)) << d.name;
-  }
-  EXPECT_EQ(ts::benchCsvColumns().front(), "config_id");
-  EXPECT_EQ(ts::summaryCsvColumns().front(), "config_id");
 }
 
 // Paths of a row's values (arrays are one value), for BenchRun's check that every value of a
@@ -759,14 +441,6 @@ TEST_F(BenchResume, OtherColumnsAreOneLineError) {
   fs::remove_all(o.outDir);
 }
 
-TEST(BenchCsv, StrictRecordsRefuseStrayQuotes) {
-  std::vector<std::string> f;
-  EXPECT_TRUE(ts::parseCsvRecord("a,\"b,\"\"c\"\"\",", f));
-  EXPECT_EQ(f, (std::vector<std::string>{"a", "b,\"c\"", ""}));
-  for (const char* bad : {"\"a", "a\"b\",c", "\"a\"b,c", "a,\"b"})
-    EXPECT_FALSE(ts::parseCsvRecord(bad, f)) << bad;
-}
-
 TEST(BenchRun, UnknownDeviceWritesNothing) {
   std::string dir = tempDir("nodevice");
   ts::BenchOptions o = tinyOptions(dir + "/out");
@@ -774,13 +448,6 @@ TEST(BenchRun, UnknownDeviceWritesNothing) {
   expectOneLineError([&] { ts::runBench(o); }, {"no-such-device"});
   EXPECT_FALSE(fs::exists(dir + "/out"));
   fs::remove_all(dir);
-}
-
-TEST(BenchShard, LimitIsTheOneStated) {
-  EXPECT_EQ(ts::Shard::parse("999999/1000000").count, 1000000);
-  expectOneLineError([] { ts::Shard::parse("0/1000001"); }, {"n <= 1000000", "'0/1000001'"});
-  expectOneLineError([] { ts::Shard::parse("0/99999999999999999999"); }, {"n <= 1000000"});
-  expectOneLineError([] { ts::Shard::parse("3/3"); }, {"0 <= k < n"});
 }
 
 // bench/plot.py on a small generated CSV, when a python3 with matplotlib is available.

@@ -89,7 +89,7 @@ TEST(GBufferImport, DumpRoundTripsExactlyInEveryLayoutForEveryTechnique) {
     expectSameFrame(original, imported.frame, layout);
     // Re-encoding the imported values in their layout gave back the stored codes (above), so
     // every technique shades the same inputs and gives the same image bit for bit (renders are
-    // repeatable: tests/repeatability_test.cpp).
+    // repeatable: tests/techniques/repeatability_test.cpp).
     for (int lanes : {1, 16}) {
       TechniqueConfig config;
       config.format = format;

@@ -2,7 +2,7 @@
 // strings, nesting beyond 64 levels and directories where files go are one short error line in
 // every file tileshade reads (gbuffer.json, lights.json, bench configs, bench.json/bench.csv on
 // resume, glTF and GLB, kernel sources), and no error line echoes more than a short prefix of
-// what the user gave.
+// what the user gave. The strict parser and the readers' helpers on their own: strict_json_test.cpp.
 
 #include <algorithm>
 #include <cstring>
@@ -17,6 +17,7 @@
 #include "bench/bench_config.h"
 #include "bench/bench_run.h"
 #include "gltf_builder.h"
+#include "json_errors.h"
 #include "render/gbuffer_files.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
@@ -33,47 +34,15 @@ namespace {
 using ts::test::CliRun;
 using ts::test::runTileshade;
 using ts::test::Streams;
-
-// An error line this long or longer echoes too much of its input.
-constexpr size_t kShortLine = 600;
+using ts::test::errorOf;
+using ts::test::expectMessage;
+using ts::test::kShortLine;
+using ts::test::nested;
+using ts::test::readText;
+using ts::test::writeText;
 
 fs::path freshDir(const std::string& name) {
   return ts::test::freshDir("json_input", name);
-}
-
-void writeText(const fs::path& p, const std::string& text) {
-  std::ofstream(p, std::ios::binary) << text;
-}
-
-std::string readText(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-std::string nested(size_t depth) { return std::string(depth, '[') + std::string(depth, ']'); }
-
-// ts::Error's message from f(), "" when it did not throw.
-template <typename F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const ts::Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
-// parseStrictJson's message ("" when it parses), source "src".
-std::string errorOfParse(const std::string& text) {
-  return errorOf([&] { ts::parseStrictJson(text, "src"); });
-}
-
-void expectMessage(const std::string& message, const std::vector<std::string>& needles) {
-  EXPECT_FALSE(message.empty()) << "no error";
-  EXPECT_LT(message.size(), kShortLine) << message.substr(0, 2000);
-  EXPECT_EQ(message.find('\n'), std::string::npos) << message.substr(0, 2000);
-  for (const auto& n : needles)
-    EXPECT_NE(message.find(n), std::string::npos) << "'" << n << "' not in: " << message;
 }
 
 // Exit status 1 and one short stderr line "tileshade: error: ..." with every needle.
@@ -135,66 +104,6 @@ std::string triangleWith(const std::string& member) {
   std::string text = ts::test::triangle().dump();
   text.insert(text.size() - 1, "," + member);
   return text;
-}
-
-// ---- the helpers ---------------------------------------------------------------------------------
-
-TEST(ShortText, KeepsShortTextAndCutsLongTextWithItsLength) {
-  EXPECT_EQ(ts::shortText("tiled"), "tiled");
-  const std::string cut = ts::shortText(std::string(1 << 20, 'k'));
-  EXPECT_EQ(cut, std::string(ts::kShortTextChars, 'k') + "\xE2\x80\xA6 (1048576 bytes)");
-  EXPECT_EQ(ts::shortText("a\nb\tc\x01"), "a\\nb\\tc\\x01");  // one line, whatever the input
-  // A cut never splits a UTF-8 character: "é" (2 bytes) at bytes 59-60 is left out whole.
-  const std::string accents = "a" + std::string(100, 'x').replace(58, 2, "\xC3\xA9");
-  const std::string s = ts::shortText(accents);
-  EXPECT_EQ(s, accents.substr(0, 59) + "\xE2\x80\xA6 (101 bytes)");
-}
-
-TEST(StrictJson, DuplicateKeysAreErrorsAtAnyDepth) {
-  expectMessage(errorOfParse("{\"a\": 1, \"a\": 2}"), {"src: ", "\"a\" appears twice"});
-  expectMessage(errorOfParse("{\"x\": [{\"b\": 1, \"c\": {}, \"b\": 0}]}"),
-                {"\"b\" appears twice"});
-  // The same key in sibling objects is fine.
-  EXPECT_EQ(errorOfParse("[{\"a\": 1}, {\"a\": 2}, {\"o\": {\"a\": 3}, \"a\": 4}]"), "");
-}
-
-TEST(StrictJson, NestingIsRefusedBeyond64LevelsWhileParsing) {
-  EXPECT_EQ(errorOfParse(nested(ts::kMaxJsonDepth)), "");
-  expectMessage(errorOfParse(nested(ts::kMaxJsonDepth + 1)), {"nested deeper than 64"});
-  expectMessage(errorOfParse("{\"a\":" + std::string(100000, '[')), {"nested deeper than 64"});
-  // Objects count too; an unterminated 10 MB nesting is refused at level 65.
-  std::string objects;
-  for (int i = 0; i < 70; ++i) objects += "{\"k\":";
-  expectMessage(errorOfParse(objects), {"nested deeper than 64"});
-  expectMessage(errorOfParse(std::string(10 << 20, '[')), {"nested deeper than 64"});
-}
-
-TEST(StrictJson, NulInAStringOrKeyIsAnError) {
-  expectMessage(errorOfParse(R"({"image": "gbuffer.exr\u0000.png"})"),
-                {"\\u0000", "gbuffer.exr\\x00.png"});
-  expectMessage(errorOfParse(R"({"a\u0000b": 1})"), {"\\u0000"});
-  EXPECT_EQ(errorOfParse(R"({"a": "\u0001 is fine"})"), "");
-}
-
-TEST(StrictJson, SyntaxErrorsAreShortAndSayWhere) {
-  expectMessage(errorOfParse(""), {"src: not valid JSON: ", "line 1, column 1"});
-  expectMessage(errorOfParse("{\"a\": \"" + std::string(1 << 20, 'z')),  // unterminated
-                {"src: not valid JSON"});
-  expectMessage(errorOfParse("{\"a\": " + std::string(1 << 20, '7') + "x}"),
-                {"not valid JSON"});
-  // Comments only where asked for (bench configs).
-  EXPECT_NE(errorOfParse("{\"a\": 1 /* c */}"), "");
-  EXPECT_NO_THROW(ts::parseStrictJson("{\"a\": 1 /* c */}", "src", ts::JsonComments::Allowed));
-}
-
-TEST(ReadTextFile, DirectoriesAndMissingFilesAreOneLineNamingThePath) {
-  const fs::path dir = freshDir("read_dir");
-  expectMessage(errorOf([&] { ts::readTextFile(dir.string(), "bench config"); }),
-                {"cannot read bench config " + dir.string() + ": it is a directory"});
-  expectMessage(errorOf([&] { ts::readTextFile((dir / "none").string(), "lights file"); }),
-                {"cannot read lights file " + (dir / "none").string() + ": no such file"});
-  writeText(dir / "f.json", "{\"a\": [1]}");
-  EXPECT_EQ(ts::readJsonFile((dir / "f.json").string(), "x").at("a").at(0), 1);
 }
 
 // The fuzzers' seeds (docs/output-formats.md's forms, real dumps) are valid: the fuzzing starts

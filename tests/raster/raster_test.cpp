@@ -156,8 +156,9 @@ TEST(RasterFillRule, SharedEdgesThroughPixelCentresCoverEachPixelOnce) {
         ASSERT_EQ(g.fragmentCount[i], 1u) << "gap at " << x << "," << y;
         if (x == y) ++diagonal;
       }
-      if (x == 50 && y >= 3 && y < 60)
+      if (x == 50 && y >= 3 && y < 60) {
         ASSERT_EQ(g.fragmentCount[i], 1u) << "gap at " << x << "," << y;
+      }
     }
   EXPECT_EQ(diagonal, 32);
   EXPECT_GT(seen[0], 0);
@@ -287,7 +288,9 @@ TEST(RasterDepth, NearerTriangleWinsInEitherOrderAndTiesGoToTheLowerIndex) {
   for (int threads : {1, 4}) {
     GBuffer g = ts::rasterize(s, cam, W, H, instrumented(threads));
     for (size_t i = 0; i < g.pixelCount(); ++i)
-      if (g.depth[i] > 0) ASSERT_EQ(g.triangleId[i], 0);
+      if (g.depth[i] > 0) {
+        ASSERT_EQ(g.triangleId[i], 0);
+      }
   }
 }
 
@@ -365,7 +368,9 @@ TEST(RasterClipping, TriangleCrossingTheNearPlaneRendersItsVisiblePart) {
       glm::dvec3 r = pixelRay(in, x, y);
       double t = r.y < 0 ? floorY / r.y : -1.0;  // ray-floor intersection, depth = t
       bool got = g.depth[i] > 0;
-      if (got) ASSERT_NEAR(g.depth[i], t, 1e-5 * t) << x << "," << y;
+      if (got) {
+        ASSERT_NEAR(g.depth[i], t, 1e-5 * t) << x << "," << y;
+      }
       bool expected = false;
       if (t > 0) {
         glm::dvec2 P(r.x * t, -t);
@@ -489,7 +494,9 @@ TEST(RasterShading, MaterialsNormalsAndDoubleSidedBackFaces) {
   EXPECT_LT(glm::distance(glm::vec3(gr.normal[centre]), expected), 1e-5f);
   EXPECT_GT(std::abs(expected.x), 0.3f);  // really rotated
   for (size_t i = 0; i < gr.pixelCount(); ++i)
-    if (gr.depth[i] > 0) ASSERT_NEAR(glm::length(glm::vec3(gr.normal[i])), 1.0f, 1e-5f);
+    if (gr.depth[i] > 0) {
+      ASSERT_NEAR(glm::length(glm::vec3(gr.normal[i])), 1.0f, 1e-5f);
+    }
 }
 
 Scene randomScene(int triangles, uint32_t seed) {

@@ -102,7 +102,9 @@ TEST(SceneBuiltin, DeterministicForASeedAndDifferentAcrossSeeds) {
     EXPECT_TRUE(sameLights(a, b));
     Scene c = ts::makeBuiltinScene(name, "", 8);
     EXPECT_FALSE(sameLights(a, c));
-    if (name == "street") EXPECT_FALSE(sameGeometry(a, c));  // building heights, robots
+    if (name == "street") {
+      EXPECT_FALSE(sameGeometry(a, c));  // building heights, robots
+    }
   }
 }
 

@@ -187,7 +187,9 @@ TEST(DeferredNearPlane, LightAroundCameraCoversWholeScreen) {
     EXPECT_EQ(launches(c.result, "light"), 2);
     EXPECT_EQ(c.missed, 0u) << "stencil " << stencil;
     EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << "stencil " << stencil;
-    if (!stencil) EXPECT_GE(c.result.counters.lightingComputations, 200u * 120u);
+    if (!stencil) {
+      EXPECT_GE(c.result.counters.lightingComputations, 200u * 120u);
+    }
   }
   EXPECT_GT(ref.contributing, f.gbuffer.geometryPixels() / 2) << "the big light lights little";
 }

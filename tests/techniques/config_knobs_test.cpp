@@ -57,7 +57,9 @@ void expectUnknownListsNames(const EnumNames<E>& table) {
       EXPECT_EQ(m.find('\n'), std::string::npos) << m;
       EXPECT_NE(m.find("no-such-value"), std::string::npos) << m;
       EXPECT_NE(m.find(table.list()), std::string::npos) << m;
-      if (asOption) EXPECT_EQ(m.rfind("--knob:", 0), 0u) << m;
+      if (asOption) {
+        EXPECT_EQ(m.rfind("--knob:", 0), 0u) << m;
+      }
     }
   }
 }

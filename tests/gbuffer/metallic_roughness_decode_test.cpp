@@ -2,7 +2,7 @@
 // decode_gbuffer in kernels/dump.cl) against the host's (decodeStored, gbuffer/gbuffer_layout.cpp),
 // bit for bit, for every stored value: each of the 256 bytes of the packed base colour and
 // roughness, and spreads of fp16 and fp32 values (every finite half). GBufferDecode in
-// pipeline_test.cpp checks the Blinn-Phong layouts end to end on a rendered scene.
+// gbuffer_decode_test.cpp checks the Blinn-Phong layouts end to end on a rendered scene.
 #include <gtest/gtest.h>
 
 #include <cstring>

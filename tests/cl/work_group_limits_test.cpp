@@ -1,8 +1,8 @@
 // Launches within the device's and the kernel's work-group limits (src/cl/work_group.h). Issue #12:
 // the kernels' work-group sizes were fixed up to 256 while CL_DEVICE_MAX_WORK_GROUP_SIZE was read
 // and ignored, so on a device allowing 128 (Oclgrind's --max-wgsize 128) every launch failed with
-// CL_INVALID_WORK_GROUP_SIZE. The shapes are tested on their own; then every technique renders, on a
-// context capped to a stricter device's limit, what the reference gives. tests/extra_tests.cmake
+// CL_INVALID_WORK_GROUP_SIZE. The shapes are tested on their own (work_group_test.cpp); here every
+// technique renders, on a context capped to a stricter device's limit, what the reference gives. tests/extra_tests.cmake
 // also runs these cases with PoCL enforcing the limit itself ($POCL_MAX_WORK_GROUP_SIZE), so a
 // launch that ignores it fails there as it would on such a device.
 #include <gtest/gtest.h>
@@ -17,49 +17,6 @@
 
 namespace ts {
 namespace {
-
-GroupLimit limitOf(size_t size, size_t items = 1 << 20) {
-  GroupLimit l;
-  l.size = size;
-  l.items = {{items, items}};
-  return l;
-}
-
-TEST(WorkGroupShapes, FitTheLimitAndKeepThePreferredShapeWhenItFits) {
-  for (size_t limit : {1, 2, 3, 7, 32, 48, 64, 100, 128, 255, 256, 1024}) {
-    GroupShape g = fitGroup(16, 16, limitOf(limit));
-    EXPECT_LE(g.size(), limit);
-    EXPECT_GE(g.size() * 4, std::min<size_t>(limit, 256)) << "no more than halved per side";
-    size_t p = powerOfTwoGroup(256, limitOf(limit));
-    EXPECT_LE(p, limit);
-    EXPECT_EQ(p & (p - 1), 0u) << p << " is a power of two";
-    EXPECT_GT(p * 2, std::min<size_t>(limit, 256));
-  }
-  EXPECT_EQ(fitGroup(16, 16, limitOf(256)).size(), 256u);
-  EXPECT_EQ(fitGroup(7, 5, limitOf(256)).size(), 35u);
-  EXPECT_EQ(fitGroup(16, 16, limitOf(128)).size(), 128u);
-  GroupShape perDimension = fitGroup(16, 16, limitOf(256, 8));
-  EXPECT_EQ(perDimension.x, 8u);
-  EXPECT_EQ(perDimension.y, 8u);
-}
-
-TEST(WorkGroupShapes, TileDividingGroupsDivideTheTileWithinTheLimit) {
-  for (int tw : {1, 5, 7, 8, 16, 17, 24, 32, 48})
-    for (int th : {1, 3, 8, 16, 24})
-      for (size_t limit : {1, 6, 32, 64, 128, 256}) {
-        GroupShape g = tileDividingGroup(tw, th, limitOf(limit));
-        EXPECT_EQ(tw % g.x, 0u) << tw << "x" << th << " limit " << limit;
-        EXPECT_EQ(th % g.y, 0u) << tw << "x" << th << " limit " << limit;
-        EXPECT_LE(g.size(), limit);
-        EXPECT_LE(g.x, 16u);
-        EXPECT_LE(g.y, 16u);
-      }
-  // Unlimited: the largest divisors up to 16, as before limits were read (24 -> 12, 48 -> 16).
-  GroupShape g = tileDividingGroup(24, 48, limitOf(1024));
-  EXPECT_EQ(g.x, 12u);
-  EXPECT_EQ(g.y, 16u);
-  EXPECT_EQ(tileDividingGroup(16, 16, limitOf(128)).size(), 128u);
-}
 
 // Every technique on a device allowing `limit` work-items per group: every launch must fit (PoCL
 // enforces it under the extra CTest entry) and the image must be the reference's.
