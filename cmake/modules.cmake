@@ -126,3 +126,10 @@ if(TILESHADE_BUILD_TESTS)
                    -P ${CMAKE_SOURCE_DIR}/cmake/check_layers.cmake)
   set_tests_properties(Layers.IncludesFollowModuleDeps PROPERTIES LABELS layers TIMEOUT 60)
 endif()
+
+# The code's layout (.clang-format) with clang-format 14; skipped (77) where that is absent.
+if(TILESHADE_BUILD_TESTS)
+  add_test(NAME Format.ClangFormat COMMAND bash ${CMAKE_SOURCE_DIR}/scripts/format_check.sh)
+  set_tests_properties(Format.ClangFormat PROPERTIES LABELS "layers;format" TIMEOUT 120
+                       SKIP_RETURN_CODE 77)
+endif()

@@ -15,6 +15,7 @@ PACKAGES=(
   # the sanitizer build and the fuzzers of scripts/test.sh (clang's ASan/UBSan/libFuzzer runtimes,
   # llvm-symbolizer for readable reports)
   clang libclang-rt-14-dev llvm
+  clang-format  # scripts/format_check.sh (CTest Format.ClangFormat): the layout of .clang-format
 )
 
 missing=()

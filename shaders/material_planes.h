@@ -17,9 +17,9 @@
 #ifndef TS_MATERIAL_PLANES_H
 #define TS_MATERIAL_PLANES_H
 
-#define TS_TEXTURE_DIFFUSE 0             /* Blinn-Phong kd */
-#define TS_TEXTURE_BASE_COLOR 1          /* metallic-roughness base colour */
-#define TS_TEXTURE_METALLIC_ROUGHNESS 2  /* glTF: G = roughness, B = metallic */
+#define TS_TEXTURE_DIFFUSE 0            /* Blinn-Phong kd */
+#define TS_TEXTURE_BASE_COLOR 1         /* metallic-roughness base colour */
+#define TS_TEXTURE_METALLIC_ROUGHNESS 2 /* glTF: G = roughness, B = metallic */
 #define TS_TEXTURE_EMISSIVE 3
 #define TS_TEXTURE_SLOTS 4
 

@@ -31,7 +31,8 @@ void printDevices() {
 // Checks a number option on the text as typed: CLI11 converts 1e39 to inf before the option's
 // own check would see it, and the error would echo "inf".
 CLI::Validator typedNumber(ts::NumberRule rule) {
-  return CLI::Validator([rule](std::string& text) { return ts::numberTextProblem(text, rule); }, "");
+  return CLI::Validator([rule](std::string& text) { return ts::numberTextProblem(text, rule); },
+                        "");
 }
 
 // "unknown subcommand 'X' (known: ...)" when the deepest subcommand given wants one and the
@@ -57,8 +58,9 @@ std::string joined(const std::vector<std::string>& v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"tileshade: tiled shading of a G-buffer in OpenCL, and a lab that measures "
-               "light-culling techniques for speed and error"};
+  CLI::App app{
+      "tileshade: tiled shading of a G-buffer in OpenCL, and a lab that measures "
+      "light-culling techniques for speed and error"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("tileshade ") + TILESHADE_VERSION);
 
@@ -70,68 +72,80 @@ int main(int argc, char** argv) {
               spotCulling = ts::toString(render.spotCulling), math = ts::toString(render.math),
               lanes = ts::lanesName(render.lanes);
   auto* renderCmd = app.add_subcommand("render", "render one frame with one or more techniques");
-  auto* sceneOpt =
-      renderCmd->add_option("--scene", render.scene, "builtin:street, builtin:atrium, or a .gltf/.glb path")
-          ->capture_default_str();
+  auto* sceneOpt = renderCmd
+                       ->add_option("--scene", render.scene,
+                                    "builtin:street, builtin:atrium, or a .gltf/.glb path")
+                       ->capture_default_str();
   renderCmd->add_option("--lights", render.lightSet,
                         "light set (street: many, few; atrium: small, big, mixed); for glTF, "
                         "the file's own lights unless given");
   renderCmd->add_option("--light-count", render.lightCount, "number of lights (-1: the set's own)")
       ->capture_default_str();
-  renderCmd->add_option("--light-range", render.lightRange,
-                        "override every light's range (0: keep; finite, >= 0)")
+  renderCmd
+      ->add_option("--light-range", render.lightRange,
+                   "override every light's range (0: keep; finite, >= 0)")
       ->capture_default_str()
       ->check(typedNumber(ts::NumberRule::AtLeastZero));
   renderCmd->add_option("--variant", render.variant,
                         "built-in scene variants, a comma list of: " +
                             joined(ts::builtinVariants()) + " (scenes/README.md)");
-  renderCmd->add_option("--shading-model", render.shadingModel,
-                        "auto (the scene's own: metallic-roughness for glTF, blinn-phong for the "
-                        "built-ins), " + ts::shadingModelNames().list())
+  renderCmd
+      ->add_option("--shading-model", render.shadingModel,
+                   "auto (the scene's own: metallic-roughness for glTF, blinn-phong for the "
+                   "built-ins), " +
+                       ts::shadingModelNames().list())
       ->capture_default_str();
-  renderCmd->add_option("--features", render.features,
-                        "what the kernels and the G-buffer model: auto (what the scene needs), "
-                        "general (everything), or a comma list of specular, emissive, textures, "
-                        "point, spot, directional (docs/features.md)")
+  renderCmd
+      ->add_option("--features", render.features,
+                   "what the kernels and the G-buffer model: auto (what the scene needs), "
+                   "general (everything), or a comma list of specular, emissive, textures, "
+                   "point, spot, directional (docs/features.md)")
       ->capture_default_str();
-  renderCmd->add_option("--light-threshold", render.lightThreshold,
-                        "ranges from the attenuation threshold t: r = sqrt(max(C)/t), e.g. "
-                        "0.01953125 (5/256); 0 keeps the scene's ranges (finite, >= 0)")
+  renderCmd
+      ->add_option("--light-threshold", render.lightThreshold,
+                   "ranges from the attenuation threshold t: r = sqrt(max(C)/t), e.g. "
+                   "0.01953125 (5/256); 0 keeps the scene's ranges (finite, >= 0)")
       ->capture_default_str()
       ->check(typedNumber(ts::NumberRule::AtLeastZero));
   renderCmd->add_option("--culling", culling, "per-tile light test: " + ts::cullTestNames().help())
       ->capture_default_str();
-  renderCmd->add_option("--spot-culling", spotCulling,
-                        "spot lights culled as: " + ts::spotCullingNames().help())
+  renderCmd
+      ->add_option("--spot-culling", spotCulling,
+                   "spot lights culled as: " + ts::spotCullingNames().help())
       ->capture_default_str();
   renderCmd->add_flag("--depth-split", render.depthSplit,
                       "tiled: split each tile's depth range at its middle and cull against both "
                       "halves (fewer lights at depth discontinuities; docs/techniques.md)");
   renderCmd->add_option("--math", math, "shading arithmetic: " + ts::mathModeNames().help())
       ->capture_default_str();
-  renderCmd->add_option("--lanes", lanes,
-                        "pixels shaded together per light: " + ts::laneNames().help())
+  renderCmd
+      ->add_option("--lanes", lanes, "pixels shaded together per light: " + ts::laneNames().help())
       ->capture_default_str();
-  renderCmd->add_option("--seed", render.seed, "seed of the built-in scenes")->capture_default_str();
-  renderCmd->add_option("--technique", render.techniques,
-                        "technique(s): " + joined(ts::techniqueNames()) + ", or all")
+  renderCmd->add_option("--seed", render.seed, "seed of the built-in scenes")
+      ->capture_default_str();
+  renderCmd
+      ->add_option("--technique", render.techniques,
+                   "technique(s): " + joined(ts::techniqueNames()) + ", or all")
       ->capture_default_str();
   renderCmd->add_option("--tile", tile, "tile size N or WxH (pixels)")->capture_default_str();
   renderCmd->add_option("--slices", render.clusterSlices, "depth slices of clustered shading")
       ->capture_default_str();
-  auto* rasterOpt = renderCmd->add_option(
-      "--raster", raster, "rasterizer of the G-buffer: " + ts::rasterBackendNames().help())
-      ->capture_default_str();
+  auto* rasterOpt =
+      renderCmd
+          ->add_option("--raster", raster,
+                       "rasterizer of the G-buffer: " + ts::rasterBackendNames().help())
+          ->capture_default_str();
   auto* gbufferInOpt = renderCmd->add_option(
       "--gbuffer-in", render.gbufferIn,
       "shade a G-buffer read from files instead of a scene: a folder written by --dump, or a "
       "descriptor .json naming another renderer's EXR channels (docs/output-formats.md); size, "
       "camera, lights and shading model come from the files (the options that set them are "
       "refused), the layout too unless --gbuffer is given");
-  auto* gbufferOpt = renderCmd->add_option("--gbuffer", format,
-                        "G-buffer precision: " + ts::gbufferFormatNames().help() +
-                            "; see docs/accuracy.md")
-      ->capture_default_str();
+  auto* gbufferOpt = renderCmd
+                         ->add_option("--gbuffer", format,
+                                      "G-buffer precision: " + ts::gbufferFormatNames().help() +
+                                          "; see docs/accuracy.md")
+                         ->capture_default_str();
   renderCmd->add_option("--width", render.width, "image width")->capture_default_str();
   renderCmd->add_option("--height", render.height, "image height")->capture_default_str();
   renderCmd->add_option("--frame", render.frame, "frame of the scene's camera path")
@@ -153,9 +167,9 @@ int main(int argc, char** argv) {
                       "also write gbuffer.exr (decoded shading inputs), lights.json and "
                       "gbuffer.json (the descriptor --gbuffer-in reads)");
   // An imported G-buffer brings its own scene, size, frame, lights and shading model.
-  for (const char* name : {"--lights", "--light-count", "--light-range", "--light-threshold",
-                           "--seed", "--width", "--height", "--frame", "--variant",
-                           "--shading-model"})
+  for (const char* name :
+       {"--lights", "--light-count", "--light-range", "--light-threshold", "--seed", "--width",
+        "--height", "--frame", "--variant", "--shading-model"})
     gbufferInOpt->excludes(renderCmd->get_option(name));
   gbufferInOpt->excludes(sceneOpt);
   gbufferInOpt->excludes(rasterOpt);
@@ -188,7 +202,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // One line, like every other bad input (CLI11's default adds a second "Run with --help").
     std::string unknown = unknownSubcommand(app);
-    std::cerr << "tileshade: error: " << (unknown.empty() ? e.what() : unknown) << " (see --help)\n";
+    std::cerr << "tileshade: error: " << (unknown.empty() ? e.what() : unknown)
+              << " (see --help)\n";
     return 1;
   }
   try {

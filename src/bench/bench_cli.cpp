@@ -29,8 +29,8 @@ struct BenchCliState {
   int warmup = 1, repeat = 1, calibMiB = 256;
   bool error = false, resume = false, overwrite = false, noCalibrate = false, quiet = false,
        list = false;
-  CLI::Option *framesOpt = nullptr, *warmupOpt = nullptr, *repeatOpt = nullptr,
-              *errorOpt = nullptr, *errorFramesOpt = nullptr, *calibOpt = nullptr;
+  CLI::Option *framesOpt = nullptr, *warmupOpt = nullptr, *repeatOpt = nullptr, *errorOpt = nullptr,
+              *errorFramesOpt = nullptr, *calibOpt = nullptr;
 };
 
 std::string commandLine() {
@@ -60,8 +60,8 @@ std::vector<std::string> jsonValues(const std::string& key, const nlohmann::json
       s << x.get<double>();
       out.push_back(s.str());
     } else {
-      throw Error("bench config: '" + shortText(key) + "' expects strings, numbers or booleans, got " +
-                  shortText(x.dump()));
+      throw Error("bench config: '" + shortText(key) +
+                  "' expects strings, numbers or booleans, got " + shortText(x.dump()));
     }
   };
   if (v.is_array()) {
@@ -75,9 +75,12 @@ std::vector<std::string> jsonValues(const std::string& key, const nlohmann::json
 // Applies the --config file; command-line options that were given win.
 void applyConfigFile(BenchCliState& s, BenchOptions& o) {
   const std::string text = readTextFile(s.config, "bench config");
-  std::map<std::string, const CLI::Option*> runOptions = {
-      {"frames", s.framesOpt}, {"warmup", s.warmupOpt},         {"repeat", s.repeatOpt},
-      {"error", s.errorOpt},   {"error_frames", s.errorFramesOpt}, {"calib_mib", s.calibOpt}};
+  std::map<std::string, const CLI::Option*> runOptions = {{"frames", s.framesOpt},
+                                                          {"warmup", s.warmupOpt},
+                                                          {"repeat", s.repeatOpt},
+                                                          {"error", s.errorOpt},
+                                                          {"error_frames", s.errorFramesOpt},
+                                                          {"calib_mib", s.calibOpt}};
   applyBenchConfig(text, s.config, o, [&](const std::string& field) {
     auto run = runOptions.find(field);
     if (run != runOptions.end()) return run->second->count() > 0;
@@ -118,7 +121,8 @@ void runCommand(BenchCliState& s) {
   }
   BenchRunResult r = runBench(o);
   if (!r.failures.empty())
-    throw Error(std::to_string(r.failures.size()) + " configuration(s) failed (listed above); the "
+    throw Error(std::to_string(r.failures.size()) +
+                " configuration(s) failed (listed above); the "
                 "others were written");
 }
 
@@ -150,10 +154,9 @@ void runMerge(CLI::App& bench, BenchMergeOptions& m) {
 
 void applyBenchConfig(const std::string& text, const std::string& source, BenchOptions& o,
                       const std::function<bool(const std::string&)>& givenOnCommandLine) {
-  nlohmann::json j = parseStrictJson(text, "bench config " + shortText(source, 200),
-                                     JsonComments::Allowed);
-  if (!j.is_object())
-    throw Error("bench config " + source + " is not a JSON object");
+  nlohmann::json j =
+      parseStrictJson(text, "bench config " + shortText(source, 200), JsonComments::Allowed);
+  if (!j.is_object()) throw Error("bench config " + source + " is not a JSON object");
   for (auto it = j.begin(); it != j.end(); ++it) {
     const std::string& key = it.key();
     const auto& v = it.value();
@@ -208,9 +211,8 @@ void applyBenchConfig(const std::string& text, const std::string& source, BenchO
         if (d.matchesKey(key)) dim = &d;
       }
       if (!dim)
-        throw Error("bench config " + source + ": unknown field '" + shortText(key) +
-                    "' (known: " + known +
-                    "frames, warmup, repeat, error, error_frames, calib_mib, description)");
+        throw Error("bench config " + source + ": unknown field '" + shortText(key) + "' (known: " +
+                    known + "frames, warmup, repeat, error, error_frames, calib_mib, description)");
       if (!givenOnCommandLine(dim->name)) o.sweep.set(dim->name, jsonValues(key, v));
     }
   }
@@ -232,22 +234,26 @@ CliCommand addBenchCommand(CLI::App& app) {
     s.dimOptions[d.name] = opt;
   }
   const char* run = "Run";
-  cmd->add_option("--config", s.config, "JSON file with the same fields (dimension names as keys, "
-                                        "lists or single values; frames, warmup, repeat, error, "
-                                        "error_frames); command-line options win")
+  cmd->add_option("--config", s.config,
+                  "JSON file with the same fields (dimension names as keys, "
+                  "lists or single values; frames, warmup, repeat, error, "
+                  "error_frames); command-line options win")
       ->group(run);
   s.framesOpt = cmd->add_option("--frames", s.frames,
                                 "timed frames of the camera path: A:B[:S] (half-open range), N "
                                 "(N frames spread over the path), all, or a;b;c")
-                    ->capture_default_str()->group(run);
+                    ->capture_default_str()
+                    ->group(run);
   s.warmupOpt = cmd->add_option("--warmup", s.warmup,
                                 "untimed renders of each configuration before its first timed "
                                 "frame")
-                    ->capture_default_str()->group(run);
+                    ->capture_default_str()
+                    ->group(run);
   s.repeatOpt = cmd->add_option("--repeat", s.repeat,
                                 "timed renders per frame; the row keeps the one with the median "
                                 "kernel total")
-                    ->capture_default_str()->group(run);
+                    ->capture_default_str()
+                    ->group(run);
   s.errorOpt = cmd->add_flag("--error", s.error,
                              "error against the double reference (max abs, RMSE, PSNR, max rel "
                              "peak, quantiles); expensive on a CPU")
@@ -255,21 +261,30 @@ CliCommand addBenchCommand(CLI::App& app) {
   s.errorFramesOpt = cmd->add_option("--error-frames", s.errorFrames,
                                      "with --error: all, N (N of the timed frames) or a frame "
                                      "range/list")
-                         ->capture_default_str()->group(run);
+                         ->capture_default_str()
+                         ->group(run);
   cmd->add_option("--out", s.out, "output folder: bench.csv, bench.json, summary.csv")
-      ->capture_default_str()->group(run);
-  cmd->add_option("--shard", s.shard, "k/n (n <= 1000000): run configuration i only when i mod n == k")
-      ->capture_default_str()->group(run);
-  cmd->add_flag("--resume", s.resume, "skip (configuration, frame) rows already in OUT/bench.csv; rows this run would not "
-                "write (truncated, edited, another sweep's) are dropped and counted on stderr")
+      ->capture_default_str()
+      ->group(run);
+  cmd->add_option("--shard", s.shard,
+                  "k/n (n <= 1000000): run configuration i only when i mod n == k")
+      ->capture_default_str()
+      ->group(run);
+  cmd->add_flag(
+         "--resume", s.resume,
+         "skip (configuration, frame) rows already in OUT/bench.csv; rows this run would not "
+         "write (truncated, edited, another sweep's) are dropped and counted on stderr")
       ->group(run);
   cmd->add_flag("--overwrite", s.overwrite, "start over even if OUT/bench.csv exists")->group(run);
   cmd->add_flag("--no-calibrate", s.noCalibrate,
                 "skip the bandwidth/peak calibration (no limit columns)")
       ->group(run);
-  s.calibOpt = cmd->add_option("--calib-mib", s.calibMiB, "size of each buffer of the copy calibration")
-                   ->capture_default_str()->group(run);
-  cmd->add_flag("--quiet", s.quiet, "no progress on stderr (failures are still reported)")->group(run);
+  s.calibOpt =
+      cmd->add_option("--calib-mib", s.calibMiB, "size of each buffer of the copy calibration")
+          ->capture_default_str()
+          ->group(run);
+  cmd->add_flag("--quiet", s.quiet, "no progress on stderr (failures are still reported)")
+      ->group(run);
   cmd->add_flag("--list", s.list, "print the expanded configurations (and the shard's) and exit")
       ->group(run);
   auto mergeOptions = std::make_shared<BenchMergeOptions>();

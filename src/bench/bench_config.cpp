@@ -57,28 +57,38 @@ std::vector<BenchDimension> makeDimensions() {
     d.push_back(std::move(dim));
   };
   // Order = nesting order of the product (first = outermost) and of the CSV columns.
-  add("device", "OpenCL device(s): cpu, gpu, an index or a name substring (`tileshade devices`)",
-      false, [](BenchConfig& c, const std::string& v) {
+  add(
+      "device", "OpenCL device(s): cpu, gpu, an index or a name substring (`tileshade devices`)",
+      false,
+      [](BenchConfig& c, const std::string& v) {
         std::string s = trimmed(v);
         c.device = s == "default" ? "" : s;
       },
       [](const BenchConfig& c) { return c.device.empty() ? std::string("default") : c.device; });
-  add("scene", "scene(s): builtin:street, builtin:atrium, a .gltf/.glb path, or gbuffer:DIR (an "
-      "imported G-buffer: render --dump's folder or a descriptor .json)", true,
+  add(
+      "scene",
+      "scene(s): builtin:street, builtin:atrium, a .gltf/.glb path, or gbuffer:DIR (an "
+      "imported G-buffer: render --dump's folder or a descriptor .json)",
+      true,
       [](BenchConfig& c, const std::string& v) {
         std::string s = trimmed(v);
         if (s.empty()) badOptionValue("--scene", v, "expected a scene");
         c.scene = s;
       },
       [](const BenchConfig& c) { return c.scene; });
-  add("raster", "rasterizer(s) of the G-buffer: " + rasterBackendNames().list() +
-      " (OpenGL; docs/opengl.md)", true,
+  add(
+      "raster",
+      "rasterizer(s) of the G-buffer: " + rasterBackendNames().list() + " (OpenGL; docs/opengl.md)",
+      true,
       [](BenchConfig& c, const std::string& v) {
         c.raster = rasterBackendNames().parseOption("--raster", v);
       },
       [](const BenchConfig& c) { return toString(c.raster); });
-  add("variant", "built-in scene variant(s), each a '+' list of " + joinedVariants() +
-      " (none: the scene as designed)", true,
+  add(
+      "variant",
+      "built-in scene variant(s), each a '+' list of " + joinedVariants() +
+          " (none: the scene as designed)",
+      true,
       [](BenchConfig& c, const std::string& v) {
         std::string s = trimmed(v);
         std::replace(s.begin(), s.end(), '+', ',');
@@ -91,7 +101,8 @@ std::vector<BenchDimension> makeDimensions() {
         std::replace(s.begin(), s.end(), ',', '+');
         return s;
       });
-  add("shading_model", "shading model(s): auto (the scene's own), " + shadingModelNames().list(),
+  add(
+      "shading_model", "shading model(s): auto (the scene's own), " + shadingModelNames().list(),
       true,
       [](BenchConfig& c, const std::string& v) {
         std::vector<std::string> known{"auto"};
@@ -99,46 +110,62 @@ std::vector<BenchDimension> makeDimensions() {
         c.shadingModel = oneOf("--shading-model", v, known);
       },
       [](const BenchConfig& c) { return c.shadingModel; });
-  add("light_set", "light set(s) (street: many, few; atrium: small, big, mixed); default: the scene's",
-      true,
+  add(
+      "light_set",
+      "light set(s) (street: many, few; atrium: small, big, mixed); default: the scene's", true,
       [](BenchConfig& c, const std::string& v) {
         std::string s = trimmed(v);
         c.lightSet = s == "default" ? "" : s;
       },
-      [](const BenchConfig& c) { return c.lightSet.empty() ? std::string("default") : c.lightSet; });
+      [](const BenchConfig& c) {
+        return c.lightSet.empty() ? std::string("default") : c.lightSet;
+      });
   d.back().option = "--lights";  // as in `tileshade render`
-  add("light_count", "number(s) of lights (-1: the set's own)", true,
+  add(
+      "light_count", "number(s) of lights (-1: the set's own)", true,
       [](BenchConfig& c, const std::string& v) {
         c.lightCount = int(parseInteger("--light-count", v, -1, kMaxLightCount));
       },
       [](const BenchConfig& c) { return std::to_string(c.lightCount); });
-  add("light_range", "light range(s) overriding every light's (0: keep), scene units", true,
-      [](BenchConfig& c, const std::string& v) { c.lightRange = parseNumber("--light-range", v, NumberRule::AtLeastZero); },
+  add(
+      "light_range", "light range(s) overriding every light's (0: keep), scene units", true,
+      [](BenchConfig& c, const std::string& v) {
+        c.lightRange = parseNumber("--light-range", v, NumberRule::AtLeastZero);
+      },
       [](const BenchConfig& c) { return floatText(c.lightRange); });
-  add("light_threshold", "ranges from the attenuation threshold t (0: keep the scene's)", true,
+  add(
+      "light_threshold", "ranges from the attenuation threshold t (0: keep the scene's)", true,
       [](BenchConfig& c, const std::string& v) {
         c.lightThreshold = parseNumber("--light-threshold", v, NumberRule::AtLeastZero);
       },
       [](const BenchConfig& c) { return floatText(c.lightThreshold); });
-  add("seed", "seed(s) of the built-in scenes", true,
+  add(
+      "seed", "seed(s) of the built-in scenes", true,
       [](BenchConfig& c, const std::string& v) {
         c.seed = uint32_t(parseInteger("--seed", v, 0, 0xffffffffLL));
       },
       [](const BenchConfig& c) { return std::to_string(c.seed); });
-  add("resolution", "image size(s) WxH, e.g. 1280x720,1920x1080", true,
+  add(
+      "resolution", "image size(s) WxH, e.g. 1280x720,1920x1080", true,
       [](BenchConfig& c, const std::string& v) {
         auto [w, h] = parseResolution(v);
         c.width = w;
         c.height = h;
       },
-      [](const BenchConfig& c) { return std::to_string(c.width) + "x" + std::to_string(c.height); });
-  add("gbuffer", "G-buffer precision(s): " + gbufferFormatNames().list(), false,
+      [](const BenchConfig& c) {
+        return std::to_string(c.width) + "x" + std::to_string(c.height);
+      });
+  add(
+      "gbuffer", "G-buffer precision(s): " + gbufferFormatNames().list(), false,
       [](BenchConfig& c, const std::string& v) {
         c.format = gbufferFormatNames().parseOption("--gbuffer", v);
       },
       [](const BenchConfig& c) { return toString(c.format); });
-  add("features", "what the kernels and the G-buffer model: auto (the scene's needs), general, or "
-      "a '+' list of specular, emissive, textures, point, spot, directional", false,
+  add(
+      "features",
+      "what the kernels and the G-buffer model: auto (the scene's needs), general, or "
+      "a '+' list of specular, emissive, textures, point, spot, directional",
+      false,
       [](BenchConfig& c, const std::string& v) {
         std::string s = trimmed(v);
         std::replace(s.begin(), s.end(), '+', ',');
@@ -150,12 +177,14 @@ std::vector<BenchDimension> makeDimensions() {
         std::replace(s.begin(), s.end(), ',', '+');
         return s;
       });
-  add("technique", "technique(s), or all", false,
+  add(
+      "technique", "technique(s), or all", false,
       [](BenchConfig& c, const std::string& v) {
         c.technique = oneOf("--technique", v, techniqueNames());
       },
       [](const BenchConfig& c) { return c.technique; });
-  add("tile", "tile size(s) N or WxH, e.g. 8,16,32,64,32x16", false,
+  add(
+      "tile", "tile size(s) N or WxH, e.g. 8,16,32,64,32x16", false,
       [](BenchConfig& c, const std::string& v) {
         auto [w, h] = parseTileSize(v);
         c.tileWidth = w;
@@ -164,30 +193,43 @@ std::vector<BenchDimension> makeDimensions() {
       [](const BenchConfig& c) {
         return std::to_string(c.tileWidth) + "x" + std::to_string(c.tileHeight);
       });
-  add("spot_culling", "spot lights culled as: " + spotCullingNames().list(), false,
+  add(
+      "spot_culling", "spot lights culled as: " + spotCullingNames().list(), false,
       [](BenchConfig& c, const std::string& v) {
         c.spotCulling = spotCullingNames().parseOption("--spot-culling", v);
       },
       [](const BenchConfig& c) { return toString(c.spotCulling); });
-  add("culling", "per-tile light test(s): " + cullTestNames().list(), false,
+  add(
+      "culling", "per-tile light test(s): " + cullTestNames().list(), false,
       [](BenchConfig& c, const std::string& v) {
         c.culling = cullTestNames().parseOption("--culling", v);
       },
       [](const BenchConfig& c) { return toString(c.culling); });
-  add("depth_split", "tiles: split each tile's depth range at its middle and cull against both "
-      "halves: " + switchNames().list(), false,
+  add(
+      "depth_split",
+      "tiles: split each tile's depth range at its middle and cull against both "
+      "halves: " +
+          switchNames().list(),
+      false,
       [](BenchConfig& c, const std::string& v) {
         c.depthSplit = switchNames().parseOption("--depth-split", v);
       },
       [](const BenchConfig& c) { return std::string(switchNames().name(c.depthSplit)); });
   d.back().keyedOffDefault = true;  // added after bench.csv files existed
-  add("math", "shading arithmetic: " + mathModeNames().list(), false,
-      [](BenchConfig& c, const std::string& v) { c.math = mathModeNames().parseOption("--math", v); },
+  add(
+      "math", "shading arithmetic: " + mathModeNames().list(), false,
+      [](BenchConfig& c, const std::string& v) {
+        c.math = mathModeNames().parseOption("--math", v);
+      },
       [](const BenchConfig& c) { return toString(c.math); });
-  add("slices", "depth slices of clustered shading", false,
-      [](BenchConfig& c, const std::string& v) { c.clusterSlices = int(parseInteger("--slices", v, 1, kMaxClusterSlices)); },
+  add(
+      "slices", "depth slices of clustered shading", false,
+      [](BenchConfig& c, const std::string& v) {
+        c.clusterSlices = int(parseInteger("--slices", v, 1, kMaxClusterSlices));
+      },
       [](const BenchConfig& c) { return std::to_string(c.clusterSlices); });
-  add("lanes", "pixels shaded together per light: " + laneNames().help(), false,
+  add(
+      "lanes", "pixels shaded together per light: " + laneNames().help(), false,
       [](BenchConfig& c, const std::string& v) { c.lanes = laneNames().parseOption("--lanes", v); },
       [](const BenchConfig& c) { return lanesName(c.lanes); });
   return d;
@@ -353,10 +395,12 @@ std::vector<int> FrameSpec::resolve(int pathLength) const {
 Shard Shard::parse(const std::string& value) {
   // The limit is stated in every refusal (once a 7-digit n was refused as "not k/n").
   const long long kMaxCount = 1000000;
-  const std::string expected = "expected k/n with 0 <= k < n <= " + std::to_string(kMaxCount) + " (e.g. 0/3)";
+  const std::string expected =
+      "expected k/n with 0 <= k < n <= " + std::to_string(kMaxCount) + " (e.g. 0/3)";
   std::smatch m;
   std::string s = trimmed(value);
-  if (!std::regex_match(s, m, std::regex(R"((\d+)/(\d+))"))) badOptionValue("--shard", value, expected);
+  if (!std::regex_match(s, m, std::regex(R"((\d+)/(\d+))")))
+    badOptionValue("--shard", value, expected);
   auto number = [](const std::string& digits) {
     return digits.size() > 9 ? LLONG_MAX : std::stoll(digits);
   };

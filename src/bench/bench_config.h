@@ -31,11 +31,11 @@ struct BenchConfig : PipelineOptions {
 };
 
 struct BenchDimension {
-  std::string name;          // JSON key and CSV column (snake_case); option --name with '-'
-  std::string option;        // the option when it differs from --name (e.g. --lights)
+  std::string name;    // JSON key and CSV column (snake_case); option --name with '-'
+  std::string option;  // the option when it differs from --name (e.g. --lights)
   std::string help;
-  std::string defaultValue;  // canonical string of BenchConfig's default
-  bool affectsFrame = false; // part of frameKey()
+  std::string defaultValue;   // canonical string of BenchConfig's default
+  bool affectsFrame = false;  // part of frameKey()
   // A dimension added after bench.csv files were written: in key() (so in id()) only at a value
   // other than its default, so that the configurations of earlier sweeps keep their ids.
   bool keyedOffDefault = false;
@@ -77,8 +77,8 @@ std::vector<BenchConfig> expandSweep(const BenchSweep& sweep);
 //   "a;b;c"            exactly these frames
 struct FrameSpec {
   std::string text = "8";
-  void validate() const;                            // throws ts::Error
-  std::vector<int> resolve(int pathLength) const;   // sorted, unique
+  void validate() const;                           // throws ts::Error
+  std::vector<int> resolve(int pathLength) const;  // sorted, unique
 };
 
 // --shard k/n: configuration i runs in shard k when i mod n == k (0 <= k < n).

@@ -33,13 +33,16 @@ void BenchScene::check(const BenchConfig& c) {
                   std::to_string(f.intrinsics.height) + ": give --resolution " +
                   std::to_string(f.intrinsics.width) + "x" + std::to_string(f.intrinsics.height));
     if (backend != RasterBackend::Software)
-      throw Error("--scene " + c.scene + " is an imported G-buffer: it is not rasterized (leave "
+      throw Error("--scene " + c.scene +
+                  " is an imported G-buffer: it is not rasterized (leave "
                   "--raster at software)");
     if (!c.lightSet.empty() || c.lightCount >= 0 || c.lightRange > 0.0f || c.lightThreshold > 0.0f)
-      throw Error("--scene " + c.scene + " brings its own lights: no --lights, --light-count, "
+      throw Error("--scene " + c.scene +
+                  " brings its own lights: no --lights, --light-count, "
                   "--light-range or --light-threshold");
     if (!c.variant.empty() || c.shadingModel != "auto")
-      throw Error("--scene " + c.scene + " is an imported G-buffer: its files decide the shading "
+      throw Error("--scene " + c.scene +
+                  " is an imported G-buffer: its files decide the shading "
                   "model (no --variant or --shading-model)");
     features(c);  // a bad --features fails before anything is timed
     return;
@@ -49,9 +52,7 @@ void BenchScene::check(const BenchConfig& c) {
   if (!r) r = std::make_unique<SceneRasterizer>(scene_, backend);
 }
 
-int BenchScene::pathLength() const {
-  return imported_ ? 1 : int(scene_.cameraPath.size());
-}
+int BenchScene::pathLength() const { return imported_ ? 1 : int(scene_.cameraPath.size()); }
 
 SceneFeatures BenchScene::features(const BenchConfig& c) const {
   if (imported_) return chooseFeatures(c.features, imported_->frame.features);

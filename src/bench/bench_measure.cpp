@@ -125,11 +125,11 @@ TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFra
 FrameErrors measureErrors(const BenchEntry& e, GroupFrame& frame, const EncodedGBuffer& enc,
                           const TechniqueConfig& tc, const std::vector<glm::vec4>& image) {
   FrameErrors out;
-  out.reference =
-      &frame.storedReference(enc, e.config.format, int(tc.rangeModel), ReferencePositions::FromDepth);
+  out.reference = &frame.storedReference(enc, e.config.format, int(tc.rangeModel),
+                                         ReferencePositions::FromDepth);
   out.errorStored = compareToReference(image, *out.reference, kTolerance * out.reference->peak);
-  const ReferenceImage& shading =
-      frame.storedReference(enc, e.config.format, int(tc.rangeModel), ReferencePositions::KernelFloat);
+  const ReferenceImage& shading = frame.storedReference(enc, e.config.format, int(tc.rangeModel),
+                                                        ReferencePositions::KernelFloat);
   out.errorShading = compareToReference(image, shading, kTolerance * shading.peak);
   // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
   bool same = e.config.format == GBufferFormat::FP32 && e.config.lightThreshold <= 0.0f &&

@@ -26,9 +26,11 @@ std::string unusable(const std::map<std::string, std::string>& r,
   for (const auto& d : benchDimensions())
     if (r.at(d.name) != d.get(e.config))
       return "dimension values that do not match the row's config_id";
-  if (r.at("device_name") != e.deviceName) return "measured on another device than --device names now";
+  if (r.at("device_name") != e.deviceName)
+    return "measured on another device than --device names now";
   int frame = int(std::strtol(r.at("frame").c_str(), nullptr, 10));
-  if (r.at("frame").size() > 9 || !e.frames.count(frame)) return "a frame that --frames does not time";
+  if (r.at("frame").size() > 9 || !e.frames.count(frame))
+    return "a frame that --frames does not time";
   if (r.at("warmup") != std::to_string(warmup) || r.at("repeat") != std::to_string(repeat))
     return "measured with another --warmup or --repeat";
   if (e.errorFrames.count(frame) && r.at("err_max_abs").empty())

@@ -36,8 +36,8 @@ struct ResumeScan {
     size_t rows = 0;
     size_t firstLine = 0;
   };
-  std::vector<Row> kept;     // file order; each (configuration, frame) once, its last usable row
-  std::vector<Drop> drops;   // one per reason, in order of first appearance
+  std::vector<Row> kept;    // file order; each (configuration, frame) once, its last usable row
+  std::vector<Drop> drops;  // one per reason, in order of first appearance
 
   void drop(const std::string& reason, size_t lineNumber);
   size_t droppedRows() const;

@@ -26,23 +26,23 @@ struct BenchOptions {
   std::string errorFrames = "all";  // "all", "N" (N of the timed frames), or a frame list/range
   std::string outDir = "bench-out";
   Shard shard;
-  bool resume = false;              // skip (configuration, frame) rows already in DIR/bench.csv
-  bool overwrite = false;           // start over even if DIR/bench.csv exists
-  bool calibrate = true;            // measure bandwidth/peak (off: no limit columns)
+  bool resume = false;     // skip (configuration, frame) rows already in DIR/bench.csv
+  bool overwrite = false;  // start over even if DIR/bench.csv exists
+  bool calibrate = true;   // measure bandwidth/peak (off: no limit columns)
   CalibrationOptions calibration;
-  bool progress = true;             // stderr progress
-  bool printTable = true;           // summary table on stdout
-  std::string command;              // recorded in bench.json
-  std::string description;          // recorded in bench.json (from a --config file)
+  bool progress = true;     // stderr progress
+  bool printTable = true;   // summary table on stdout
+  std::string command;      // recorded in bench.json
+  std::string description;  // recorded in bench.json (from a --config file)
 };
 
 struct BenchRunResult {
-  size_t configurations = 0;  // after expansion
-  size_t selected = 0;        // in this shard
-  size_t skippedRows = 0;     // already present (resume)
-  size_t measuredRows = 0;    // written by this run
+  size_t configurations = 0;          // after expansion
+  size_t selected = 0;                // in this shard
+  size_t skippedRows = 0;             // already present (resume)
+  size_t measuredRows = 0;            // written by this run
   std::vector<std::string> failures;  // "config: message" of configurations that failed
-  nlohmann::json summaries;   // as in bench.json "summaries"
+  nlohmann::json summaries;           // as in bench.json "summaries"
 };
 
 BenchRunResult runBench(const BenchOptions& options);

@@ -13,8 +13,9 @@
 namespace ts {
 
 Summary summarize(std::vector<double> values) {
-  values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }),
-               values.end());
+  values.erase(
+      std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }),
+      values.end());
   Summary s;
   s.n = values.size();
   if (values.empty()) return s;

@@ -48,7 +48,8 @@ Calibration calibrate(ClContext& cl, const CalibrationOptions& o) {
   bytes = std::max<size_t>(bytes, 16 * 1024);
   c.copyBytes = bytes;
   {
-    cl::Buffer in(cl.context(), CL_MEM_READ_ONLY, bytes), out(cl.context(), CL_MEM_WRITE_ONLY, bytes);
+    cl::Buffer in(cl.context(), CL_MEM_READ_ONLY, bytes),
+        out(cl.context(), CL_MEM_WRITE_ONLY, bytes);
     const float one = 1.0f;
     q.enqueueFillBuffer(in, one, 0, bytes);
     q.enqueueFillBuffer(out, one, 0, bytes);  // touch the pages before timing
@@ -56,7 +57,8 @@ Calibration calibrate(ClContext& cl, const CalibrationOptions& o) {
     KernelArgs(copy).add(in).add(out).done();
     for (int i = 0; i <= o.repeats; ++i) {
       cl::Event e;
-      q.enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(bytes / 16), cl::NullRange, nullptr, &e);
+      q.enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(bytes / 16), cl::NullRange, nullptr,
+                             &e);
       e.wait();
       if (i > 0) c.copyMs.push_back(ClContext::eventMs(e));  // launch 0 is the warm-up
     }
@@ -74,7 +76,8 @@ Calibration calibrate(ClContext& cl, const CalibrationOptions& o) {
   auto launch = [&](int iterations) {
     fma.setArg(iterationsArg, iterations);
     cl::Event e;
-    q.enqueueNDRangeKernel(fma, cl::NullRange, cl::NDRange(c.fmaWorkItems), cl::NullRange, nullptr, &e);
+    q.enqueueNDRangeKernel(fma, cl::NullRange, cl::NDRange(c.fmaWorkItems), cl::NullRange, nullptr,
+                           &e);
     e.wait();
     return ClContext::eventMs(e);
   };

@@ -18,9 +18,9 @@ struct CalibrationOptions {
 };
 
 struct Calibration {
-  double bandwidthGBs = 0.0;   // (bytes read + written) / median time, 1e9 bytes/s
-  double peakGflops = 0.0;     // 2 x multiply-adds / median time, 1e9 FLOP/s
-  size_t copyBytes = 0;        // per buffer
+  double bandwidthGBs = 0.0;  // (bytes read + written) / median time, 1e9 bytes/s
+  double peakGflops = 0.0;    // 2 x multiply-adds / median time, 1e9 FLOP/s
+  size_t copyBytes = 0;       // per buffer
   int vectorWidth = 1, chains = 8;
   size_t fmaWorkItems = 0;
   int fmaIterations = 0;

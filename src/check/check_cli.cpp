@@ -25,11 +25,12 @@ CliCommand addCheckCommand(CLI::App& app) {
       "from the origin, odd resolutions, 1e5 lights, fp16 and fp32 limits) through every "
       "technique, G-buffer layout and lanes 1 and 16, against the double reference; exit status "
       "1 if any run fails (docs/hard-cases.md)");
-  c.command->add_option("--case", parsed->options.cases, "hard case(s) to run (default: all; see --list)");
-  c.command->add_option("--technique", parsed->options.techniques,
-                        "technique(s) (default: all)");
-  c.command->add_option("--gbuffer", parsed->formats,
-                        "G-buffer layout(s): " + gbufferFormatNames().list() + ", all")
+  c.command->add_option("--case", parsed->options.cases,
+                        "hard case(s) to run (default: all; see --list)");
+  c.command->add_option("--technique", parsed->options.techniques, "technique(s) (default: all)");
+  c.command
+      ->add_option("--gbuffer", parsed->formats,
+                   "G-buffer layout(s): " + gbufferFormatNames().list() + ", all")
       ->capture_default_str();
   c.command->add_option("--lanes", parsed->options.lanes, "lanes widths (a case may add its own)")
       ->capture_default_str();

@@ -27,8 +27,8 @@ std::vector<const HardCase*> selectCases(const std::vector<std::string>& names) 
   for (const auto& n : names) {
     bool known = false;
     for (const auto& c : hardCases()) known = known || c.name == n;
-    if (!known) throw Error("unknown hard case '" + shortText(n) +
-                            "' (see `tileshade check --list`)");
+    if (!known)
+      throw Error("unknown hard case '" + shortText(n) + "' (see `tileshade check --list`)");
   }
   return out;
 }
@@ -79,7 +79,8 @@ void measure(const std::vector<glm::vec4>& image, const ReferenceImage& ref,
     glm::dvec3 d = glm::abs(glm::dvec3(p) - ref.rgb[i]);
     double e = std::max({d.x, d.y, d.z});
     worst = std::max(worst, e);
-    if (e > 0.0) row.worstOfBound = std::max(row.worstOfBound, bound[i] > 0.0 ? e / bound[i] : HUGE_VAL);
+    if (e > 0.0)
+      row.worstOfBound = std::max(row.worstOfBound, bound[i] > 0.0 ? e / bound[i] : HUGE_VAL);
   }
   row.maxRelPeak = ref.peak > 0.0 ? worst / ref.peak : worst;
 }

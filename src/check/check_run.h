@@ -24,11 +24,11 @@ struct CheckOptions {
 struct CheckRow {
   std::string caseName, technique;
   GBufferFormat format = GBufferFormat::FP32;
-  int lanes = 1;               // as the technique ran
-  double maxRelPeak = 0.0;     // largest finite |image - reference| over the reference's peak
-  double worstOfBound = 0.0;   // largest |image - reference| / the pixel's fp32 bound
-  uint64_t nonFinite = 0;      // pixels with a NaN or inf channel
-  uint64_t missed = 0;         // reference contributions the technique's lists left out
+  int lanes = 1;              // as the technique ran
+  double maxRelPeak = 0.0;    // largest finite |image - reference| over the reference's peak
+  double worstOfBound = 0.0;  // largest |image - reference| / the pixel's fp32 bound
+  uint64_t nonFinite = 0;     // pixels with a NaN or inf channel
+  uint64_t missed = 0;        // reference contributions the technique's lists left out
   bool pass() const { return nonFinite == 0 && missed == 0 && worstOfBound <= 1.0; }
 };
 

@@ -23,8 +23,7 @@ namespace {
 struct TemporaryFolder {
   fs::path path;
   TemporaryFolder()
-      : path(fs::temp_directory_path() /
-             ("tileshade_check_import_" + std::to_string(::getpid()))) {
+      : path(fs::temp_directory_path() / ("tileshade_check_import_" + std::to_string(::getpid()))) {
     fs::remove_all(path);
     fs::create_directories(path);
   }
@@ -64,8 +63,13 @@ PreparedFrame throughForeignGBufferFiles(const PreparedFrame& frame, GBufferForm
       {"image", "frame.exr"},
       {"origin", "bottom"},
       {"camera", {{"yfov_degrees", double(frame.camera.yfov) * 180.0 / kPiDouble}}},
-      {"depth", {{"channel", "depth"}, {"encoding", "hardware"}, {"near", n}, {"far", nullptr},
-                 {"range", "zero_to_one"}, {"reversed", true}}},
+      {"depth",
+       {{"channel", "depth"},
+        {"encoding", "hardware"},
+        {"near", n},
+        {"far", nullptr},
+        {"range", "zero_to_one"},
+        {"reversed", true}}},
       {"normal", {"nx", "ny", "nz"}},
       {"normal_encoding", "unorm"},
       {"diffuse", {"albedo.R", "albedo.G", "albedo.B"}},

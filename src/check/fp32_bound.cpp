@@ -40,10 +40,9 @@ double numericTermBound(const SurfaceD& s, const ViewLights& lights, size_t i, b
                                              glm::dvec3(glm::vec3(lights.directionalColor[i])),
                                              shading, 1);
     glm::dvec4 pr(glm::vec4(lights.positionRange[i]));
-    return shading_d::ts_punctual_light(&p, s.kd, s.ks, glm::dvec4(L, pr.w),
-                                        glm::dvec4(glm::vec4(lights.color[i])),
-                                        glm::dvec4(glm::vec4(lights.spot[i])), model, shading, 1,
-                                        1);
+    return shading_d::ts_punctual_light(
+        &p, s.kd, s.ks, glm::dvec4(L, pr.w), glm::dvec4(glm::vec4(lights.color[i])),
+        glm::dvec4(glm::vec4(lights.spot[i])), model, shading, 1, 1);
   };
   const glm::dvec3 L = directional ? glm::dvec3(glm::vec3(lights.directionalDir[i]))
                                    : glm::dvec3(glm::vec3(lights.positionRange[i]));
@@ -103,7 +102,7 @@ double pixelBound(const SurfaceD& s, const ViewLights& lights, glm::dvec3 base, 
     if (model == TS_MODEL_WINDOWED) {
       double q = d2 / (r * r);
       double dq = q * (2.0 * eta + 4.0 * kEps);  // q = d2/r2 as the kernel rounds it
-      if (q - dq >= 1.0) continue;             // out of range in float too
+      if (q - dq >= 1.0) continue;               // out of range in float too
       double w = std::max(1.0 - q * q, 0.0);
       window = w * w;
       // d(window)/dq = -4 q (1 - q^2), and near q = 1, where the kernel may still find the light

@@ -36,7 +36,7 @@ Scene room(const std::string& name) {
   glossy.specular = glm::vec3(0.6f);
   glossy.shininess = 64.0f;
   uint32_t m0 = mb.addMaterial(matte), m1 = mb.addMaterial(glossy);
-  mb.quad({-8, 0, 2}, {8, 0, 2}, {8, 0, -20}, {-8, 0, -20}, m0);     // floor, normal +y
+  mb.quad({-8, 0, 2}, {8, 0, 2}, {8, 0, -20}, {-8, 0, -20}, m0);      // floor, normal +y
   mb.quad({-8, 0, -12}, {8, 0, -12}, {8, 6, -12}, {-8, 6, -12}, m0);  // back wall, +z
   mb.box({-1, 0, -6}, {1, 2, -4}, m1);
   mb.sphere({3, 1, -7}, 1.0f, 24, 12, m1);
@@ -57,13 +57,16 @@ HardCaseFrame frameOf(Scene scene, int width = 64, int height = 48) {
 // Every draw is its own statement: C++ leaves the order of a call's arguments unspecified (g++ on
 // x86-64 evaluates them right to left, clang left to right), so a call that draws twice builds
 // another case under each compiler. The cases draw in the order g++ did (a call's last argument
-// first: range, colour, position), so its cases are unchanged (tests/check/hard_case_pins_test.cpp).
-// Braced lists ({in(), in()}) are evaluated left to right and may draw several times.
+// first: range, colour, position), so its cases are unchanged
+// (tests/check/hard_case_pins_test.cpp). Braced lists ({in(), in()}) are evaluated left to right
+// and may draw several times.
 struct Placer {
   SceneRandom rng;
   explicit Placer(uint32_t seed) : rng(seed) {}
   float in(float lo, float hi) { return rng.uniform(lo, hi); }
-  glm::vec3 in(glm::vec3 lo, glm::vec3 hi) { return {in(lo.x, hi.x), in(lo.y, hi.y), in(lo.z, hi.z)}; }
+  glm::vec3 in(glm::vec3 lo, glm::vec3 hi) {
+    return {in(lo.x, hi.x), in(lo.y, hi.y), in(lo.z, hi.z)};
+  }
   // log-uniform in [lo, hi]
   float logIn(float lo, float hi) { return std::exp(in(std::log(lo), std::log(hi))); }
   glm::vec3 color() { return {in(0.2f, 1.0f), in(0.2f, 1.0f), in(0.2f, 1.0f)}; }
@@ -79,8 +82,8 @@ glm::vec3 fromView(const Camera& camera, glm::dvec3 view) {
 glm::dvec3 pixelOnPlane(const Camera& camera, int width, int height, double x, double y,
                         glm::dvec3 o, glm::dvec3 n) {
   double tanY = std::tan(0.5 * double(camera.yfov)), tanX = tanY * double(width) / double(height);
-  glm::dvec3 dirView((2.0 * (x + 0.5) / width - 1.0) * tanX, (1.0 - 2.0 * (y + 0.5) / height) * tanY,
-                     -1.0);
+  glm::dvec3 dirView((2.0 * (x + 0.5) / width - 1.0) * tanX,
+                     (1.0 - 2.0 * (y + 0.5) / height) * tanY, -1.0);
   glm::dmat4 worldFromView = glm::inverse(camera.viewFromWorld);
   glm::dvec3 eye(worldFromView[3]), dir = glm::dmat3(worldFromView) * dirView;
   double t = glm::dot(o - eye, n) / glm::dot(dir, n);
@@ -178,10 +181,10 @@ HardCaseFrame lightsOnSurfaces() {
   for (int i = 0; i < 60; ++i) {
     glm::vec3 at;
     switch (i % 4) {
-      case 0: at = {p.in(-8.0f, 8.0f), 0.0f, p.in(-20.0f, 2.0f)}; break;   // floor
-      case 1: at = {p.in(-8.0f, 8.0f), p.in(0.0f, 6.0f), -12.0f}; break;   // back wall
-      case 2: at = {p.in(-1.0f, 1.0f), 2.0f, p.in(-6.0f, -4.0f)}; break;   // box top
-      default: at = {p.in(-1.0f, 1.0f), p.in(0.0f, 2.0f), -4.0f}; break;   // box front
+      case 0: at = {p.in(-8.0f, 8.0f), 0.0f, p.in(-20.0f, 2.0f)}; break;  // floor
+      case 1: at = {p.in(-8.0f, 8.0f), p.in(0.0f, 6.0f), -12.0f}; break;  // back wall
+      case 2: at = {p.in(-1.0f, 1.0f), 2.0f, p.in(-6.0f, -4.0f)}; break;  // box top
+      default: at = {p.in(-1.0f, 1.0f), p.in(0.0f, 2.0f), -4.0f}; break;  // box front
     }
     const float range = p.in(1.0f, 6.0f);
     const glm::vec3 color = p.color();
@@ -229,8 +232,8 @@ HardCaseFrame lightsInSurfacePlanes() {
 // angle (N.V ~ 1e-3).
 HardCaseFrame grazingView() {
   Scene s = room("grazing-view");
-  s.cameraPath = {Camera::lookAt({0.0, 0.01, 1.9}, {0.0, 0.01, -100.0}, {0, 1, 0}, 1.0f, 0.005f,
-                                 100.0f)};
+  s.cameraPath = {
+      Camera::lookAt({0.0, 0.01, 1.9}, {0.0, 0.01, -100.0}, {0, 1, 0}, 1.0f, 0.005f, 100.0f)};
   Placer p(20);
   for (int i = 0; i < 40; ++i) {
     const float range = p.in(1.0f, 10.0f);
@@ -409,7 +412,8 @@ HardCaseFrame spotLights() {
   constexpr float kDeg = 0.01745329252f;
   auto spot = [&](glm::vec3 at, glm::vec3 axis, float outerDeg, float range) {
     float outer = outerDeg * kDeg;
-    s.lights.push_back(Light::spot(at, glm::normalize(axis), p.color(), range, 0.7f * outer, outer));
+    s.lights.push_back(
+        Light::spot(at, glm::normalize(axis), p.color(), range, 0.7f * outer, outer));
   };
   spot(eye + glm::vec3(0, 1, 0), -ahead - glm::vec3(0, 0.5f, 0), 40, 12);  // the eye inside
   spot(eye - 3.0f * ahead, ahead, 20, 20);                                 // behind, past the eye
@@ -472,11 +476,11 @@ HardCaseFrame metallicRoughness() {
     glm::dvec3 at = pixelOnPlane(c, 64, 48, x, y, {0, 0, 0}, {0, 1, 0});
     glm::dvec3 toEye = glm::normalize(kEye - at);
     glm::dvec3 mirror(-toEye.x, toEye.y, -toEye.z);  // the eye's direction mirrored in the floor
-    glm::dvec3 where = at;                                                    // on it
+    glm::dvec3 where = at;                           // on it
     if (i % 4 == 0) {
-      where = at + 2.0 * mirror;                                              // GGX peak
+      where = at + 2.0 * mirror;  // GGX peak
     } else if (i % 4 == 1) {
-      where = at + glm::dvec3(2.0, 1e-6 * (i % 3), 0.5);                      // grazing
+      where = at + glm::dvec3(2.0, 1e-6 * (i % 3), 0.5);  // grazing
     } else if (i % 4 == 3) {
       const float up = p.in(0.2f, 3.0f);
       const float aside = p.in(-2.0f, 2.0f);
@@ -504,7 +508,8 @@ const std::vector<HardCase>& hardCases() {
        rangesTiny},
       {"ranges-huge", "24 lights of range 1e3..1e6", rangesHuge},
       {"ranges-1e-6-to-1e6", "120 lights, ranges log-uniform in 1e-6..1e6", rangesMixed},
-      {"lights-on-surfaces", "60 lights lying on the floor, the wall and the box", lightsOnSurfaces},
+      {"lights-on-surfaces", "60 lights lying on the floor, the wall and the box",
+       lightsOnSurfaces},
       {"lights-at-vertices", "lights at every 7th mesh vertex", lightsAtVertices},
       {"lights-in-surface-planes",
        "60 lights in the floor's and the wall's planes (0, +-1e-6 off), inside and beyond them",
@@ -536,7 +541,8 @@ const std::vector<HardCase>& hardCases() {
          return f;
        }},
       {"no-lights", "no light at all", noLights},
-      {"lights-1e5", "1e5 lights of range 0.02..0.5 through the room, 48x32", hundredThousandLights},
+      {"lights-1e5", "1e5 lights of range 0.02..0.5 through the room, 48x32",
+       hundredThousandLights},
       {"lights-1e4-one-tile",
        "1e4 lights reaching one 16x16 tile: lists grown, 40 local chunks, every lanes width",
        tenThousandLightsInOneTile},

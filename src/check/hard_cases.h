@@ -16,7 +16,7 @@ namespace ts {
 
 // One case's frame: what the techniques render and what it is compared with.
 struct HardCaseFrame {
-  Scene scene;           // rendered at frame 0
+  Scene scene;  // rendered at frame 0
   int width = 64;
   int height = 48;
   // The reference is shaded from this scene instead when given (same size, frame 0): the same

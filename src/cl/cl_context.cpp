@@ -157,8 +157,8 @@ cl::Program ClContext::build(const std::string& file, const std::string& options
     std::string log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device);
     throw Error("OpenCL build of kernels/" + file + " failed (options: " + options + "):\n" + log);
   }
-  compileMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                    .count();
+  compileMs_ +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return program;
 }
 

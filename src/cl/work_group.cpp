@@ -23,7 +23,8 @@ GroupLimit groupLimit(const ClContext& cl, const cl::Kernel& kernel) {
 }
 
 cl::NDRange GroupShape::global(size_t width, size_t height) const {
-  return cl::NDRange(roundUp(std::max<size_t>(width, 1), x), roundUp(std::max<size_t>(height, 1), y));
+  return cl::NDRange(roundUp(std::max<size_t>(width, 1), x),
+                     roundUp(std::max<size_t>(height, 1), y));
 }
 
 size_t powerOfTwoGroup(size_t preferred, const GroupLimit& limit) {
@@ -50,7 +51,8 @@ GroupShape tileDividingGroup(int tileW, int tileH, const GroupLimit& limit) {
     for (size_t y = 1; y <= 16 && y <= size_t(tileH) && y <= limit.items[1]; ++y) {
       if (tileH % y || x * y > limit.size) continue;
       // Most work-items; of equal sizes the squarer (fewer rows of a tile per group).
-      size_t gap = x > y ? x - y : y - x, bestGap = best.x > best.y ? best.x - best.y : best.y - best.x;
+      size_t gap = x > y ? x - y : y - x,
+             bestGap = best.x > best.y ? best.x - best.y : best.y - best.x;
       if (x * y > best.size() || (x * y == best.size() && gap < bestGap)) best = {x, y};
     }
   }

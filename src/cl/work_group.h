@@ -23,7 +23,8 @@ struct GroupLimit {
 // The limit for launching `kernel` on cl's device: the device's (ClContext::maxWorkGroupSize, which
 // a test may cap), and the kernel's own CL_KERNEL_WORK_GROUP_SIZE.
 GroupLimit groupLimit(const ClContext& cl, const cl::Kernel& kernel);
-// The device's alone, for a kernel whose shape is fixed when it is built (before the kernel exists).
+// The device's alone, for a kernel whose shape is fixed when it is built (before the kernel
+// exists).
 GroupLimit deviceGroupLimit(const ClContext& cl);
 
 // A 2-D work-group shape.

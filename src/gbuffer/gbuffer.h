@@ -23,9 +23,7 @@ struct CameraIntrinsics {
 
   static CameraIntrinsics from(const Camera& camera, int width, int height);
   // The camera uniform of the kernels: (tan x, tan y, width, height).
-  glm::vec4 kernelCamera() const {
-    return {tanHalfFovX, tanHalfFovY, float(width), float(height)};
-  }
+  glm::vec4 kernelCamera() const { return {tanHalfFovX, tanHalfFovY, float(width), float(height)}; }
   // OpenGL-style projection consistent with the above (for the rasterizer).
   glm::mat4 projection() const;
 };

@@ -79,8 +79,8 @@ GBufferComparison compareGBuffers(const GBuffer& a, const GBuffer& b) {
       const glm::dvec3 na(a.normal[i]), nb(b.normal[i]);
       const double cosine = glm::dot(na, nb) / std::max(1e-300, glm::length(na) * glm::length(nb));
       // atan2 of |cross| and dot keeps precision for tiny angles (acos does not).
-      const double angle = std::atan2(glm::length(glm::cross(na, nb)), cosine * glm::length(na) *
-                                                                           glm::length(nb));
+      const double angle =
+          std::atan2(glm::length(glm::cross(na, nb)), cosine * glm::length(na) * glm::length(nb));
       if (angle > r.maxNormalRad) {
         r.maxNormalRad = angle;
         r.worstNormalX = x;
@@ -106,10 +106,10 @@ std::string GBufferComparison::summary() const {
     << onlyB << " (silhouette pixels " << silhouetteA << ", mismatches off silhouettes "
     << mismatchesOffSilhouette << "), other triangle " << triangleDiffers << " (off edges "
     << triangleDiffersOffEdge << "); same triangle " << sameTriangle << ": depth rel "
-    << maxDepthRel << " at (" << worstDepthX << "," << worstDepthY << "), normal "
-    << maxNormalRad << " rad at (" << worstNormalX << "," << worstNormalY << "), diffuse "
-    << maxDiffuse << ", specular " << maxSpecular << ", emissive " << maxEmissive << " at ("
-    << worstMaterialX << "," << worstMaterialY << ")";
+    << maxDepthRel << " at (" << worstDepthX << "," << worstDepthY << "), normal " << maxNormalRad
+    << " rad at (" << worstNormalX << "," << worstNormalY << "), diffuse " << maxDiffuse
+    << ", specular " << maxSpecular << ", emissive " << maxEmissive << " at (" << worstMaterialX
+    << "," << worstMaterialY << ")";
   return s.str();
 }
 

@@ -29,9 +29,9 @@ struct GBufferComparison {
   uint64_t triangleDiffersOffEdge = 0;
   // Over pixels both cover with the same triangle:
   uint64_t sameTriangle = 0;
-  double maxDepthRel = 0.0;    // |dA - dB| / dA
-  double maxNormalRad = 0.0;   // angle between the normals
-  double maxDiffuse = 0.0;     // max abs channel difference (rgba)
+  double maxDepthRel = 0.0;   // |dA - dB| / dA
+  double maxNormalRad = 0.0;  // angle between the normals
+  double maxDiffuse = 0.0;    // max abs channel difference (rgba)
   double maxSpecular = 0.0;
   double maxEmissive = 0.0;
   // Where the largest differences are (x, y), for messages.

@@ -79,9 +79,7 @@ uint32_t packUnorm8x4(const glm::vec4& c) {
 // A float as the nearest half (round to nearest even), values beyond half's range clamped to
 // +-65504 (kMaxHalf): rounding them would give inf, and an inf in the G-buffer turns shading into
 // inf or NaN (0 * inf). Tiny values become half denormals or 0 (documented in docs/accuracy.md).
-uint16_t toHalfBits(float v) {
-  return Imath::half(std::clamp(v, -kMaxHalf, kMaxHalf)).bits();
-}
+uint16_t toHalfBits(float v) { return Imath::half(std::clamp(v, -kMaxHalf, kMaxHalf)).bits(); }
 
 std::vector<uint8_t> encodePlane(const std::vector<glm::vec4>& plane, size_t pixels,
                                  GBufferFormat format) {
@@ -94,8 +92,7 @@ std::vector<uint8_t> encodePlane(const std::vector<glm::vec4>& plane, size_t pix
     plane_alloc::assignZeroed(out, pixels * kFp16Element);
     uint16_t* dst = reinterpret_cast<uint16_t*>(out.data());
     for (size_t i = 0; i < pixels; ++i)
-      for (int c = 0; c < 4; ++c)
-        dst[4 * i + size_t(c)] = toHalfBits(plane[i][c]);
+      for (int c = 0; c < 4; ++c) dst[4 * i + size_t(c)] = toHalfBits(plane[i][c]);
   }
   return out;
 }
@@ -224,8 +221,7 @@ EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format) {
   return encode(gbuffer, format, SceneFeatures::general(gbuffer.model));
 }
 
-EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format,
-                      const SceneFeatures& features) {
+EncodedGBuffer encode(const GBuffer& gbuffer, GBufferFormat format, const SceneFeatures& features) {
   const size_t n = gbuffer.pixelCount();
   if (gbuffer.depth.size() != n || gbuffer.normal.size() != n || gbuffer.diffuse.size() != n ||
       gbuffer.specular.size() != n || gbuffer.emissive.size() != n)
@@ -355,8 +351,8 @@ bool decodeSurface(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera
   }
   surface.ke = glm::dvec3(0.0);
   if (gbuffer.hasEmissive)
-    surface.ke = glm::dvec3(glm::vec3(
-        load4(gbuffer.emissive, i, packedLayout ? GBufferFormat::FP16 : gbuffer.format)));
+    surface.ke = glm::dvec3(
+        glm::vec3(load4(gbuffer.emissive, i, packedLayout ? GBufferFormat::FP16 : gbuffer.format)));
   return true;
 }
 

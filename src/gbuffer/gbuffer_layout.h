@@ -105,9 +105,9 @@ enum class GBufferPlane { Normal, Diffuse, Specular, Emissive };
 // Pixel i's element of `plane` decoded as the kernels decode it but before the normal's
 // renormalisation: fp32/fp16 the stored float4 (half widened exactly); packed the octahedral
 // vector (w = 0), unorm8 colours (diffuse rgba; specular rgb + the decoded shininess in w), half4
-// emissive. Metallic-roughness's specular element is (roughness, 0, 0, 0), wherever the layout keeps
-// it; an absent plane gives what a material without the term has (specular (0,0,0,1), emissive 0).
-// encode() of these values in the same layout gives back the stored bits (checked by
+// emissive. Metallic-roughness's specular element is (roughness, 0, 0, 0), wherever the layout
+// keeps it; an absent plane gives what a material without the term has (specular (0,0,0,1),
+// emissive 0). encode() of these values in the same layout gives back the stored bits (checked by
 // GBufferImport tests), which is what makes a `--dump` round-trip exactly.
 glm::vec4 decodeStored(const EncodedGBuffer& gbuffer, GBufferPlane plane, size_t i);
 

@@ -3,7 +3,8 @@
 // the large per-pixel planes (a 1080p G-buffer is ~140 MB).
 // Fresh allocations of that size come straight from mmap, and first-touch page faults (4 KiB each)
 // can cost more than rasterizing the frame; asking for transparent huge pages before the first
-// touch cuts them ~500x. Advisory only (Linux madvise); elsewhere, or when refused, nothing changes.
+// touch cuts them ~500x. Advisory only (Linux madvise); elsewhere, or when refused, nothing
+// changes.
 #include <cstddef>
 #include <cstdint>
 #include <vector>

@@ -51,9 +51,13 @@ Attempt tryDisplay(EGLDisplay display, const std::string& what) {
   if (!epoxy_has_egl_extension(display, "EGL_KHR_no_config_context"))
     return fail("no EGL_KHR_no_config_context");
   if (!eglBindAPI(EGL_OPENGL_API)) return fail("the display has no desktop OpenGL API");
-  const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
+  const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                               3,
+                               EGL_CONTEXT_MINOR_VERSION,
+                               3,
                                EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                               EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+                               EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                               EGL_NONE};
   EGLContext context = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
   if (context == EGL_NO_CONTEXT)
     return fail("no OpenGL 3.3 core context (EGL error " + eglErrorText(eglGetError()) + ")");
@@ -107,8 +111,7 @@ EglContext& EglContext::shared() {
 
 EglContext::EglContext() {
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string missing =
-      "no OpenGL context for --raster gl: ";
+  const std::string missing = "no OpenGL context for --raster gl: ";
   const std::string install =
       " (install Mesa's EGL and llvmpipe: libegl1 libegl-mesa0 libgl1-mesa-dri, or a GPU "
       "driver's EGL)";

@@ -189,8 +189,7 @@ struct GlRasterizer::State {
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, glWrap(t.wrapT));
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
-      gl::checkErrors("uploading texture " + std::to_string(i) + " of scene '" + scene.name +
-                      "'");
+      gl::checkErrors("uploading texture " + std::to_string(i) + " of scene '" + scene.name + "'");
     }
   }
 

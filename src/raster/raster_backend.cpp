@@ -29,14 +29,17 @@ const EnumNames<RasterBackend>& rasterBackendNames() {
 
 std::string toString(RasterBackend backend) { return rasterBackendNames().name(backend); }
 
-RasterBackend parseRasterBackend(const std::string& name) { return rasterBackendNames().parse(name); }
+RasterBackend parseRasterBackend(const std::string& name) {
+  return rasterBackendNames().parse(name);
+}
 
 SceneRasterizer::SceneRasterizer(const Scene& scene, RasterBackend backend)
     : scene_(scene), backend_(backend) {
   if (backend != RasterBackend::Gl) return;
 #ifdef TILESHADE_NO_GL
-  throw Error("no OpenGL context for --raster gl: this build has none (configured with "
-              "TILESHADE_WITH_GL=OFF)");
+  throw Error(
+      "no OpenGL context for --raster gl: this build has none (configured with "
+      "TILESHADE_WITH_GL=OFF)");
 #else
   gl_ = std::make_unique<GlRasterizer>(scene);
   setupMs_ = gl_->setupMs();

@@ -145,7 +145,7 @@ struct SubTriangle {
   int32_t x0, y0, x1, y1;       // inclusive pixel bounds, clamped to the screen
   uint32_t setup;               // index into the worker's TriangleSetup list
   uint32_t triangle;
-  uint8_t bias;                 // bit i: edge i is not top-left (ec holds -1 for it)
+  uint8_t bias;  // bit i: edge i is not top-left (ec holds -1 for it)
 };
 
 // Fallback data of a sub-triangle: per vertex (in edge order) 1/w and barycentrics in the
@@ -317,7 +317,7 @@ class Rasterizer {
     plane_alloc::adviseHugePages(out.setups.data(), out.setups.capacity() * sizeof(TriangleSetup));
     plane_alloc::adviseHugePages(out.subs.data(), out.subs.capacity() * sizeof(SubTriangle));
     plane_alloc::adviseHugePages(out.fallbacks.data(),
-                                   out.fallbacks.capacity() * sizeof(SubFallback));
+                                 out.fallbacks.capacity() * sizeof(SubFallback));
     const double zn = frame_.znear, zf = frame_.zfar;
     const double gx = frame_.guardX, gy = frame_.guardY;
     for (size_t tri = begin; tri < end; ++tri) {
@@ -494,10 +494,8 @@ class Rasterizer {
     for (size_t k = 0; k < outputs_.size(); ++k) {
       const WorkerOutput& w = outputs_[k];
       for (uint32_t si : w.bins[size_t(tile)]) {
-        if (count)
-          visibility<true>(w, si, uint32_t(k), x0, y0, x1, y1, tw, sc);
-        else
-          visibility<false>(w, si, uint32_t(k), x0, y0, x1, y1, tw, sc);
+        if (count) visibility<true>(w, si, uint32_t(k), x0, y0, x1, y1, tw, sc);
+        else visibility<false>(w, si, uint32_t(k), x0, y0, x1, y1, tw, sc);
       }
     }
     resolve(x0, y0, tw, th, sc, g);
@@ -589,12 +587,12 @@ class Rasterizer {
           if (texture < 0) return glm::vec4(1.0f);
           const Vertex &v0 = scene_.vertices[i0], &v1 = scene_.vertices[i1],
                        &v2 = scene_.vertices[i2];
-          glm::dvec2 uv = B[0] * glm::dvec2(v0.uv) + B[1] * glm::dvec2(v1.uv) +
-                          B[2] * glm::dvec2(v2.uv);
+          glm::dvec2 uv =
+              B[0] * glm::dvec2(v0.uv) + B[1] * glm::dvec2(v1.uv) + B[2] * glm::dvec2(v2.uv);
           return scene_.textures[size_t(texture)].sample(glm::vec2(uv));
         };
-        const TsMaterialPlanes planes = ts_material_planes(
-            options_.model == ShadingModel::MetallicRoughness, m, sample);
+        const TsMaterialPlanes planes =
+            ts_material_planes(options_.model == ShadingModel::MetallicRoughness, m, sample);
 
         g.depth[gi] = float(1.0 / sc.invDepth[p]);
         g.normal[gi] = glm::vec4(glm::vec3(n), 0.0f);

@@ -12,8 +12,8 @@ void validateForRaster(const Scene& s) {
                 " is not a multiple of 3");
   for (uint32_t i : s.indices)
     if (i >= s.vertices.size())
-      throw Error("scene '" + s.name + "': vertex index " + std::to_string(i) +
-                  " out of range (" + std::to_string(s.vertices.size()) + " vertices)");
+      throw Error("scene '" + s.name + "': vertex index " + std::to_string(i) + " out of range (" +
+                  std::to_string(s.vertices.size()) + " vertices)");
   if (!s.triangleMaterial.empty() && s.triangleMaterial.size() != s.triangleCount())
     throw Error("scene '" + s.name + "': " + std::to_string(s.triangleMaterial.size()) +
                 " triangle materials for " + std::to_string(s.triangleCount()) + " triangles");
@@ -22,8 +22,8 @@ void validateForRaster(const Scene& s) {
       throw Error("scene '" + s.name + "': material index " + std::to_string(m) +
                   " out of range (" + std::to_string(s.materials.size()) + " materials)");
   for (const Material& m : s.materials)
-    for (int t : {m.diffuseTexture, m.baseColorTexture, m.metallicRoughnessTexture,
-                  m.emissiveTexture})
+    for (int t :
+         {m.diffuseTexture, m.baseColorTexture, m.metallicRoughnessTexture, m.emissiveTexture})
       if (t >= int(s.textures.size()))
         throw Error("scene '" + s.name + "': material '" + m.name + "' uses texture " +
                     std::to_string(t) + " of " + std::to_string(s.textures.size()));

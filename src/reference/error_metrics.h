@@ -18,10 +18,10 @@ struct ErrorStats {
   double psnr = 0.0;        // 20 log10(peak / rmse), peak = the reference's peak; +inf if exact
   double maxRelPeak = 0.0;  // maxAbs / peak
   double p50 = 0.0, p99 = 0.0, p999 = 0.0;  // quantiles of the per-pixel max channel error
-  double tolerance = 0.0;   // the threshold counted below
-  uint64_t pixelsAboveTolerance = 0;  // non-finite pixels included
-  uint64_t nonfinitePixels = 0;       // pixels with a NaN or inf channel (image or reference)
-  double peak = 0.0;                  // largest finite channel value of the reference
+  double tolerance = 0.0;                   // the threshold counted below
+  uint64_t pixelsAboveTolerance = 0;        // non-finite pixels included
+  uint64_t nonfinitePixels = 0;             // pixels with a NaN or inf channel (image or reference)
+  double peak = 0.0;                        // largest finite channel value of the reference
 };
 
 // Pixels of an image with a NaN or inf colour channel.

@@ -47,16 +47,15 @@ shading_d::ts_shading_point shadingPoint(const SurfaceD& s, int shading) {
 glm::dvec3 lightContribution(const SurfaceD& s, const shading_d::ts_shading_point& p,
                              const ViewLights& lights, size_t i, int model, int shading) {
   return shading_d::ts_punctual_light(&p, s.kd, s.ks, widen(lights.positionRange[i]),
-                                      widen(lights.color[i]), widen(lights.spot[i]), model,
-                                      shading, 1, 1);
+                                      widen(lights.color[i]), widen(lights.spot[i]), model, shading,
+                                      1, 1);
 }
 
 glm::dvec3 directionalContribution(const SurfaceD& s, const shading_d::ts_shading_point& p,
                                    const ViewLights& lights, size_t i, int shading) {
-  return shading_d::ts_directional_light(&p, s.kd, s.ks,
-                                         glm::dvec3(glm::vec3(lights.directionalDir[i])),
-                                         glm::dvec3(glm::vec3(lights.directionalColor[i])),
-                                         shading, 1);
+  return shading_d::ts_directional_light(
+      &p, s.kd, s.ks, glm::dvec3(glm::vec3(lights.directionalDir[i])),
+      glm::dvec3(glm::vec3(lights.directionalColor[i])), shading, 1);
 }
 
 // The kernels' own position of pixel (x, y): ts_view_position in float from the stored depth (as
@@ -64,8 +63,8 @@ glm::dvec3 directionalContribution(const SurfaceD& s, const shading_d::ts_shadin
 void useKernelPosition(SurfaceD& s, const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
                        int x, int y) {
   const float depth = gbuffer.depth[size_t(y) * size_t(gbuffer.width) + size_t(x)];
-  s.P = glm::dvec3(shading_f::ts_view_position(x, y, depth, camera.tanHalfFovX,
-                                               camera.tanHalfFovY, camera.width, camera.height));
+  s.P = glm::dvec3(shading_f::ts_view_position(x, y, depth, camera.tanHalfFovX, camera.tanHalfFovY,
+                                               camera.width, camera.height));
   s.V = -s.P / std::sqrt(glm::dot(s.P, s.P));  // as decodeSurface; depth > 0: never zero
   if (gbuffer.model == ShadingModel::MetallicRoughness)
     s.viewTerm = shading_d::ts_smith_view_term(s.N, s.V, s.gloss);
@@ -76,9 +75,8 @@ bool nonZero(const glm::dvec3& v) { return v.x != 0.0 || v.y != 0.0 || v.z != 0.
 }  // namespace
 
 ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
-                              const ViewLights& lights, glm::vec3 ambient, int model,
-                              int threads, const RowProgress& progress,
-                              ReferencePositions positions) {
+                              const ViewLights& lights, glm::vec3 ambient, int model, int threads,
+                              const RowProgress& progress, ReferencePositions positions) {
   ReferenceImage ref;
   ref.width = gbuffer.width;
   ref.height = gbuffer.height;

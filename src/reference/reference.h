@@ -16,10 +16,10 @@ namespace ts {
 
 struct ReferenceImage {
   int width = 0, height = 0;
-  std::vector<glm::dvec3> rgb;    // row 0 = top
-  uint64_t contributing = 0;      // (pixel, light) pairs with a non-zero contribution (every
-                                  // light type): the ideal
-  double peak = 0.0;              // largest channel value
+  std::vector<glm::dvec3> rgb;  // row 0 = top
+  uint64_t contributing = 0;    // (pixel, light) pairs with a non-zero contribution (every
+                                // light type): the ideal
+  double peak = 0.0;            // largest channel value
 };
 
 // Where the reference takes a pixel's view-space position from.

@@ -16,11 +16,11 @@ struct PreparedFrame {
   int frame = 0;
   Camera camera;
   CameraIntrinsics intrinsics;
-  GBuffer gbuffer;          // full precision, as rasterized
-  EncodedGBuffer encoded;   // what the kernels read
-  ViewLights lights;        // view space
+  GBuffer gbuffer;         // full precision, as rasterized
+  EncodedGBuffer encoded;  // what the kernels read
+  ViewLights lights;       // view space
   glm::vec3 ambient{0.0f};
-  SceneFeatures features;   // what the G-buffer and the kernels model
+  SceneFeatures features;  // what the G-buffer and the kernels model
   double rasterMs = 0.0;
   RasterBackend raster = RasterBackend::Software;  // which rasterizer made the G-buffer
 

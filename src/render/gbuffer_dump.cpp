@@ -30,8 +30,8 @@ std::vector<float> decodeOnDevice(ClContext& cl, const DeviceFrame& frame, GBuff
       .add(out)
       .done();
   GroupShape group = fitGroup(8, 8, groupLimit(cl, kernel));
-  cl.queue().enqueueNDRangeKernel(kernel, cl::NullRange, group.global(frame.width(), frame.height()),
-                                  group.local());
+  cl.queue().enqueueNDRangeKernel(kernel, cl::NullRange,
+                                  group.global(frame.width(), frame.height()), group.local());
   std::vector<float> data(pixels * channels);
   cl.queue().enqueueReadBuffer(out, CL_TRUE, 0, data.size() * sizeof(float), data.data());
   return data;
@@ -59,7 +59,8 @@ void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFra
   const size_t kc = dumpKernelChannels().size(), channels = kc + host.size();
   std::vector<float> data(pixels * channels, 0.0f);
   for (size_t i = 0; i < pixels; ++i) {
-    std::copy_n(kernel.begin() + std::ptrdiff_t(i * kc), kc, data.begin() + std::ptrdiff_t(i * channels));
+    std::copy_n(kernel.begin() + std::ptrdiff_t(i * kc), kc,
+                data.begin() + std::ptrdiff_t(i * channels));
     if (encoded.depth[i] <= 0.0f) continue;  // background: zeros, as the kernel writes
     for (size_t h = 0; h < host.size(); ++h)
       data[i * channels + kc + h] = decodeStored(encoded, host[h].plane, i)[host[h].component];
@@ -78,9 +79,10 @@ void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFra
       {"width", encoded.width},
       {"height", encoded.height},
       {"origin", "top"},
-      {"camera", {{"tan_half_fov", {in.tanHalfFovX, in.tanHalfFovY}},
-                  {"znear", in.znear},
-                  {"zfar", in.zfar}}},
+      {"camera",
+       {{"tan_half_fov", {in.tanHalfFovX, in.tanHalfFovY}},
+        {"znear", in.znear},
+        {"zfar", in.zfar}}},
       {"depth", {{"channel", "P.z"}, {"encoding", "view_z"}}},
       {"mask", "mask"},
       {"shading_model", toString(model)},

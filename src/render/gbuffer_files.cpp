@@ -28,20 +28,69 @@ const std::vector<GBufferField>& gbufferFields() {
   static const std::vector<GBufferField> fields = {
       // The normal as stored, before the kernels renormalise it: the kernel's "N" is normalised,
       // and re-encoding a normalised fp16 normal would not give back the stored halves.
-      {"normal", 3, GBufferPlane::Normal, 0, kAnyModel, true, 0.0f, {"Nraw.x", "Nraw.y", "Nraw.z"},
+      {"normal",
+       3,
+       GBufferPlane::Normal,
+       0,
+       kAnyModel,
+       true,
+       0.0f,
+       {"Nraw.x", "Nraw.y", "Nraw.z"},
        "view-space normal (unit, or as stored: the kernels renormalise it)"},
-      {"diffuse", 3, GBufferPlane::Diffuse, 0, BP, true, 0.0f, {"kd.R", "kd.G", "kd.B"},
+      {"diffuse",
+       3,
+       GBufferPlane::Diffuse,
+       0,
+       BP,
+       true,
+       0.0f,
+       {"kd.R", "kd.G", "kd.B"},
        "Blinn-Phong diffuse colour kd (linear RGB)"},
-      {"specular", 3, GBufferPlane::Specular, 0, BP, false, 0.0f, {"ks.R", "ks.G", "ks.B"},
+      {"specular",
+       3,
+       GBufferPlane::Specular,
+       0,
+       BP,
+       false,
+       0.0f,
+       {"ks.R", "ks.G", "ks.B"},
        "Blinn-Phong specular colour ks (linear RGB)"},
-      {"shininess", 1, GBufferPlane::Specular, 3, BP, false, 1.0f, {"shininess"},
+      {"shininess",
+       1,
+       GBufferPlane::Specular,
+       3,
+       BP,
+       false,
+       1.0f,
+       {"shininess"},
        "Blinn-Phong exponent s"},
-      {"base_color", 3, GBufferPlane::Diffuse, 0, MR, true, 0.0f, {"kd.R", "kd.G", "kd.B"},
+      {"base_color",
+       3,
+       GBufferPlane::Diffuse,
+       0,
+       MR,
+       true,
+       0.0f,
+       {"kd.R", "kd.G", "kd.B"},
        "metallic-roughness base colour (linear RGB)"},
       {"metallic", 1, GBufferPlane::Diffuse, 3, MR, false, 0.0f, {"metallic"}, "metallic, 0..1"},
-      {"roughness", 1, GBufferPlane::Specular, 0, MR, false, 1.0f, {"ks.R"},
+      {"roughness",
+       1,
+       GBufferPlane::Specular,
+       0,
+       MR,
+       false,
+       1.0f,
+       {"ks.R"},
        "perceptual roughness, 0..1"},
-      {"emissive", 3, GBufferPlane::Emissive, 0, kAnyModel, false, 0.0f, {"ke.R", "ke.G", "ke.B"},
+      {"emissive",
+       3,
+       GBufferPlane::Emissive,
+       0,
+       kAnyModel,
+       false,
+       0.0f,
+       {"ke.R", "ke.G", "ke.B"},
        "emitted radiance ke (linear RGB)"},
   };
   return fields;
@@ -113,8 +162,8 @@ struct JsonFields {
   glm::vec3 vec3(const std::string& key) const {
     if (!has(key)) fail(key, "is missing");
     const json& v = object.at(key);
-    if (!v.is_array() || v.size() != 3) fail(key, "must be an array of 3 numbers, got " +
-                                             shortText(v.dump()));
+    if (!v.is_array() || v.size() != 3)
+      fail(key, "must be an array of 3 numbers, got " + shortText(v.dump()));
     glm::vec3 out;
     for (int i = 0; i < 3; ++i) {
       if (!v[size_t(i)].is_number() || !std::isfinite(v[size_t(i)].get<double>()))
@@ -185,7 +234,8 @@ GBufferDescriptor readGBufferDescriptor(const std::string& dirOrFile) {
   const fs::path given(dirOrFile);
   const fs::path path = fs::is_directory(given, ec) ? given / "gbuffer.json" : given;
   if (!fs::exists(path, ec))
-    throw Error("--gbuffer-in: " + path.string() + " does not exist (a folder written by render "
+    throw Error("--gbuffer-in: " + path.string() +
+                " does not exist (a folder written by render "
                 "--dump, or a descriptor: docs/output-formats.md)");
   return parseGBufferDescriptor(readTextFile(path.string(), "G-buffer descriptor"), path.string());
 }
@@ -198,9 +248,21 @@ GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::str
   if (!j.is_object()) throw Error(d.path + " must hold a JSON object");
   const JsonFields top{d.path, j, ""};
 
-  std::set<std::string> known = {"tileshade_gbuffer", "image", "lights", "width", "height",
-                                 "origin", "camera", "depth", "mask", "normal_encoding",
-                                 "shading_model", "layout", "scene", "frame", "raster"};
+  std::set<std::string> known = {"tileshade_gbuffer",
+                                 "image",
+                                 "lights",
+                                 "width",
+                                 "height",
+                                 "origin",
+                                 "camera",
+                                 "depth",
+                                 "mask",
+                                 "normal_encoding",
+                                 "shading_model",
+                                 "layout",
+                                 "scene",
+                                 "frame",
+                                 "raster"};
   for (const auto& f : gbufferFields()) known.insert(f.key);
   top.onlyKeys(known);
   if (top.number("tileshade_gbuffer") != kGBufferFilesVersion)
@@ -219,12 +281,11 @@ GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::str
   d.height = size("height");
   if (top.has("origin"))
     d.bottomRowFirst = top.oneOf<bool>("origin", {{"top", false}, {"bottom", true}});
-  d.model = top.has("shading_model") ? top.oneOf<ShadingModel>(
-                                           "shading_model",
-                                           {{"blinn-phong", ShadingModel::BlinnPhong},
-                                            {"metallic-roughness",
-                                             ShadingModel::MetallicRoughness}})
-                                     : ShadingModel::BlinnPhong;
+  d.model = top.has("shading_model")
+                ? top.oneOf<ShadingModel>("shading_model",
+                                          {{"blinn-phong", ShadingModel::BlinnPhong},
+                                           {"metallic-roughness", ShadingModel::MetallicRoughness}})
+                : ShadingModel::BlinnPhong;
   if (top.has("layout"))
     d.layout = top.oneOf<GBufferFormat>("layout", {{"fp32", GBufferFormat::FP32},
                                                    {"fp16", GBufferFormat::FP16},
@@ -237,8 +298,8 @@ GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::str
   if (!cj.is_object()) top.fail("camera", "must be an object");
   const JsonFields cam{d.path, cj, "\"camera\": "};
   cam.onlyKeys({"tan_half_fov", "yfov", "yfov_degrees", "znear", "zfar"});
-  const int fovGiven = int(cam.has("tan_half_fov")) + int(cam.has("yfov")) +
-                       int(cam.has("yfov_degrees"));
+  const int fovGiven =
+      int(cam.has("tan_half_fov")) + int(cam.has("yfov")) + int(cam.has("yfov_degrees"));
   if (fovGiven != 1) cam.fail("yfov", "(or tan_half_fov, or yfov_degrees): give exactly one");
   if (cam.has("tan_half_fov")) {
     const json& t = cj.at("tan_half_fov");
@@ -254,21 +315,26 @@ GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::str
     double yfov = cam.positive(key);
     if (degrees) yfov *= kPiDouble / 180.0;
     if (!(double(float(yfov)) < 2.0 * kHalfPi))  // as the float the camera keeps
-      cam.fail(key, "must be below 180 degrees (pi = " + fullText(2.0 * kHalfPi) + ") as a float, "
-                    "got " + fullText(cam.number(key)));
+      cam.fail(key, "must be below 180 degrees (pi = " + fullText(2.0 * kHalfPi) +
+                        ") as a float, "
+                        "got " +
+                        fullText(cam.number(key)));
     d.tanHalfFovY = std::tan(0.5f * float(yfov));  // as CameraIntrinsics::from
   }
   // The kernels divide by these floats: one that rounds to 0 (1e-46) or inf would break them.
   auto usableFloat = [](const JsonFields& f, const std::string& key, float v) {
     if (!(v >= std::numeric_limits<float>::min() && std::isfinite(v)))
-      f.fail(key, "must be a float from 1.17549435e-38 (the smallest normal) to 3.40282347e+38, "
-                  "got " + shortText(f.object.at(key).dump()));
+      f.fail(key,
+             "must be a float from 1.17549435e-38 (the smallest normal) to 3.40282347e+38, "
+             "got " +
+                 shortText(f.object.at(key).dump()));
     return v;
   };
   if (d.tanHalfFovX) usableFloat(cam, "tan_half_fov", *d.tanHalfFovX);
-  usableFloat(cam, cam.has("tan_half_fov") ? "tan_half_fov"
-                   : cam.has("yfov")       ? "yfov"
-                                           : "yfov_degrees",
+  usableFloat(cam,
+              cam.has("tan_half_fov") ? "tan_half_fov"
+              : cam.has("yfov")       ? "yfov"
+                                      : "yfov_degrees",
               d.tanHalfFovY);
   if (cam.has("znear")) d.znear = usableFloat(cam, "znear", float(cam.positive("znear")));
   if (cam.has("zfar")) d.zfar = usableFloat(cam, "zfar", float(cam.positive("zfar")));
@@ -288,8 +354,8 @@ GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::str
     d.hardwareNear = depth.positive("near");
     usableFloat(depth, "near", float(d.hardwareNear));
     d.hardwareRange = depth.oneOf<DepthRange>(
-        "range", {{"zero_to_one", DepthRange::ZeroToOne},
-                  {"minus_one_to_one", DepthRange::MinusOneToOne}});
+        "range",
+        {{"zero_to_one", DepthRange::ZeroToOne}, {"minus_one_to_one", DepthRange::MinusOneToOne}});
     if (depth.has("reversed")) {
       if (!dj.at("reversed").is_boolean()) depth.fail("reversed", "must be true or false");
       d.hardwareReversed = dj.at("reversed").get<bool>();
@@ -337,8 +403,8 @@ struct LightRecord {
   LightType type = LightType::Point;
   glm::vec3 position{0.0f}, color{0.0f}, direction{0.0f};  // direction: where the light travels
   float range = 0.0f;
-  float cosOuter = -1.0f;   // spot: ViewLights::spot.w
-  float coneScale = 1.0f;   // spot: ViewLights::color.w
+  float cosOuter = -1.0f;  // spot: ViewLights::spot.w
+  float coneScale = 1.0f;  // spot: ViewLights::color.w
 };
 
 constexpr int kPoint = 1 << int(LightType::Point), kSpot = 1 << int(LightType::Spot),
@@ -358,8 +424,7 @@ const std::vector<LightField>& lightFields() {
   static const std::vector<LightField> fields = {
       {"position", kPoint | kSpot, [](const LightRecord& l) { return array3(l.position); },
        [](LightRecord& l, const JsonFields& f) { l.position = f.vec3("position"); }},
-      {"color", kPoint | kSpot | kDirectional,
-       [](const LightRecord& l) { return array3(l.color); },
+      {"color", kPoint | kSpot | kDirectional, [](const LightRecord& l) { return array3(l.color); },
        [](LightRecord& l, const JsonFields& f) { l.color = f.colour("color"); }},
       {"range", kPoint | kSpot, [](const LightRecord& l) { return json(l.range); },
        [](LightRecord& l, const JsonFields& f) { l.range = float(f.positive("range")); }},
@@ -383,8 +448,9 @@ void readCone(LightRecord& l, const JsonFields& f) {
   const bool kernelForm = f.has("cos_outer") || f.has("cone_scale");
   const bool angleForm = f.has("inner_cone_angle") || f.has("outer_cone_angle");
   if (kernelForm == angleForm)
-    f.fail("outer_cone_angle", "(with inner_cone_angle), or cos_outer with cone_scale: give one "
-                               "pair");
+    f.fail("outer_cone_angle",
+           "(with inner_cone_angle), or cos_outer with cone_scale: give one "
+           "pair");
   if (kernelForm) {
     // A cos of a float pi/2 cone (-4.4e-8) is a cos of 0 (util/float_limit.h); 1 is a cone
     // narrower than a float's cos resolves (under 3.5e-4 radians), lighting nothing.
@@ -454,8 +520,8 @@ LightsFile parseLightsFile(const std::string& text, const std::string& path) {
   top.onlyKeys({"dmin", "ambient", "lights"});
   // The kernels' dmin is a float of TS_DMIN: either reads as it.
   if (top.has("dmin") && !withinFloatRounding(top.number("dmin"), TS_DMIN, TS_DMIN))
-    top.fail("dmin", "is " + fullText(top.number("dmin")) + " but the kernels use " +
-                         fullText(TS_DMIN));
+    top.fail("dmin",
+             "is " + fullText(top.number("dmin")) + " but the kernels use " + fullText(TS_DMIN));
   LightsFile out;
   if (top.has("ambient")) out.ambient = top.colour("ambient");
   if (!top.has("lights") || !j.at("lights").is_array()) top.fail("lights", "must be an array");

@@ -24,12 +24,12 @@ constexpr int kGBufferFilesVersion = 1;  // "tileshade_gbuffer" in gbuffer.json
 
 // A material/normal field of the descriptor: which channels fill which G-buffer components.
 struct GBufferField {
-  const char* key;          // descriptor key, e.g. "normal"
-  int components;           // channels it names: 1 (a string) or 3 (an array)
-  GBufferPlane plane;       // where the values go ...
-  int first;                // ... from this component on
-  int models;               // bit mask of ShadingModel values it applies to
-  bool required;            // false: `fallback` fills it when the descriptor leaves it out
+  const char* key;     // descriptor key, e.g. "normal"
+  int components;      // channels it names: 1 (a string) or 3 (an array)
+  GBufferPlane plane;  // where the values go ...
+  int first;           // ... from this component on
+  int models;          // bit mask of ShadingModel values it applies to
+  bool required;       // false: `fallback` fills it when the descriptor leaves it out
   float fallback;
   const char* dumpChannels[3];  // what `render --dump` writes for it (see dumpKernelChannels)
   const char* meaning;          // one line, for docs and messages
@@ -61,7 +61,7 @@ enum class DepthRange { ZeroToOne, MinusOneToOne };  // NDC z of the hardware de
 
 // gbuffer.json, parsed and checked (file names resolved against its folder).
 struct GBufferDescriptor {
-  std::string path;         // of gbuffer.json itself (for messages)
+  std::string path;  // of gbuffer.json itself (for messages)
   std::string imagePath, lightsPath;
   std::optional<int> width, height;  // checked against the image when given
   bool bottomRowFirst = false;       // "origin": "bottom" (row 0 of the image is the bottom)
@@ -76,8 +76,8 @@ struct GBufferDescriptor {
   std::optional<double> hardwareFar;  // none = infinite far (reversed only)
   DepthRange hardwareRange = DepthRange::ZeroToOne;
   bool hardwareReversed = false;
-  std::string maskChannel;  // "" = geometry where depth says so
-  bool normalUnorm = false; // "normal_encoding": "unorm" (n = 2c - 1)
+  std::string maskChannel;   // "" = geometry where depth says so
+  bool normalUnorm = false;  // "normal_encoding": "unorm" (n = 2c - 1)
   // Fields: channels per key of gbufferFields(model) that the descriptor names.
   std::vector<std::pair<const GBufferField*, std::vector<std::string>>> fields;
   ShadingModel model = ShadingModel::BlinnPhong;

@@ -58,8 +58,8 @@ constexpr double kNearPlaneTolerance = 1e-5;
 
 void checkInFrontOfNearPlane(const GBufferDescriptor& d, float depth, int x, int y) {
   if (!d.znear || double(depth) >= double(*d.znear) * (1.0 - kNearPlaneTolerance)) return;
-  const bool fromHardware = d.depthEncoding == DepthEncoding::Hardware &&
-                            float(d.hardwareNear) == *d.znear;
+  const bool fromHardware =
+      d.depthEncoding == DepthEncoding::Hardware && float(d.hardwareNear) == *d.znear;
   throw Error(d.imagePath + ": depth " + fullPrecision(depth) + " at " + pixelText(x, y) +
               " is in front of the near plane " + fullPrecision(*d.znear) + " (" + d.path +
               (fromHardware ? " \"depth\": \"near\"" : " \"camera\": \"znear\"") +
@@ -95,10 +95,9 @@ void reportEmptyFrame(const GBufferDescriptor& d, const EmptyFrameClues& clues) 
     const auto [x, y, v] = *clues.oppositeSign;
     const bool viewZ = d.depthEncoding == DepthEncoding::ViewZ;
     throw Error(d.imagePath + ": no pixel is in front of the camera: depth channel '" +
-                d.depthChannel + "' (\"encoding\": \"" + (viewZ ? "view_z" : "linear") +
-                "\", " + (viewZ ? "negative" : "positive") + " in front) holds " +
-                fullPrecision(v) + " at " + pixelText(x, y) + "; is it \"" +
-                (viewZ ? "linear" : "view_z") + "\"?");
+                d.depthChannel + "' (\"encoding\": \"" + (viewZ ? "view_z" : "linear") + "\", " +
+                (viewZ ? "negative" : "positive") + " in front) holds " + fullPrecision(v) +
+                " at " + pixelText(x, y) + "; is it \"" + (viewZ ? "linear" : "view_z") + "\"?");
   }
   std::cerr << "tileshade: warning: " << d.imagePath << ": no pixel holds geometry";
   if (!d.maskChannel.empty() && clues.depthGeometry > 0)
@@ -181,10 +180,9 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
           throw Error(d.imagePath + ": mask channel '" + d.maskChannel + "' is not finite at " +
                       pixelText(x, y));
         if (m > 0.5f && !geometry)
-          throw Error(d.imagePath + ": mask channel '" + d.maskChannel +
-                      "' marks geometry at " + pixelText(x, y) + " but depth channel '" +
-                      d.depthChannel + "' gives no depth in front of the camera (" +
-                      fullPrecision(raw) + ")");
+          throw Error(d.imagePath + ": mask channel '" + d.maskChannel + "' marks geometry at " +
+                      pixelText(x, y) + " but depth channel '" + d.depthChannel +
+                      "' gives no depth in front of the camera (" + fullPrecision(raw) + ")");
         clues.maxMask = std::max(clues.maxMask, double(m));
         geometry = m > 0.5f;
       }
@@ -208,9 +206,10 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
                         (std::isnan(v) ? "NaN" : "infinite") + " at " + pixelText(x, y));
           const bool normal = s.field->plane == GBufferPlane::Normal;
           if (normal && d.normalUnorm && !(v >= 0.0f && v <= 1.0f))
-            throw Error(d.imagePath + ": channel '" + name + "' (\"normal\", \"normal_encoding\": "
-                        "\"unorm\") is " + fullPrecision(v) + " at " + pixelText(x, y) +
-                        ", outside [0, 1]");
+            throw Error(d.imagePath + ": channel '" + name +
+                        "' (\"normal\", \"normal_encoding\": "
+                        "\"unorm\") is " +
+                        fullPrecision(v) + " at " + pixelText(x, y) + ", outside [0, 1]");
           if (!normal && !(v >= 0.0f))
             throw Error(d.imagePath + ": channel '" + name + "' (\"" + s.field->key + "\") is " +
                         fullPrecision(v) + " at " + pixelText(x, y) + ", below 0");

@@ -32,10 +32,11 @@ void write(const std::string& path, const OIIO::ImageSpec& spec, const void* dat
             out->write_image(spec.format, data) && out->close();
   std::string printed = libraryMessages.text();
   if (!ok) {
-    std::string why = !out ? OIIO::geterror()
-                           : !out->supports("ioproxy") ? "OpenImageIO cannot encode it in memory"
-                                                       : out->geterror();
-    throw Error("cannot write " + path + ": " + why + (printed.empty() ? "" : " (" + printed + ")"));
+    std::string why = !out                        ? OIIO::geterror()
+                      : !out->supports("ioproxy") ? "OpenImageIO cannot encode it in memory"
+                                                  : out->geterror();
+    throw Error("cannot write " + path + ": " + why +
+                (printed.empty() ? "" : " (" + printed + ")"));
   }
   writeFile(path, bytes.data(), bytes.size());
 }
@@ -163,8 +164,7 @@ FloatImage readImage(const std::string& path) {
   const size_t pixels = size_t(spec.width) * size_t(spec.height), stride = size_t(spec.nchannels);
   image.data.resize(pixels * stride);
   auto fail = [&] { throw Error("cannot read " + path + ": " + in->geterror()); };
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data.data()))
-    fail();
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data.data())) fail();
   // OpenImageIO converts 32-bit integer channels to float normalised (uint 1 -> 2.3e-10): a
   // mask or an id channel means its integer values, so those channels are read again as they are.
   std::vector<uint32_t> values(pixels);
@@ -173,9 +173,8 @@ FloatImage readImage(const std::string& path) {
     if (!isIntegerValued(type)) continue;
     if (!in->read_image(0, 0, c, c + 1, type, values.data())) fail();
     for (size_t i = 0; i < pixels; ++i)
-      image.data[i * stride + size_t(c)] = type.basetype == OIIO::TypeDesc::INT32
-                                               ? float(int32_t(values[i]))
-                                               : float(values[i]);
+      image.data[i * stride + size_t(c)] =
+          type.basetype == OIIO::TypeDesc::INT32 ? float(int32_t(values[i])) : float(values[i]);
   }
   in->close();
   return image;

@@ -17,18 +17,18 @@
 namespace ts {
 
 struct PipelineOptions {
-  std::string device;                  // "" = default (see ClContext)
+  std::string device;  // "" = default (see ClContext)
   std::string scene = "builtin:street";
-  std::string lightSet;                // "" = the scene's default / the file's own lights
-  int lightCount = -1;                 // -1 = the light set's own count
-  float lightRange = 0.0f;             // > 0 overrides every light's range
-  float lightThreshold = 0.0f;         // > 0: ranges from the attenuation threshold (light_range.h)
-  std::string variant;                 // built-in scene variants, a comma list (scene_loader.h);
-                                       // "" = none
-  std::string shadingModel = "auto";   // auto (the scene's own) or a shadingModelNames() name
-  std::string features = "auto";       // auto (the scene's needs), general, or a list
-                                       // (chooseFeatures, scene_features.h)
-  uint32_t seed = 1;                   // of the built-in scenes
+  std::string lightSet;               // "" = the scene's default / the file's own lights
+  int lightCount = -1;                // -1 = the light set's own count
+  float lightRange = 0.0f;            // > 0 overrides every light's range
+  float lightThreshold = 0.0f;        // > 0: ranges from the attenuation threshold (light_range.h)
+  std::string variant;                // built-in scene variants, a comma list (scene_loader.h);
+                                      // "" = none
+  std::string shadingModel = "auto";  // auto (the scene's own) or a shadingModelNames() name
+  std::string features = "auto";      // auto (the scene's needs), general, or a list
+                                      // (chooseFeatures, scene_features.h)
+  uint32_t seed = 1;                  // of the built-in scenes
   int width = 1280, height = 720;
   GBufferFormat format = GBufferFormat::FP32;
   RasterBackend raster = RasterBackend::Software;  // rasterizer of the G-buffer
@@ -39,7 +39,7 @@ struct PipelineOptions {
   SpotCulling spotCulling = SpotCulling::Cone;
   bool depthSplit = false;
   MathMode math = MathMode::Precise;
-  int lanes = 0;                       // 0 = auto
+  int lanes = 0;  // 0 = auto
 
   // The technique configuration for a frame with `features` (the scene's, resolved per frame).
   TechniqueConfig techniqueConfig(const SceneFeatures& features) const;

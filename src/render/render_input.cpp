@@ -25,8 +25,9 @@ RenderInput loadRenderInput(const RenderOptions& o) {
     input.raster = "import";
     input.rasterDetail = imported.descriptor.path;
     input.frame.features = chooseFeatures(o.features, input.frame.features);
-    input.lightSummary = std::to_string(input.frame.lights.size() +
-                                        input.frame.lights.directionalCount()) + " lights";
+    input.lightSummary =
+        std::to_string(input.frame.lights.size() + input.frame.lights.directionalCount()) +
+        " lights";
     return input;
   }
   Scene scene = loadScene(o.scene, o.sceneOptions());

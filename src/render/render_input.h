@@ -10,12 +10,12 @@ namespace ts {
 
 struct RenderInput {
   PreparedFrame frame;
-  std::string sceneName;        // the scene's name, or the descriptor's "scene" (else its folder)
-  size_t triangles = 0;         // 0 for an imported G-buffer
-  std::string raster;           // "software", "gl" or "import"
-  std::string rasterDetail;     // "software", "gl: <GL_RENDERER>", or the descriptor's path
-  double rasterSetupMs = 0.0;   // one-time cost before the frame (OpenGL context, upload)
-  std::string lightSummary;     // "924 lights" or "12 lights: 6 point, 5 spot, 1 directional"
+  std::string sceneName;       // the scene's name, or the descriptor's "scene" (else its folder)
+  size_t triangles = 0;        // 0 for an imported G-buffer
+  std::string raster;          // "software", "gl" or "import"
+  std::string rasterDetail;    // "software", "gl: <GL_RENDERER>", or the descriptor's path
+  double rasterSetupMs = 0.0;  // one-time cost before the frame (OpenGL context, upload)
+  std::string lightSummary;    // "924 lights" or "12 lights: 6 point, 5 spot, 1 directional"
 };
 
 // The frame's features are the scene's (--shading-model, --features; resolveFeatures) or, for an

@@ -138,9 +138,9 @@ void runRender(const RenderOptions& options) {
                              3 + int(techniques.size()), o.height);
   if (o.check) {
     outOfMemoryAs("computing the double-precision reference of a " + frameText(o) + " frame", [&] {
-      reference = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
-                                 prepared.ambient, int(config.rangeModel), 0,
-                                 progress.pass("windowed model"));
+      reference =
+          shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights, prepared.ambient,
+                         int(config.rangeModel), 0, progress.pass("windowed model"));
       shadingOnly = shadeReference(prepared.encoded, prepared.intrinsics, prepared.lights,
                                    prepared.ambient, int(config.rangeModel), 0,
                                    progress.pass("windowed model, kernel positions"),
@@ -169,10 +169,9 @@ void runRender(const RenderOptions& options) {
   nlohmann::json results = nlohmann::json::array();
   std::ostringstream table;
   table << std::left << std::setw(18) << "technique" << std::right << std::setw(6) << "lanes"
-        << std::setw(10) << "total ms"
-        << std::setw(16) << "lighting comp." << std::setw(15) << "evaluations" << std::setw(13)
-        << "max err/peak" << std::setw(13) << "shading err" << std::setw(8) << "missed"
-        << std::setw(12) << "G-buf MB"
+        << std::setw(10) << "total ms" << std::setw(16) << "lighting comp." << std::setw(15)
+        << "evaluations" << std::setw(13) << "max err/peak" << std::setw(13) << "shading err"
+        << std::setw(8) << "missed" << std::setw(12) << "G-buf MB"
         << "  per-kernel ms\n";
   for (size_t t = 0; t < techniques.size(); ++t) {
     const std::string& name = techniques[t];
@@ -191,7 +190,8 @@ void runRender(const RenderOptions& options) {
     std::optional<uint64_t> missed;
     if (reference) {
       error = compareToReference(r.image, *reference, kReportTolerance * reference->peak);
-      errorShading = compareToReference(r.image, *shadingOnly, kReportTolerance * shadingOnly->peak);
+      errorShading =
+          compareToReference(r.image, *shadingOnly, kReportTolerance * shadingOnly->peak);
       errorPhysical = compareToReference(r.image, *physical, kReportTolerance * physical->peak);
       if (o.heatmap)
         writeHeatMapPng(dir + "/error.png", o.width, o.height, errorMap(r.image, *reference),
@@ -213,13 +213,12 @@ void runRender(const RenderOptions& options) {
       return text.str();
     };
     table << std::left << std::setw(18) << name << std::right << std::setw(6) << technique->lanes()
-          << std::fixed << std::setprecision(3) << std::setw(10) << r.totalMs << std::setw(16) << r.counters.lightingComputations
-          << std::setw(15) << r.counters.evaluations << std::setw(13) << relPeak(error)
-          << std::setw(13) << relPeak(errorShading) << std::setw(8)
-          << (missed ? std::to_string(*missed) : std::string("-")) << std::setw(12)
+          << std::fixed << std::setprecision(3) << std::setw(10) << r.totalMs << std::setw(16)
+          << r.counters.lightingComputations << std::setw(15) << r.counters.evaluations
+          << std::setw(13) << relPeak(error) << std::setw(13) << relPeak(errorShading)
+          << std::setw(8) << (missed ? std::to_string(*missed) : std::string("-")) << std::setw(12)
           << std::setprecision(1) << double(r.counters.gbufferBytesRead) / 1e6 << "  "
-          << kernelSummary(r)
-          << "\n";
+          << kernelSummary(r) << "\n";
     for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
     if (uint64_t bad = countNonFinitePixels(r.image))
       table << "    note: " << bad << " pixel(s) NaN or inf (nonfinite_pixels in stats.json)\n";

@@ -10,14 +10,14 @@ namespace ts {
 // The pipeline (PipelineOptions) and what `render` does with it.
 struct RenderOptions : PipelineOptions {
   std::vector<std::string> techniques{"tiled"};  // "all" expands to every registered technique
-  int frame = 0;                       // of the scene's camera path
+  int frame = 0;                                 // of the scene's camera path
   std::string outDir = "out";
-  bool check = false;                  // compare against the double reference
-  bool dump = false;                   // write gbuffer.exr + lights.json
-  bool heatmap = false;                // with check: error.png per technique
-  float exposure = 1.0f;               // PNG tone mapping
-  std::string gbufferIn;               // "" = rasterize the scene; else G-buffer files to import
-  bool keepInputLayout = false;        // with gbufferIn: encode in the files' layout, not `format`
+  bool check = false;            // compare against the double reference
+  bool dump = false;             // write gbuffer.exr + lights.json
+  bool heatmap = false;          // with check: error.png per technique
+  float exposure = 1.0f;         // PNG tone mapping
+  std::string gbufferIn;         // "" = rasterize the scene; else G-buffer files to import
+  bool keepInputLayout = false;  // with gbufferIn: encode in the files' layout, not `format`
 };
 
 // Throws ts::Error (one line naming the option) for any option that makes no sense: NaN, inf or

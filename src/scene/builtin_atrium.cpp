@@ -1,7 +1,8 @@
 // builtin:atrium — modelled on the proportions of the Sponza atrium: a 30 x 13 m courtyard with
 // 16 m walls, two storeys of arcades (columns and arches) on the long sides over aisles, a gallery
 // floor, hanging curtains and banners, planters, vases and braziers. Light sets after the
-// forward-vs-deferred comparison: many small lights, a few big ones, or a mix. See scenes/README.md.
+// forward-vs-deferred comparison: many small lights, a few big ones, or a mix. See
+// scenes/README.md.
 #include <cmath>
 
 #include "scene/builtin_scenes.h"
@@ -14,9 +15,9 @@ namespace ts {
 
 namespace {
 
-constexpr float kHalfX = 15.0f;    // courtyard floor: x in [-15, 15]
-constexpr float kHalfZ = 6.5f;     //                  z in [-6.5, 6.5] (arcade wall centres)
-constexpr float kOuterZ = 11.0f;   // outer aisle walls (inner face)
+constexpr float kHalfX = 15.0f;   // courtyard floor: x in [-15, 15]
+constexpr float kHalfZ = 6.5f;    //                  z in [-6.5, 6.5] (arcade wall centres)
+constexpr float kOuterZ = 11.0f;  // outer aisle walls (inner face)
 constexpr float kWallTop = 16.0f;
 constexpr int kBays = 8;
 constexpr float kBay = 2.0f * kHalfX / float(kBays);  // 3.75 m column spacing
@@ -31,8 +32,7 @@ constexpr float kBigRange0 = 8.0f, kBigRange1 = 20.0f, kBigK = 0.02f;
 constexpr int kMixedCount = 128, kMixedBigEvery = 32;
 
 struct Materials {
-  uint32_t stone, darkStone, marble, tileA, tileB, plaster, recess, terracotta, plant, bronze,
-      fire;
+  uint32_t stone, darkStone, marble, tileA, tileB, plaster, recess, terracotta, plant, bronze, fire;
   uint32_t cloth[3];
 };
 
@@ -71,9 +71,8 @@ float columnX(int i) { return -kHalfX + kBay * float(i); }
 
 // One storey of arcade along the wall plane z = zc: pedestals, columns, capitals, arches,
 // stepped spandrels and a wall band up to bandTop.
-void arcade(MeshBuilder& mb, const Materials& M, float zc, float yBase, float pedestal,
-            float shaft, float radius, float capWidth, float archThickness, float wallDepth,
-            float bandTop) {
+void arcade(MeshBuilder& mb, const Materials& M, float zc, float yBase, float pedestal, float shaft,
+            float radius, float capWidth, float archThickness, float wallDepth, float bandTop) {
   float ys = yBase + pedestal + shaft + 0.3f;  // springing line (top of the capitals)
   float hz = 0.5f * wallDepth;
   for (int i = 1; i < kBays; ++i) {
@@ -124,7 +123,8 @@ std::vector<Light> makeLights(const std::string& set, uint32_t seed, int count) 
       float region = rnd.uniform();
       float side = rnd.chance(0.5f) ? 1.0f : -1.0f;
       if (region < 0.55f) {
-        l.position = {rnd.uniform(-14.0f, 14.0f), rnd.uniform(0.3f, 4.5f), rnd.uniform(-6.0f, 6.0f)};
+        l.position = {rnd.uniform(-14.0f, 14.0f), rnd.uniform(0.3f, 4.5f),
+                      rnd.uniform(-6.0f, 6.0f)};
       } else if (region < 0.8f) {
         l.position = {rnd.uniform(-14.5f, 14.5f), rnd.uniform(0.3f, 4.0f),
                       side * rnd.uniform(7.2f, 10.6f)};
@@ -193,8 +193,8 @@ Scene makeAtriumScene(const std::string& lightSet, uint32_t seed, int lightCount
   for (int side = -1; side <= 1; side += 2) {
     float s = float(side);
     mb.box({-kHalfX - 0.5f, 0.0f, std::min(s * kOuterZ, s * (kOuterZ + 0.5f))},
-           {kHalfX + 0.5f, kWallTop + 0.3f, std::max(s * kOuterZ, s * (kOuterZ + 0.5f))},
-           M.plaster, false);
+           {kHalfX + 0.5f, kWallTop + 0.3f, std::max(s * kOuterZ, s * (kOuterZ + 0.5f))}, M.plaster,
+           false);
     mb.box({std::min(s * kHalfX, s * (kHalfX + 0.5f)), 0.0f, -kOuterZ},
            {std::max(s * kHalfX, s * (kHalfX + 0.5f)), kWallTop + 0.3f, kOuterZ}, M.stone, false);
     mb.box({-kHalfX, kWallTop, std::min(s * (kHalfZ - 0.3f), s * kOuterZ)},
@@ -210,7 +210,8 @@ Scene makeAtriumScene(const std::string& lightSet, uint32_t seed, int lightCount
              {xw + 0.2f, 6.0f, float(lr) * 3.0f + 0.25f + float(lr) * 0.25f}, M.darkStone, false);
     float xr = s * (kHalfX - 0.01f);
     glm::vec3 a{xr, 0.0f, -3.0f}, b{xr, 0.0f, 3.0f}, c{xr, 6.0f, 3.0f}, d{xr, 6.0f, -3.0f};
-    if (side > 0) mb.quad(a, b, c, d, M.recess); else mb.quad(a, d, c, b, M.recess);
+    if (side > 0) mb.quad(a, b, c, d, M.recess);
+    else mb.quad(a, d, c, b, M.recess);
   }
 
   // Two storeys of arcades on both long sides, a balustrade on the gallery.
@@ -243,8 +244,8 @@ Scene makeAtriumScene(const std::string& lightSet, uint32_t seed, int lightCount
     for (int i : {1, 3, 5, 7}) {
       glm::vec3 p{columnX(i), 0.0f, float(side) * (kHalfZ - 1.3f)};
       mb.frustum(p, 0.35f, 0.5f, 0.7f, 14, M.terracotta);
-      mb.sphere(p + glm::vec3(0.0f, 0.95f, 0.0f), glm::vec3(0.55f, rnd.uniform(0.45f, 0.65f), 0.55f),
-                14, 8, M.plant);
+      mb.sphere(p + glm::vec3(0.0f, 0.95f, 0.0f),
+                glm::vec3(0.55f, rnd.uniform(0.45f, 0.65f), 0.55f), 14, 8, M.plant);
     }
   for (int sx = -1; sx <= 1; sx += 2)
     for (int sz = -1; sz <= 1; sz += 2) {
@@ -261,7 +262,7 @@ Scene makeAtriumScene(const std::string& lightSet, uint32_t seed, int lightCount
     mb.sphere(p + glm::vec3(0.0f, 1.35f, 0.0f), glm::vec3(0.3f, 0.35f, 0.3f), 10, 8, M.fire);
   }
 
-  int count = lightCount >= 0 ? lightCount
+  int count = lightCount >= 0  ? lightCount
               : set == "small" ? kSmallCount
               : set == "big"   ? kBigCount
                                : kMixedCount;

@@ -17,11 +17,11 @@ namespace ts {
 namespace {
 
 // Street layout (units ≈ metres). The main street runs along Z; facades at x = ±kHalfWidth.
-constexpr float kHalfWidth = 14.55f;   // 29.1 wide, facade to facade
-constexpr float kSidewalk = 3.0f;      // sidewalk width in front of the facades
-constexpr float kStreetZ0 = -160.0f;   // blocks from kStreetZ0 to kStreetZ1
+constexpr float kHalfWidth = 14.55f;  // 29.1 wide, facade to facade
+constexpr float kSidewalk = 3.0f;     // sidewalk width in front of the facades
+constexpr float kStreetZ0 = -160.0f;  // blocks from kStreetZ0 to kStreetZ1
 constexpr float kStreetZ1 = 160.0f;
-constexpr float kPathZ0 = -150.0f;     // the robots' paths (and the lights on them)
+constexpr float kPathZ0 = -150.0f;  // the robots' paths (and the lights on them)
 constexpr float kPathZ1 = 150.0f;
 constexpr int kRobots = 11;
 constexpr float kStorey = 3.3f;
@@ -45,8 +45,8 @@ struct Robot {
 };
 
 struct Materials {
-  uint32_t asphalt, sidewalk, marking, glass, litWindow, cornice, lampPost, lampHead, metal,
-      joint, eye, antennaTip;
+  uint32_t asphalt, sidewalk, marking, glass, litWindow, cornice, lampPost, lampHead, metal, joint,
+      eye, antennaTip;
   uint32_t facade[5];
   uint32_t paint[4];
 };
@@ -71,16 +71,16 @@ Materials addMaterials(MeshBuilder& mb) {
   M.facade[3] = mat("slate_blue", {0.32f, 0.37f, 0.45f}, glm::vec3(0.10f), 32.0f);
   M.facade[4] = mat("ochre_render", {0.65f, 0.45f, 0.20f}, glm::vec3(0.04f), 10.0f);
   M.glass = mat("window_glass", {0.04f, 0.05f, 0.06f}, glm::vec3(0.7f), 256.0f);
-  M.litWindow = mat("lit_window", {0.05f, 0.05f, 0.05f}, glm::vec3(0.5f), 128.0f,
-                    {0.55f, 0.42f, 0.22f});
+  M.litWindow =
+      mat("lit_window", {0.05f, 0.05f, 0.05f}, glm::vec3(0.5f), 128.0f, {0.55f, 0.42f, 0.22f});
   M.cornice = mat("cornice", {0.70f, 0.68f, 0.64f}, glm::vec3(0.08f), 24.0f);
   M.lampPost = mat("lamp_post", {0.10f, 0.11f, 0.12f}, glm::vec3(0.5f), 64.0f);
   M.lampHead = mat("lamp_head", {0.9f, 0.9f, 0.8f}, glm::vec3(0.2f), 32.0f, {1.6f, 1.4f, 1.0f});
   M.metal = mat("robot_metal", {0.45f, 0.46f, 0.48f}, glm::vec3(0.8f), 96.0f);
   M.joint = mat("robot_joint", {0.12f, 0.12f, 0.13f}, glm::vec3(0.3f), 32.0f);
   M.eye = mat("robot_eye", {0.1f, 0.1f, 0.1f}, glm::vec3(0.5f), 64.0f, {2.0f, 0.35f, 0.1f});
-  M.antennaTip = mat("robot_beacon", {0.1f, 0.1f, 0.1f}, glm::vec3(0.5f), 64.0f,
-                     {0.2f, 1.2f, 2.0f});
+  M.antennaTip =
+      mat("robot_beacon", {0.1f, 0.1f, 0.1f}, glm::vec3(0.5f), 64.0f, {0.2f, 1.2f, 2.0f});
   M.paint[0] = mat("robot_paint_orange", {0.85f, 0.35f, 0.05f}, glm::vec3(0.45f), 48.0f);
   M.paint[1] = mat("robot_paint_teal", {0.05f, 0.55f, 0.55f}, glm::vec3(0.45f), 48.0f);
   M.paint[2] = mat("robot_paint_yellow", {0.85f, 0.72f, 0.08f}, glm::vec3(0.45f), 48.0f);
@@ -93,15 +93,15 @@ Materials addMaterials(MeshBuilder& mb) {
 void building(MeshBuilder& mb, const Materials& M, SceneRandom& rnd, int side, float z0, float z1,
               float depth, bool sideStreetBefore, bool sideStreetAfter) {
   uint32_t facade = M.facade[rnd.index(5)];
-  int storeys = 3 + rnd.index(10);                      // 3..12
+  int storeys = 3 + rnd.index(10);  // 3..12
   int lower = storeys;
   float setback = 0.0f;
-  if (storeys >= 6 && rnd.chance(0.5f)) {               // a set-back upper part
+  if (storeys >= 6 && rnd.chance(0.5f)) {  // a set-back upper part
     lower = storeys - 2 - rnd.index(storeys / 3);
     setback = rnd.uniform(2.0f, 4.5f);
   }
-  float xf = float(side) * kHalfWidth;                    // facade plane
-  float xb = float(side) * (kHalfWidth + depth);          // back
+  float xf = float(side) * kHalfWidth;            // facade plane
+  float xb = float(side) * (kHalfWidth + depth);  // back
   auto part = [&](float inset, int fromStorey, int toStorey) {
     float xFront = xf + float(side) * inset;
     float y0 = float(fromStorey) * kStorey, y1 = float(toStorey) * kStorey;
@@ -117,7 +117,8 @@ void building(MeshBuilder& mb, const Materials& M, SceneRandom& rnd, int side, f
       float x = xFront - float(side) * 0.02f;
       glm::vec3 a{x, wy0, z0 + 0.8f}, b{x, wy0, z1 - 0.8f}, c{x, wy1, z1 - 0.8f},
           d{x, wy1, z0 + 0.8f};
-      if (side > 0) mb.quad(a, b, c, d, w); else mb.quad(a, d, c, b, w);  // facing the street
+      if (side > 0) mb.quad(a, b, c, d, w);
+      else mb.quad(a, d, c, b, w);  // facing the street
       float xIn = std::min(xFront, xb) + 0.8f, xOut = std::max(xFront, xb) - 0.8f;
       if (sideStreetBefore && xOut - xIn > 2.0f) {
         float z = z0 - 0.02f;
@@ -167,7 +168,7 @@ void robot(MeshBuilder& mb, const Materials& M, const Robot& r) {
   } else {
     mb.cylinder(at({0.0f, 0.9f, 0.0f}), 0.42f * s, 0.8f * s, 14, paint);
   }
-  part({0.0f, 0.92f, 0.0f}, {0.6f, 0.1f, 0.36f}, M.joint);       // hips
+  part({0.0f, 0.92f, 0.0f}, {0.6f, 0.1f, 0.36f}, M.joint);  // hips
   // Arms: shoulder spheres, cylinders hanging down, hands.
   for (int lr = -1; lr <= 1; lr += 2) {
     glm::vec3 shoulder{0.52f * float(lr), 1.62f, 0.0f};
@@ -251,9 +252,9 @@ std::vector<Light> fewLights(const Layout& L, uint32_t seed, int count) {
     const Robot& r = L.robots[k % kRobots];
     float a = rnd.uniform(0.0f, 2.0f * kPi);
     Light l;
-    l.position = r.position + glm::vec3(1.2f * std::cos(a),
-                                         r.height + 2.5f + 2.0f * float(k / kRobots),
-                                         1.2f * std::sin(a));
+    l.position =
+        r.position + glm::vec3(1.2f * std::cos(a), r.height + 2.5f + 2.0f * float(k / kRobots),
+                               1.2f * std::sin(a));
     const float saturation = rnd.uniform(0.1f, 0.35f);  // first: g++'s old order (SceneRandom)
     const float hue = rnd.uniform();
     l.color = kFewIntensity * hueColor(hue, saturation);
@@ -303,8 +304,8 @@ Scene makeStreetScene(const std::string& lightSet, uint32_t seed, int lightCount
           {-groundX, 0.0f, groundZ0}, M.asphalt, glm::vec2(2.0f * groundX, groundZ1 - groundZ0));
   // Centre line, dashed.
   for (float z = kStreetZ0; z < kStreetZ1; z += 8.0f)
-    mb.quad({-0.1f, 0.01f, z + 4.0f}, {0.1f, 0.01f, z + 4.0f}, {0.1f, 0.01f, z},
-            {-0.1f, 0.01f, z}, M.marking);
+    mb.quad({-0.1f, 0.01f, z + 4.0f}, {0.1f, 0.01f, z + 4.0f}, {0.1f, 0.01f, z}, {-0.1f, 0.01f, z},
+            M.marking);
 
   // Blocks on both sides, cut by side streets; a back row of buildings behind them; end blocks
   // closing the street at both ends.
@@ -334,7 +335,8 @@ Scene makeStreetScene(const std::string& lightSet, uint32_t seed, int lightCount
     // Back row, seen through the side streets.
     for (float bz = kStreetZ0; bz < kStreetZ1;) {
       float w = std::min(rnd.uniform(20.0f, 40.0f), kStreetZ1 - bz);
-      float x0 = float(side) * (kHalfWidth + 36.0f), x1 = float(side) * (kHalfWidth + 36.0f + 18.0f);
+      float x0 = float(side) * (kHalfWidth + 36.0f),
+            x1 = float(side) * (kHalfWidth + 36.0f + 18.0f);
       float h = kStorey * float(4 + rnd.index(12));
       mb.box({std::min(x0, x1), 0.0f, bz}, {std::max(x0, x1), h, bz + w}, M.facade[rnd.index(5)],
              false);
@@ -352,8 +354,7 @@ Scene makeStreetScene(const std::string& lightSet, uint32_t seed, int lightCount
 
   if (set == "many")
     scene.lights = manyLights(layout, seed, lightCount < 0 ? kManyLights : lightCount);
-  else
-    scene.lights = fewLights(layout, seed, lightCount < 0 ? kRobots : lightCount);
+  else scene.lights = fewLights(layout, seed, lightCount < 0 ? kRobots : lightCount);
   scene.cameraPath = cameraPath();
   return scene;
 }

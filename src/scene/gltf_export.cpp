@@ -28,8 +28,10 @@ namespace ts {
 namespace {
 
 bool endsWith(std::string s, const std::string& suffix) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 tinygltf::Value number(double v) { return tinygltf::Value(v); }
@@ -94,8 +96,10 @@ std::vector<unsigned char> encodePng(const Texture& t) {
   for (size_t i = 0; i < t.texels.size(); ++i) {
     const glm::vec4& v = t.texels[i];
     for (int c = 0; c < 3; ++c)
-      pixels[4 * i + size_t(c)] = (unsigned char)(
-          (t.srgb ? gltf::linearToSrgb(v[c]) : std::clamp(v[c], 0.0f, 1.0f)) * 255.0f + 0.5f);
+      pixels[4 * i + size_t(c)] =
+          (unsigned char)((t.srgb ? gltf::linearToSrgb(v[c]) : std::clamp(v[c], 0.0f, 1.0f)) *
+                              255.0f +
+                          0.5f);
     pixels[4 * i + 3] = (unsigned char)(std::clamp(v.w, 0.0f, 1.0f) * 255.0f + 0.5f);
   }
 #ifdef TILESHADE_NO_OIIO
@@ -111,7 +115,8 @@ std::vector<unsigned char> encodePng(const Texture& t) {
   std::string printed = libraryMessages.text();
   if (!ok) {
     std::string why = writer ? writer->geterror() : OIIO::geterror();
-    throw Error("cannot encode a texture as PNG: " + why + (printed.empty() ? "" : " (" + printed + ")"));
+    throw Error("cannot encode a texture as PNG: " + why +
+                (printed.empty() ? "" : " (" + printed + ")"));
   }
   return png;
 #endif
@@ -220,9 +225,9 @@ void exportGltf(const Scene& scene, const std::string& path) {
   std::vector<std::vector<uint32_t>> byMaterial(scene.materials.size());
   for (size_t t = 0; t < scene.triangleCount(); ++t) {
     uint32_t mi = t < scene.triangleMaterial.size() ? scene.triangleMaterial[t] : 0;
-    if (mi >= byMaterial.size()) throw Error("cannot export scene '" + scene.name +
-                                             "': triangle " + std::to_string(t) +
-                                             " has no valid material");
+    if (mi >= byMaterial.size())
+      throw Error("cannot export scene '" + scene.name + "': triangle " + std::to_string(t) +
+                  " has no valid material");
     byMaterial[mi].push_back(uint32_t(t));
   }
   std::vector<uint32_t> remap(scene.vertices.size(), UINT32_MAX);
@@ -251,9 +256,8 @@ void exportGltf(const Scene& scene, const std::string& path) {
     p.attributes["POSITION"] = w.positions(pos);
     p.attributes["NORMAL"] = w.accessor(nrm, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                         TINYGLTF_TARGET_ARRAY_BUFFER);
-    p.attributes["TEXCOORD_0"] = w.accessor(uv, 2, TINYGLTF_TYPE_VEC2,
-                                            TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                            TINYGLTF_TARGET_ARRAY_BUFFER);
+    p.attributes["TEXCOORD_0"] = w.accessor(
+        uv, 2, TINYGLTF_TYPE_VEC2, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
     p.indices = w.accessor(idx, 1, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
                            TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     mesh.primitives.push_back(p);

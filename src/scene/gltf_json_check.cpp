@@ -51,7 +51,8 @@ class Checker {
     });
     objects(doc_, "nodes", "", [&](const json& n, const std::string& at) { node(n, at); });
     objects(doc_, "meshes", "", [&](const json& m, const std::string& at) {
-      objects(m, "primitives", at, [&](const json& p, const std::string& pat) { primitive(p, pat); });
+      objects(m, "primitives", at,
+              [&](const json& p, const std::string& pat) { primitive(p, pat); });
     });
     objects(doc_, "accessors", "", [&](const json& a, const std::string& at) { accessor(a, at); });
     objects(doc_, "bufferViews", "", [&](const json& v, const std::string& at) {
@@ -105,9 +106,8 @@ class Checker {
     index(n, "skin", at, count("skins"));
     indices(n, "children", at, count("nodes"));
     object(n, "extensions", at, [&](const json& e, const std::string& eat) {
-      object(e, "KHR_lights_punctual", eat, [&](const json& k, const std::string& kat) {
-        index(k, "light", kat, lightCount());
-      });
+      object(e, "KHR_lights_punctual", eat,
+             [&](const json& k, const std::string& kat) { index(k, "light", kat, lightCount()); });
     });
   }
 
@@ -132,7 +132,8 @@ class Checker {
 
   void primitive(const json& p, const std::string& at) {
     object(p, "attributes", at, [&](const json& a, const std::string& aat) {
-      for (auto it = a.begin(); it != a.end(); ++it) index(a, it.key().c_str(), aat, count("accessors"));
+      for (auto it = a.begin(); it != a.end(); ++it)
+        index(a, it.key().c_str(), aat, count("accessors"));
     });
     index(p, "indices", at, count("accessors"));
     index(p, "material", at, count("materials"));
@@ -176,7 +177,8 @@ class Checker {
       textureInfo(p, "metallicRoughnessTexture", pat);
     });
     numbers(m, "emissiveFactor", at, 3, kAny);
-    for (const char* t : {"emissiveTexture", "normalTexture", "occlusionTexture"}) textureInfo(m, t, at);
+    for (const char* t : {"emissiveTexture", "normalTexture", "occlusionTexture"})
+      textureInfo(m, t, at);
     boolean(m, "doubleSided", at);
     object(m, "extensions", at, [&](const json& e, const std::string& eat) {
       object(e, "KHR_materials_specular", eat, [&](const json& s, const std::string& sat) {
@@ -257,8 +259,7 @@ class Checker {
     bool ok = v->is_number_integer() &&
               (v->is_number_unsigned() ? v->get<uint64_t>() <= uint64_t(hi)
                                        : v->get<int64_t>() >= lo && v->get<int64_t>() <= hi);
-    if (!ok)
-      fail(at, key, "an integer in " + std::to_string(lo) + ".." + std::to_string(hi), *v);
+    if (!ok) fail(at, key, "an integer in " + std::to_string(lo) + ".." + std::to_string(hi), *v);
   }
 
   // An index into an array of `n` elements.
@@ -281,7 +282,8 @@ class Checker {
     if (!v) return;
     if (!v->is_array()) fail(at, key, "an array of indices", *v);
     for (size_t i = 0; i < v->size(); ++i)
-      if (!indexOk((*v)[i], n)) fail(at, std::string(key) + "[" + std::to_string(i) + "]", indexText(n), (*v)[i]);
+      if (!indexOk((*v)[i], n))
+        fail(at, std::string(key) + "[" + std::to_string(i) + "]", indexText(n), (*v)[i]);
   }
 
   // A byte offset, length or count: a non-negative integer >= min.

@@ -134,7 +134,8 @@ class Reader {
 
   // The bytes [offset, offset + needed) of bufferView `index`, after checking, in overflow-checked
   // arithmetic, that they lie inside the view and the view inside its buffer.
-  const unsigned char* view(int index, size_t offset, CheckedSize needed, const std::string& what) const {
+  const unsigned char* view(int index, size_t offset, CheckedSize needed,
+                            const std::string& what) const {
     if (index < 0 || size_t(index) >= m_.bufferViews.size()) fail(what + ": bad bufferView");
     const auto& bv = m_.bufferViews[size_t(index)];
     if (bv.buffer < 0 || size_t(bv.buffer) >= m_.buffers.size()) fail(what + ": bad buffer");
@@ -176,16 +177,18 @@ class Reader {
     std::vector<double> out(count * size_t(nc), 0.0);
     for (size_t i = 0; p && i < count; ++i)
       for (int c = 0; c < nc; ++c)
-        out[i * size_t(nc) + size_t(c)] = readComponent(
-            p + i * stride + size_t(c) * size_t(cs), a.componentType, a.normalized);
+        out[i * size_t(nc) + size_t(c)] =
+            readComponent(p + i * stride + size_t(c) * size_t(cs), a.componentType, a.normalized);
     if (a.sparse.isSparse && a.sparse.count > 0) {
       size_t n = size_t(a.sparse.count);
-      if (n > count) fail(what + ": " + std::to_string(n) + " sparse values for " + std::to_string(count) + " elements");
+      if (n > count)
+        fail(what + ": " + std::to_string(n) + " sparse values for " + std::to_string(count) +
+             " elements");
       std::vector<uint32_t> targets =
           unsignedIntegers(a.sparse.indices.bufferView, size_t(a.sparse.indices.byteOffset),
                            a.sparse.indices.componentType, n, what + " sparse indices");
-      const unsigned char* vp =
-          view(a.sparse.values.bufferView, size_t(a.sparse.values.byteOffset), CheckedSize(n) * elem, what);
+      const unsigned char* vp = view(a.sparse.values.bufferView, size_t(a.sparse.values.byteOffset),
+                                     CheckedSize(n) * elem, what);
       for (size_t i = 0; i < n; ++i) {
         if (targets[i] >= count) fail(what + ": sparse index out of range");
         for (int c = 0; c < nc; ++c)
@@ -219,7 +222,8 @@ class Reader {
   // error when smaller than the element (the elements would overlap) or not a multiple of the
   // component size.
   size_t byteStride(const tinygltf::Accessor& a, size_t elem, const std::string& what) const {
-    if (a.bufferView < 0 || size_t(a.bufferView) >= m_.bufferViews.size()) fail(what + ": bad bufferView");
+    if (a.bufferView < 0 || size_t(a.bufferView) >= m_.bufferViews.size())
+      fail(what + ": bad bufferView");
     const auto& bv = m_.bufferViews[size_t(a.bufferView)];
     if (bv.byteStride == 0) return elem;
     int stride = a.ByteStride(bv);
@@ -241,7 +245,8 @@ class Reader {
     size_t cs = size_t(tinygltf::GetComponentSizeInBytes(uint32_t(componentType)));
     const unsigned char* p = view(bufferView, offset, CheckedSize(count) * cs, what);
     std::vector<uint32_t> out(count);
-    for (size_t i = 0; i < count; ++i) out[i] = uint32_t(readComponent(p + i * cs, componentType, false));
+    for (size_t i = 0; i < count; ++i)
+      out[i] = uint32_t(readComponent(p + i * cs, componentType, false));
     return out;
   }
 
@@ -281,7 +286,9 @@ bool isFinite(const glm::mat4& m) {
   return true;
 }
 
-bool isFinite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool isFinite(glm::vec3 v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 // A colour or factor from doubles, each within float's range (ts::Error naming `what` beyond).
 glm::vec3 floatVec3(double x, double y, double z, const Reader& read, const std::string& what) {
@@ -423,14 +430,18 @@ DecodedImage decodeImageOrThrow(const tinygltf::Image& image, int index, bool sr
     size_t nc = size_t(d.component);
     const unsigned char* px = d.image.data();
     if (d.bits == 16)
-      fill(d.width, d.height, d.component, [&](size_t p, int c) {
-        uint16_t v;
-        std::memcpy(&v, px + 2 * (p * nc + size_t(c)), 2);
-        return double(v) / 65535.0;
-      }, false);
+      fill(
+          d.width, d.height, d.component,
+          [&](size_t p, int c) {
+            uint16_t v;
+            std::memcpy(&v, px + 2 * (p * nc + size_t(c)), 2);
+            return double(v) / 65535.0;
+          },
+          false);
     else
-      fill(d.width, d.height, d.component, [&](size_t p, int c) { return px[p * nc + size_t(c)]; },
-           true);
+      fill(
+          d.width, d.height, d.component, [&](size_t p, int c) { return px[p * nc + size_t(c)]; },
+          true);
     result.ok = true;
     return result;
   }
@@ -463,7 +474,8 @@ DecodedImage decodeImageOrThrow(const tinygltf::Image& image, int index, bool sr
   if (!in) return failed(err.empty() ? OIIO::geterror() : err);
   const auto& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    return failed("no pixels (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ")");
+    return failed("no pixels (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                  ")");
   if (tooLarge(uint64_t(spec.width), uint64_t(spec.height))) {
     libraryMessages.text();
     return result;
@@ -475,12 +487,13 @@ DecodedImage decodeImageOrThrow(const tinygltf::Image& image, int index, bool sr
   libraryMessages.text();
   // glTF textures hold [0, 1] data; a float format's NaN, inf or out-of-range values are clamped
   // (NaN to 0) so that they cannot reach the G-buffer.
-  fill(spec.width, spec.height, std::min(spec.nchannels, 4),
-       [&](size_t p, int c) {
-         double v = all[p * nc + size_t(c)];
-         return std::isnan(v) ? 0.0 : std::clamp(v, 0.0, 1.0);
-       },
-       false);
+  fill(
+      spec.width, spec.height, std::min(spec.nchannels, 4),
+      [&](size_t p, int c) {
+        double v = all[p * nc + size_t(c)];
+        return std::isnan(v) ? 0.0 : std::clamp(v, 0.0, 1.0);
+      },
+      false);
   result.ok = true;
   return result;
 #endif
@@ -529,7 +542,7 @@ class GltfLoader {
   std::set<int> samplingGiven_;  // scene textures whose sampling a reference has set
   // (scene texture, wrapS, wrapT, nearest) -> its copy sampled so
   std::map<std::tuple<int, TextureWrap, TextureWrap, bool>, int> samplingVariants_;
-  int uvSet_ = 0;           // the base colour's UV set of the material being read
+  int uvSet_ = 0;  // the base colour's UV set of the material being read
   std::vector<std::string> textureFailures_;
   std::vector<std::string> clampedFactors_;  // "materials[2].metallicFactor 1.5"
   std::vector<std::string> warnings_;        // printed by the caller once the file has loaded
@@ -575,13 +588,14 @@ uint32_t GltfLoader::material(int index) {
     if (const auto* spec = extension(mat.extensions, "KHR_materials_specular")) {
       float factor = unit(number(spec, "specularFactor", 1.0), "specularFactor");
       glm::vec3 colour = vec3(spec, "specularColorFactor", glm::vec3(1.0f));
-      dielectricF0 = floatVec3(double(colour.x) * factor, double(colour.y) * factor,
-                               double(colour.z) * factor, read_,
-                               what + ": specularColorFactor x specularFactor");
+      dielectricF0 =
+          floatVec3(double(colour.x) * factor, double(colour.y) * factor, double(colour.z) * factor,
+                    read_, what + ": specularColorFactor x specularFactor");
     }
     glm::dvec3 emissive(0.0);
     if (mat.emissiveFactor.size() >= 3)
-      for (int c = 0; c < 3; ++c) emissive[c] = unit(mat.emissiveFactor[size_t(c)], "emissiveFactor");
+      for (int c = 0; c < 3; ++c)
+        emissive[c] = unit(mat.emissiveFactor[size_t(c)], "emissiveFactor");
     emissive *= number(extension(mat.extensions, "KHR_materials_emissive_strength"),
                        "emissiveStrength", 1.0);
     out.emissive = floatVec3(emissive.x, emissive.y, emissive.z, read_,
@@ -589,8 +603,8 @@ uint32_t GltfLoader::material(int index) {
     out.doubleSided = mat.doubleSided;
     uvSet_ = std::max(pbr.baseColorTexture.texCoord, 0);  // the UV set addPrimitive keeps
     if (pbr.baseColorTexture.index >= 0)
-      out.baseColorTexture = texture(pbr.baseColorTexture, true,
-                                     at + ".pbrMetallicRoughness.baseColorTexture", what);
+      out.baseColorTexture =
+          texture(pbr.baseColorTexture, true, at + ".pbrMetallicRoughness.baseColorTexture", what);
     if (pbr.metallicRoughnessTexture.index >= 0)
       out.metallicRoughnessTexture =
           texture(pbr.metallicRoughnessTexture, false,
@@ -685,8 +699,9 @@ int GltfLoader::decodedTexture(const tinygltf::TextureInfo& info, bool srgb,
     scene_.textures.push_back(std::move(one.texture));
     result = int(scene_.textures.size() - 1);
   } else {
-    std::string name = !image.uri.empty() ? image.uri : !image.name.empty() ? image.name
-                                                      : "image " + std::to_string(source);
+    std::string name = !image.uri.empty()    ? image.uri
+                       : !image.name.empty() ? image.name
+                                             : "image " + std::to_string(source);
     textureFailures_.push_back(ts::shortText(name) + " (" + one.why + ")");
   }
   images_[key] = result;
@@ -737,10 +752,11 @@ void GltfLoader::decodeImages() {
   std::atomic<size_t> next{0};
   auto work = [&] {
     for (size_t i; (i = next++) < wanted.size();)
-      results[i] = decodeImage(m_.images[size_t(wanted[i].first)], wanted[i].first,
-                               wanted[i].second);
+      results[i] =
+          decodeImage(m_.images[size_t(wanted[i].first)], wanted[i].first, wanted[i].second);
   };
-  size_t threads = std::min<size_t>({wanted.size(), 4, std::max(1u, std::thread::hardware_concurrency())});
+  size_t threads =
+      std::min<size_t>({wanted.size(), 4, std::max(1u, std::thread::hardware_concurrency())});
   std::vector<std::thread> pool;
   for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
   work();
@@ -767,7 +783,8 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
   const glm::dvec3 position(world[3]);
   const glm::dvec3 axis(-world[2]);
   const double axisLength = glm::length(axis);
-  float range = light.range > 0.0 ? float(light.range) : rangeFromThreshold(color, gltf::kLightThreshold);
+  float range =
+      light.range > 0.0 ? float(light.range) : rangeFromThreshold(color, gltf::kLightThreshold);
   if (light.type == "point") {
     scene_.lights.push_back(Light::point(position, color, range));
     return;
@@ -777,7 +794,8 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
     return;
   }
   if (!(axisLength > 0.0) || !std::isfinite(axisLength))
-    read_.fail(what + ": the " + light.type + " light's node transform has a zero scale along "
+    read_.fail(what + ": the " + light.type +
+               " light's node transform has a zero scale along "
                "its -Z axis (no direction)");
   const glm::vec3 direction(axis / axisLength);
   if (light.type == "directional") {
@@ -788,8 +806,10 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
   double inner = light.spot.innerConeAngle, outer = light.spot.outerConeAngle;
   if (!(withinFloatRounding(inner, 0.0, kHalfPi) && withinFloatRounding(outer, 0.0, kHalfPi) &&
         inner < outer))
-    read_.fail(what + ": spot cone angles must satisfy 0 <= innerConeAngle < outerConeAngle <= "
-               "pi/2 (" + fullText(kHalfPi) + "), got inner " + fullText(inner) + ", outer " +
+    read_.fail(what +
+               ": spot cone angles must satisfy 0 <= innerConeAngle < outerConeAngle <= "
+               "pi/2 (" +
+               fullText(kHalfPi) + "), got inner " + fullText(inner) + ", outer " +
                fullText(outer));
   inner = std::clamp(inner, 0.0, kHalfPi);
   outer = std::clamp(outer, 0.0, kHalfPi);
@@ -843,8 +863,10 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
   }
   if (auto it = p.attributes.find("TEXCOORD_" + std::to_string(texCoord)); it != p.attributes.end())
     UV = read_.read(it->second, 2, what + " TEXCOORD");
-  if (N.size() != 0 && N.size() != P.size()) read_.fail(what + ": NORMAL count differs from POSITION");
-  if (UV.size() != 0 && UV.size() / 2 != n) read_.fail(what + ": TEXCOORD count differs from POSITION");
+  if (N.size() != 0 && N.size() != P.size())
+    read_.fail(what + ": NORMAL count differs from POSITION");
+  if (UV.size() != 0 && UV.size() / 2 != n)
+    read_.fail(what + ": TEXCOORD count differs from POSITION");
   // Vertex data a float holds (a binary buffer can hold NaN and inf bits, and doubles beyond
   // float's range): anything else would put NaN into the G-buffer.
   auto requireFinite = [&](const std::vector<double>& v, size_t components, const char* name) {
@@ -887,7 +909,8 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
   auto position = [&](uint32_t i) {
     glm::vec3 v(world * glm::dvec4(P[3 * i], P[3 * i + 1], P[3 * i + 2], 1.0));
     if (!isFinite(v))
-      read_.fail(what + ": vertex " + std::to_string(i) + " lies beyond float's range once its "
+      read_.fail(what + ": vertex " + std::to_string(i) +
+                 " lies beyond float's range once its "
                  "node transforms are applied");
     return v;
   };
@@ -899,7 +922,8 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
     for (uint32_t i = 0; i < n; ++i) {
       Vertex v;
       v.position = position(i);
-      glm::vec3 nn = normalMatrix * glm::vec3(float(N[3 * i]), float(N[3 * i + 1]), float(N[3 * i + 2]));
+      glm::vec3 nn =
+          normalMatrix * glm::vec3(float(N[3 * i]), float(N[3 * i + 1]), float(N[3 * i + 2]));
       float len = glm::length(nn);
       bool usable = len > 0.0f && std::isfinite(len);
       if (!usable) ++degenerateNormals_;  // zero in the file, or a singular node transform
@@ -920,7 +944,8 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
       if (mirror) std::swap(c3[1], c3[2]);
       glm::vec3 p0 = position(c3[0]), p1 = position(c3[1]), p2 = position(c3[2]);
       // In double: the cross product of far-apart float vertices overflows float.
-      glm::dvec3 cross = glm::cross(glm::dvec3(p1) - glm::dvec3(p0), glm::dvec3(p2) - glm::dvec3(p0));
+      glm::dvec3 cross =
+          glm::cross(glm::dvec3(p1) - glm::dvec3(p0), glm::dvec3(p2) - glm::dvec3(p0));
       double len = glm::length(cross);
       glm::vec3 fn = len > 0.0 ? glm::vec3(cross / len) : glm::vec3(0.0f, 1.0f, 0.0f);  // no area
       uint32_t base = uint32_t(scene_.vertices.size());
@@ -938,19 +963,20 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
 }
 
 void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
-  if (index < 0 || size_t(index) >= m_.nodes.size()) read_.fail("bad node index " + std::to_string(index));
+  if (index < 0 || size_t(index) >= m_.nodes.size())
+    read_.fail("bad node index " + std::to_string(index));
   // A guard: failOnCycles() has refused every cycle before the walk.
   if (!visiting_.insert(index).second)
     read_.fail("node hierarchy has a cycle through node " + std::to_string(index));
   if (depth >= kMaxNodeDepth)
-    read_.fail("node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) +
-               " levels (node " + std::to_string(index) + " is at level " +
-               std::to_string(depth + 1) + ")");
+    read_.fail("node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) + " levels (node " +
+               std::to_string(index) + " is at level " + std::to_string(depth + 1) + ")");
   const auto& node = m_.nodes[size_t(index)];
   std::string what = "node " + std::to_string(index) + " '" + node.name + "'";
   glm::dmat4 world = parent * localMatrix(node, read_, what);
   if (!isFinite(glm::mat4(world)))
-    read_.fail(what + ": its world transform overflows float (translation, scale or matrix "
+    read_.fail(what +
+               ": its world transform overflows float (translation, scale or matrix "
                "values, or their product over the hierarchy, beyond 3.4e38)");
 
   if (node.mesh >= 0) {
@@ -1094,7 +1120,8 @@ Scene GltfLoader::load() {
   for (const auto& n : m_.nodes)
     for (int c : n.children)
       if (c >= 0 && size_t(c) < parents.size() && ++parents[size_t(c)] > 1)
-        read_.fail("node " + std::to_string(c) + " has more than one parent (glTF node "
+        read_.fail("node " + std::to_string(c) +
+                   " has more than one parent (glTF node "
                    "hierarchies are trees)");
   failOnCycles();
   std::vector<int> roots;
@@ -1105,7 +1132,8 @@ Scene GltfLoader::load() {
     roots = s.nodes;
     std::set<int> unique;
     for (int r : roots)
-      if (r >= 0 && size_t(r) < parents.size() && (parents[size_t(r)] > 0 || !unique.insert(r).second))
+      if (r >= 0 && size_t(r) < parents.size() &&
+          (parents[size_t(r)] > 0 || !unique.insert(r).second))
         read_.fail("scene " + std::to_string(sceneIndex) + " lists node " + std::to_string(r) +
                    " twice or although it is another node's child");
     // tileshade's own export stores the ambient term here.
@@ -1126,19 +1154,21 @@ Scene GltfLoader::load() {
     warn("skipped " + std::to_string(skippedPrimitives_) +
          " primitive(s) that are not triangles (points/lines) or have no POSITION");
   if (otherTexCoords_ > 0)
-    warn(std::to_string(otherTexCoords_) + " texture(s) use another UV set than their "
+    warn(std::to_string(otherTexCoords_) +
+         " texture(s) use another UV set than their "
          "material's base colour texture; sampled with the base colour's set");
   if (otherLights_ > 0)
     warn("skipped " + std::to_string(otherLights_) +
          " light(s) of an unknown type (KHR_lights_punctual has point, spot, directional)");
   if (!unmodelledSamplers_.empty())
-    warn("ignored " + std::to_string(unmodelledSamplers_.size()) + " sampler setting(s), "
+    warn("ignored " + std::to_string(unmodelledSamplers_.size()) +
+         " sampler setting(s), "
          "textures are sampled with their magnification filter: " +
          listed({unmodelledSamplers_.begin(), unmodelledSamplers_.end()}));
   if (!transformedTextures_.empty())
     warn("ignored KHR_texture_transform (offset, rotation, scale) on " +
-         std::to_string(transformedTextures_.size()) + " texture reference(s): " +
-         listed(transformedTextures_));
+         std::to_string(transformedTextures_.size()) +
+         " texture reference(s): " + listed(transformedTextures_));
   if (orthographic_ > 0)
     warn("ignored " + std::to_string(orthographic_) +
          " orthographic camera(s): only perspective cameras are supported");
@@ -1153,7 +1183,8 @@ Scene GltfLoader::load() {
     warn("clamped " + std::to_string(clampedFactors_.size()) +
          " material factor(s) outside glTF's [0, 1] to it: " + listed(clampedFactors_));
   if (degenerateNormals_ > 0)
-    warn(std::to_string(degenerateNormals_) + " vertex normal(s) of zero length (or under a "
+    warn(std::to_string(degenerateNormals_) +
+         " vertex normal(s) of zero length (or under a "
          "singular node transform) replaced by +Y");
   buildCameraPath();
   return std::move(scene_);
@@ -1202,7 +1233,8 @@ void report(const std::string& name, const std::vector<std::string>& lines,
 Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::string& baseDir,
                          const std::string& name, std::vector<std::string>* warnings) {
   // tinygltf takes 32-bit sizes.
-  if (size > size_t(UINT32_MAX)) throw Error("cannot load glTF file " + name + ": larger than 4 GiB");
+  if (size > size_t(UINT32_MAX))
+    throw Error("cannot load glTF file " + name + ": larger than 4 GiB");
   // The JSON's types and shapes first: tinygltf would drop or truncate what does not fit.
   std::string text;
   if (gltf::jsonText(bytes, size, text)) {
@@ -1215,11 +1247,11 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
                        &tinygltf::WriteWholeFile, nullptr});
   tinygltf::Model model;
   std::string err, warningText;
-  bool ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, &warningText, bytes,
-                                               unsigned(size), baseDir)
-                   : gltf.LoadASCIIFromString(&model, &err, &warningText,
-                                              reinterpret_cast<const char*>(bytes), unsigned(size),
-                                              baseDir);
+  bool ok =
+      binary
+          ? gltf.LoadBinaryFromMemory(&model, &err, &warningText, bytes, unsigned(size), baseDir)
+          : gltf.LoadASCIIFromString(&model, &err, &warningText,
+                                     reinterpret_cast<const char*>(bytes), unsigned(size), baseDir);
   if (!ok)
     throw Error("cannot load glTF file " + name + ": " +
                 (err.empty() ? std::string("tinygltf reported no reason")
@@ -1228,9 +1260,9 @@ Scene loadGltfFromMemory(const unsigned char* bytes, size_t size, const std::str
 
   static const std::set<std::string> fatal = {"KHR_draco_mesh_compression",
                                               "EXT_meshopt_compression"};
-  static const std::set<std::string> supported = {
-      "KHR_lights_punctual", "KHR_materials_specular", "KHR_materials_emissive_strength",
-      "KHR_mesh_quantization"};
+  static const std::set<std::string> supported = {"KHR_lights_punctual", "KHR_materials_specular",
+                                                  "KHR_materials_emissive_strength",
+                                                  "KHR_mesh_quantization"};
   std::string approximated;
   for (const auto& e : model.extensionsRequired) {
     if (fatal.count(e))

@@ -74,10 +74,8 @@ void MeshBuilder::box(const glm::mat4& xf, uint32_t material) {
       u[ua] = 0.5f;
       v[va] = 0.5f;
       auto at = [&](glm::vec3 p) { return glm::vec3(xf * glm::vec4(p, 1.0f)); };
-      if (mirror)
-        quad(at(n - u - v), at(n - u + v), at(n + u + v), at(n + u - v), material);
-      else
-        quad(at(n - u - v), at(n + u - v), at(n + u + v), at(n - u + v), material);
+      if (mirror) quad(at(n - u - v), at(n - u + v), at(n + u + v), at(n + u - v), material);
+      else quad(at(n - u - v), at(n + u - v), at(n + u + v), at(n - u + v), material);
     }
   }
 }
@@ -126,7 +124,8 @@ void MeshBuilder::sphere(glm::vec3 center, glm::vec3 radii, int slices, int stac
     float v = float(j) / float(stacks), theta = kPi * v;  // 0 = north pole
     for (int i = 0; i <= slices; ++i) {
       float u = float(i) / float(slices), phi = 2.0f * kPi * u;
-      glm::vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi));
+      glm::vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta),
+                  -std::sin(theta) * std::sin(phi));
       // Normal of an ellipsoid: the gradient of its implicit function.
       vertex(center + radii * d, d / radii, glm::vec2(u, v));
     }

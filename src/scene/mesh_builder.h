@@ -23,7 +23,7 @@ class SceneRandom {
   explicit SceneRandom(uint32_t seed) : rng_(seed) {}
   float uniform() { return float(rng_() >> 8) * (1.0f / 16777216.0f); }  // [0, 1)
   float uniform(float lo, float hi) { return lo + (hi - lo) * uniform(); }
-  int index(int n) { return int(uniform() * float(n)) % n; }              // [0, n)
+  int index(int n) { return int(uniform() * float(n)) % n; }  // [0, n)
   bool chance(float p) { return uniform() < p; }
 
  private:

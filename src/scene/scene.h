@@ -20,8 +20,8 @@ struct Texture {
   int width = 0;
   int height = 0;
   std::vector<glm::vec4> texels;  // row-major, row 0 = top (v = 0), linear RGBA
-  bool srgb = true;  // colour (base colour, emissive: sRGB-encoded in files) or data
-                     // (metallic-roughness: stored as is)
+  bool srgb = true;               // colour (base colour, emissive: sRGB-encoded in files) or data
+                                  // (metallic-roughness: stored as is)
   TextureWrap wrapS = TextureWrap::Repeat;  // along u
   TextureWrap wrapT = TextureWrap::Repeat;  // along v
   bool nearest = false;  // filter NEAREST (the texel under uv), else LINEAR (bilinear)
@@ -43,20 +43,20 @@ struct Material {
   std::string name;
   ShadingModel model = ShadingModel::BlinnPhong;  // the model the author wrote it for
   // Blinn-Phong
-  glm::vec3 diffuse{0.8f};       // kd, multiplied by diffuseTexture when present
-  int diffuseTexture = -1;       // index into Scene::textures, -1 = none
-  glm::vec3 specular{0.04f};     // ks
-  float shininess = 32.0f;       // s
+  glm::vec3 diffuse{0.8f};    // kd, multiplied by diffuseTexture when present
+  int diffuseTexture = -1;    // index into Scene::textures, -1 = none
+  glm::vec3 specular{0.04f};  // ks
+  float shininess = 32.0f;    // s
   // glTF metallic-roughness
-  glm::vec3 baseColor{0.8f};     // multiplied by baseColorTexture when present
+  glm::vec3 baseColor{0.8f};  // multiplied by baseColorTexture when present
   int baseColorTexture = -1;
-  float metallic = 0.0f;         // multiplied by metallicRoughnessTexture's blue channel
-  float roughness = 0.5f;        // multiplied by metallicRoughnessTexture's green channel
+  float metallic = 0.0f;   // multiplied by metallicRoughnessTexture's blue channel
+  float roughness = 0.5f;  // multiplied by metallicRoughnessTexture's green channel
   int metallicRoughnessTexture = -1;
   // Both
-  glm::vec3 emissive{0.0f};      // ke, multiplied by emissiveTexture when present
+  glm::vec3 emissive{0.0f};  // ke, multiplied by emissiveTexture when present
   int emissiveTexture = -1;
-  bool doubleSided = false;      // normals of back faces are flipped towards the viewer
+  bool doubleSided = false;  // normals of back faces are flipped towards the viewer
 };
 
 struct Vertex {
@@ -75,14 +75,14 @@ std::string toString(LightType type);  // "point" | "spot" | "directional"
 // lights every surface from `direction`'s opposite, with no position and no range.
 struct Light {
   LightType type = LightType::Point;
-  glm::dvec3 position{0.0};            // world space (point, spot); double until the view
-                                       // transform, as the camera (docs/hard-cases.md)
+  glm::dvec3 position{0.0};                // world space (point, spot); double until the view
+                                           // transform, as the camera (docs/hard-cases.md)
   glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world space, unit, where the light travels (spot,
                                            // directional): a node's -Z in glTF
   glm::vec3 color{1.0f};
-  float range = 1.0f;                  // point, spot: > 0
-  float innerConeAngle = 0.0f;         // spot, radians: 0 <= inner < outer <= pi/2 (a float
-                                       // of pi/2 is 4.4e-8 above it: taken as pi/2)
+  float range = 1.0f;                    // point, spot: > 0
+  float innerConeAngle = 0.0f;           // spot, radians: 0 <= inner < outer <= pi/2 (a float
+                                         // of pi/2 is 4.4e-8 above it: taken as pi/2)
   float outerConeAngle = 0.7853981634f;  // spot, radians (glTF's default pi/4)
 
   static Light point(glm::dvec3 position, glm::vec3 color, float range);
@@ -128,9 +128,9 @@ struct Scene {
   std::vector<uint32_t> triangleMaterial;  // one per triangle, index into materials
   std::vector<Material> materials;
   std::vector<Texture> textures;
-  std::vector<Light> lights;               // every type; see Light
-  std::vector<Camera> cameraPath;          // frame k uses cameraPath[k % size]
-  glm::vec3 ambient{0.02f};                // global ambient term a
+  std::vector<Light> lights;       // every type; see Light
+  std::vector<Camera> cameraPath;  // frame k uses cameraPath[k % size]
+  glm::vec3 ambient{0.02f};        // global ambient term a
 
   size_t triangleCount() const { return indices.size() / 3; }
   Bounds bounds() const;

@@ -28,12 +28,10 @@ struct Flag {
   const char* name;
   bool SceneFeatures::*member;
 };
-const Flag kFlags[] = {{"specular", &SceneFeatures::specular},
-                       {"emissive", &SceneFeatures::emissive},
-                       {"textures", &SceneFeatures::textures},
-                       {"point", &SceneFeatures::point},
-                       {"spot", &SceneFeatures::spot},
-                       {"directional", &SceneFeatures::directional}};
+const Flag kFlags[] = {
+    {"specular", &SceneFeatures::specular}, {"emissive", &SceneFeatures::emissive},
+    {"textures", &SceneFeatures::textures}, {"point", &SceneFeatures::point},
+    {"spot", &SceneFeatures::spot},         {"directional", &SceneFeatures::directional}};
 
 std::string flagNames() {
   std::string s;
@@ -127,7 +125,8 @@ SceneFeatures chooseFeatures(const std::string& spec, const SceneFeatures& need)
     if (!found)
       throw Error("unknown feature '" + shortText(item) + "' in '" + shortText(spec) +
                   "' (known: auto, general, or a "
-                  "comma list of " + flagNames() + ")");
+                  "comma list of " +
+                  flagNames() + ")");
     f.*found->member = true;
   }
   std::string missing;

@@ -11,12 +11,12 @@ namespace ts {
 
 struct SceneFeatures {
   ShadingModel model = ShadingModel::BlinnPhong;  // kernels/shading.h TS_SHADING
-  bool specular = true;     // a specular term (Blinn-Phong ks > 0; metallic-roughness: always)
-  bool emissive = true;     // an emission term ke > 0 (the G-buffer's emissive plane)
-  bool textures = false;    // textures sampled by the rasterizer (no kernel branches on it)
-  bool point = true;        // point lights
-  bool spot = false;        // spot lights: cone falloff in the shading, cone culling
-  bool directional = false; // directional lights: applied to every pixel, never culled
+  bool specular = true;      // a specular term (Blinn-Phong ks > 0; metallic-roughness: always)
+  bool emissive = true;      // an emission term ke > 0 (the G-buffer's emissive plane)
+  bool textures = false;     // textures sampled by the rasterizer (no kernel branches on it)
+  bool point = true;         // point lights
+  bool spot = false;         // spot lights: cone falloff in the shading, cone culling
+  bool directional = false;  // directional lights: applied to every pixel, never culled
 
   // Everything on, for `model`: the general pipeline of comparisons.
   static SceneFeatures general(ShadingModel model);

@@ -25,18 +25,19 @@ std::string joined(const std::vector<std::string>& names) {
 }
 
 bool endsWith(std::string s, const std::string& suffix) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 Scene makeBuiltin(const std::string& name, const std::string& lightSet, uint32_t seed,
                   int lightCount) {
   if (name == "street") return makeStreetScene(lightSet, seed, lightCount);
   if (name == "atrium") return makeAtriumScene(lightSet, seed, lightCount);
-  throw Error("unknown built-in scene '" + shortText(name) + "' (known: " +
-              joined(builtinSceneNames()) + ")");
+  throw Error("unknown built-in scene '" + shortText(name) +
+              "' (known: " + joined(builtinSceneNames()) + ")");
 }
-
 
 // Every second point light becomes a spot light at the same place, with the same colour and
 // range, pointing down within 30 degrees of the vertical, outer cone 25..50 degrees, inner cone
@@ -83,8 +84,8 @@ void applyVariants(Scene& scene, const std::string& variants, uint32_t seed) {
       scene.lights.push_back(Light::directional(glm::normalize(glm::vec3(0.45f, -0.6f, 0.35f)),
                                                 glm::vec3(0.32f, 0.29f, 0.24f)));
     } else {
-      throw Error("unknown scene variant '" + shortText(v) + "' (known: " +
-                  joined(builtinVariants()) + ")");
+      throw Error("unknown scene variant '" + shortText(v) +
+                  "' (known: " + joined(builtinVariants()) + ")");
     }
   }
   // Materials written for Blinn-Phong also carry metallic-roughness terms (and the other way
@@ -111,8 +112,8 @@ void printSceneWarnings(const std::string& name, const std::vector<std::string>&
 std::vector<std::string> builtinLightSets(const std::string& scene) {
   if (scene == "street") return streetLightSets();
   if (scene == "atrium") return atriumLightSets();
-  throw Error("unknown built-in scene '" + shortText(scene) + "' (known: " +
-              joined(builtinSceneNames()) + ")");
+  throw Error("unknown built-in scene '" + shortText(scene) +
+              "' (known: " + joined(builtinSceneNames()) + ")");
 }
 
 Scene makeBuiltinScene(const std::string& name, const std::string& lightSet, uint32_t seed) {
@@ -130,14 +131,13 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
   Scene scene;
   const std::string prefix = "builtin:";
   if (spec.compare(0, prefix.size(), prefix) == 0) {
-    scene = makeBuiltin(spec.substr(prefix.size()), options.lightSet, options.seed,
-                        options.lightCount);
+    scene =
+        makeBuiltin(spec.substr(prefix.size()), options.lightSet, options.seed, options.lightCount);
     applyVariants(scene, options.variant, options.seed);
   } else if (endsWith(spec, ".gltf") || endsWith(spec, ".glb")) {
     if (!options.lightSet.empty() && options.lightSet != "file")
-      throw Error("light set '" + shortText(options.lightSet) +
-                  "' does not apply to glTF scene " + spec +
-                  " (valid: file, its own KHR_lights_punctual lights)");
+      throw Error("light set '" + shortText(options.lightSet) + "' does not apply to glTF scene " +
+                  spec + " (valid: file, its own KHR_lights_punctual lights)");
     if (!options.variant.empty())
       throw Error("scene variants apply to built-in scenes only, not to " + spec);
     std::vector<std::string> warnings;

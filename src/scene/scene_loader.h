@@ -8,9 +8,9 @@
 namespace ts {
 
 struct SceneOptions {
-  std::string lightSet;  // "" = the scene's default (built-ins) or the file's own lights (glTF)
-  uint32_t seed = 1;     // built-in scenes are deterministic for a seed
-  int lightCount = -1;   // -1 = the light set's own count; else exactly N lights
+  std::string lightSet;     // "" = the scene's default (built-ins) or the file's own lights (glTF)
+  uint32_t seed = 1;        // built-in scenes are deterministic for a seed
+  int lightCount = -1;      // -1 = the light set's own count; else exactly N lights
   float lightRange = 0.0f;  // > 0 overrides every light's range
   // Built-in scenes only: a comma list of variants (applyVariants), "" = the scene as designed.
   std::string variant;

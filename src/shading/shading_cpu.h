@@ -1,7 +1,7 @@
 #pragma once
-// kernels/shading.h and kernels/culling.h compiled as C++: ts::shading_d (double, the reference) and ts::shading_f
-// (float, to compare arithmetic with the kernels on the host). The same source text as the
-// kernels, so the model cannot drift between device and reference.
+// kernels/shading.h and kernels/culling.h compiled as C++: ts::shading_d (double, the reference)
+// and ts::shading_f (float, to compare arithmetic with the kernels on the host). The same source
+// text as the kernels, so the model cannot drift between device and reference.
 #include <algorithm>
 #include <cmath>
 

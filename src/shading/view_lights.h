@@ -12,11 +12,11 @@ namespace ts {
 // Point and spot lights are the culled ones, indexed 0..size()-1; directional lights apply to
 // every pixel and are kept apart.
 struct ViewLights {
-  std::vector<glm::vec4> positionRange;  // xyz view-space position, w = range
-  std::vector<glm::vec4> color;          // rgb (intensity included), w = spot angle scale
-                                         // 1/max(1e-3, cos inner - cos outer) (point: 1)
-  std::vector<glm::vec4> spot;           // xyz unit spot axis (point: 0), w = cos of the outer
-                                         // cone angle (point: -1, "every direction")
+  std::vector<glm::vec4> positionRange;     // xyz view-space position, w = range
+  std::vector<glm::vec4> color;             // rgb (intensity included), w = spot angle scale
+                                            // 1/max(1e-3, cos inner - cos outer) (point: 1)
+  std::vector<glm::vec4> spot;              // xyz unit spot axis (point: 0), w = cos of the outer
+                                            // cone angle (point: -1, "every direction")
   std::vector<glm::vec4> directionalDir;    // xyz unit vector towards the light, w unused
   std::vector<glm::vec4> directionalColor;  // rgb, w unused
   size_t size() const { return positionRange.size(); }

@@ -39,8 +39,9 @@ class BruteTechnique : public Technique {
     GroupShape g = fitGroup(16, 16, groupLimit(cl_, kernel_));
     if (lanes_ > 1) args.add(laneLocalMemory(config_, g.size()));
     args.done();
-    cl_.queue().enqueueNDRangeKernel(kernel_, cl::NullRange, g.global(frame.width(), frame.height()),
-                                     g.local(), nullptr, timer_.next("shade"));
+    cl_.queue().enqueueNDRangeKernel(kernel_, cl::NullRange,
+                                     g.global(frame.width(), frame.height()), g.local(), nullptr,
+                                     timer_.next("shade"));
     cl_.queue().finish();
 
     FrameResult result;

@@ -33,16 +33,17 @@ constexpr uint16_t kBackgroundKey = 0xffff;  // pixel_slice of a pixel without g
 class ClusteredTechnique : public Technique {
  public:
   ClusteredTechnique(ClContext& cl, const TechniqueConfig& config) : cl_(cl), config_(config) {
-    if (config.tileWidth < 1 || config.tileHeight < 1)
-      throw Error("tile size must be positive");
+    if (config.tileWidth < 1 || config.tileHeight < 1) throw Error("tile size must be positive");
     // The slice is stored per pixel as a 16-bit key (0xffff = background), and
     // cluster_depth_bounds keeps three 32-bit counters per slice in local memory.
     if (config.clusterSlices < 1 || config.clusterSlices > kMaxClusterSlices)
       throw Error("cluster slices must be 1.." + std::to_string(kMaxClusterSlices) + ", got " +
                   std::to_string(config.clusterSlices));
     if (size_t(config.clusterSlices) * 12 + 2048 > cl.info().localMemBytes)
-      throw Error(std::to_string(config.clusterSlices) + " cluster slices need more local memory "
-                  "than the device has (" + std::to_string(cl.info().localMemBytes) + " B)");
+      throw Error(std::to_string(config.clusterSlices) +
+                  " cluster slices need more local memory "
+                  "than the device has (" +
+                  std::to_string(cl.info().localMemBytes) + " B)");
     std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
                           " -DTILE_H=" + std::to_string(config.tileHeight) +
                           " -DSLICES=" + std::to_string(config.clusterSlices) +
@@ -66,7 +67,8 @@ class ClusteredTechnique : public Technique {
       // Every light in every slice of its tile rectangle bounds the entries; capped, since many
       // slices make the bound loose (runUntilListFits covers a capped bound).
       reserveList(cl_, clusterLights_, capacity_,
-                  std::min(tileListBound(grid_, frame, int(config_.spotCulling)) * size_t(config_.clusterSlices),
+                  std::min(tileListBound(grid_, frame, int(config_.spotCulling)) *
+                               size_t(config_.clusterSlices),
                            size_t(16) << 20));
     FrameResult result;
     uint32_t total = runUntilListFits(
@@ -177,9 +179,12 @@ class ClusteredTechnique : public Technique {
     q.enqueueFillBuffer(clusterCount_, zero, 0, clusters * 4, nullptr, timer_.next("clear"));
     q.enqueueFillBuffer(clusterCursor_, zero, 0, clusters * 4, nullptr, timer_.next("clear"));
 
-    // 1. The frame's geometry depth range (slicing), then per-cluster bounds: a work-group per tile.
-    const size_t rangeGroup = powerOfTwoGroup(64, groupLimit(cl_, frameRange_));  // DEPTH_RANGE_GROUP
-    size_t rangeGroups = std::clamp<size_t>(pixels / (rangeGroup * 16 * 16), 1, 1024);  // 16 vectors of 16 pixels per item
+    // 1. The frame's geometry depth range (slicing), then per-cluster bounds: a work-group per
+    // tile.
+    const size_t rangeGroup =
+        powerOfTwoGroup(64, groupLimit(cl_, frameRange_));  // DEPTH_RANGE_GROUP
+    size_t rangeGroups = std::clamp<size_t>(pixels / (rangeGroup * 16 * 16), 1,
+                                            1024);  // 16 vectors of 16 pixels per item
     KernelArgs(frameRange_).add(frame.depth).add(int(pixels)).add(depthRange_).done();
     q.enqueueNDRangeKernel(frameRange_, cl::NullRange, cl::NDRange(rangeGroups * rangeGroup),
                            cl::NDRange(rangeGroup), nullptr, timer_.next("depth_range"));
@@ -190,11 +195,12 @@ class ClusteredTechnique : public Technique {
         .add(depthRange_)
         .add(pixelSlice_)
         .done();
-    q.enqueueNDRangeKernel(pixelSlices_, cl::NullRange,
-                           cl::NDRange(roundUp((pixels + 15) / 16, sliceGroup)),
-                           cl::NDRange(sliceGroup), nullptr, timer_.next("slices"));  // 16 pixels per item
+    q.enqueueNDRangeKernel(
+        pixelSlices_, cl::NullRange, cl::NDRange(roundUp((pixels + 15) / 16, sliceGroup)),
+        cl::NDRange(sliceGroup), nullptr, timer_.next("slices"));  // 16 pixels per item
     // One work-item per row of the tile (kernels/clustered.cl).
-    size_t group = std::min<size_t>({size_t(grid_.tileH), 64, groupLimit(cl_, clusterBounds_).size});
+    size_t group =
+        std::min<size_t>({size_t(grid_.tileH), 64, groupLimit(cl_, clusterBounds_).size});
     KernelArgs(clusterBounds_)
         .add(frame.depth)
         .add(frame.width())

@@ -34,7 +34,7 @@ namespace ts {
 namespace {
 
 constexpr size_t kAccumBytes = sizeof(cl_float4);  // one accumulation value per pixel
-constexpr int kGroup = 16;                            // work-group edge of the per-light launch
+constexpr int kGroup = 16;                         // work-group edge of the per-light launch
 
 // The pixel rectangle (x0, y0, x1, y1; x1/y1 exclusive) covered by a light's volume (sphere or
 // cone) clipped to the near plane: culling.h's tile rectangle with 1x1 tiles, in float like the

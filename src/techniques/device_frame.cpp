@@ -15,10 +15,8 @@ ViewLights toViewSpace(const std::vector<Light>& lights, const glm::dmat4& viewF
     }
     glm::vec3 p = glm::vec3(viewFromWorld * glm::dvec4(l.position, 1.0));
     if (l.type == LightType::Spot)
-      out.addSpot(p, l.range, l.color, rotation * l.direction, l.innerConeAngle,
-                  l.outerConeAngle);
-    else
-      out.addPoint(p, l.range, l.color);
+      out.addSpot(p, l.range, l.color, rotation * l.direction, l.innerConeAngle, l.outerConeAngle);
+    else out.addPoint(p, l.range, l.color);
   }
   return out;
 }

@@ -73,11 +73,9 @@ FrameResult Technique::render(DeviceFrame& frame, const FrameRequest& request) {
 void checkFrameFeatures(const SceneFeatures& features, const DeviceFrame& frame) {
   const EncodedGBuffer& gb = *frame.gbuffer;
   auto fail = [&](const std::string& what) {
-    throw Error("kernels built for '" + features.describe() + "' cannot shade this frame: " +
-                what);
+    throw Error("kernels built for '" + features.describe() + "' cannot shade this frame: " + what);
   };
-  if (gb.model != features.model)
-    fail("its G-buffer holds " + toString(gb.model) + " terms");
+  if (gb.model != features.model) fail("its G-buffer holds " + toString(gb.model) + " terms");
   if (features.model == ShadingModel::BlinnPhong && features.specular && !gb.hasSpecularPlane())
     fail("its G-buffer has no specular plane");
   if (features.emissive && !gb.hasEmissive) fail("its G-buffer has no emissive plane");

@@ -30,7 +30,7 @@ struct TechniqueConfig {
   SceneFeatures features = SceneFeatures::general(ShadingModel::BlinnPhong);
   int tileWidth = 16;
   int tileHeight = 16;
-  int clusterSlices = 16;  // depth slices of the clustered technique
+  int clusterSlices = 16;       // depth slices of the clustered technique
   bool presizeLists = true;     // tiled: size the light list from the host's bound of the
                                 // frame's entries (off: start small and grow, as tests do)
   int localListCapacity = 256;  // tiled-single: lights its local-memory list holds before it
@@ -39,8 +39,8 @@ struct TechniqueConfig {
   RangeModel rangeModel = RangeModel::Windowed;  // TS_MODEL
   CullTest culling = CullTest::Rect;             // TS_CULL: the per-tile test
   bool depthSplit = false;  // tiles: split the depth range at its middle (TS_DEPTH_SPLIT, tiled.cl)
-  SpotCulling spotCulling = SpotCulling::Cone;   // TS_SPOT_CULL
-  MathMode math = MathMode::Precise;             // shading arithmetic
+  SpotCulling spotCulling = SpotCulling::Cone;  // TS_SPOT_CULL
+  MathMode math = MathMode::Precise;            // shading arithmetic
   std::string buildOptions;  // extra OpenCL build options (e.g. -cl-fast-relaxed-math)
   // Pixels shaded together against each light (kernels/lanes.h): 0 = auto (createTechnique resolves
   // it: on CPU devices 16 for tiled, tiled-single, clustered and brute, 1 for the rest; 1 on
@@ -64,7 +64,7 @@ struct TechniqueConfig {
 
 struct KernelTime {
   std::string name;
-  double ms = 0.0;   // sum over this frame's launches, from profiling events
+  double ms = 0.0;  // sum over this frame's launches, from profiling events
   int launches = 0;
 };
 

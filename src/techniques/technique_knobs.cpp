@@ -31,10 +31,10 @@ const EnumNames<SpotCulling>& spotCullingNames() {
 }
 
 const EnumNames<MathMode>& mathModeNames() {
-  static const EnumNames<MathMode> names(
-      "shading arithmetic", {{MathMode::Precise, "precise"},
-                             {MathMode::Fast, "fast", "-cl-fast-relaxed-math"},
-                             {MathMode::Native, "native", "native_ functions"}});
+  static const EnumNames<MathMode> names("shading arithmetic",
+                                         {{MathMode::Precise, "precise"},
+                                          {MathMode::Fast, "fast", "-cl-fast-relaxed-math"},
+                                          {MathMode::Native, "native", "native_ functions"}});
   return names;
 }
 

@@ -9,7 +9,11 @@
 namespace ts {
 
 TileGrid::TileGrid(int w, int h, int tw, int th)
-    : tileW(tw), tileH(th), tilesX((w + tw - 1) / tw), tilesY((h + th - 1) / th), width(w),
+    : tileW(tw),
+      tileH(th),
+      tilesX((w + tw - 1) / tw),
+      tilesY((h + th - 1) / th),
+      width(w),
       height(h) {}
 
 int TileGrid::pixelsIn(int t) const {
@@ -27,7 +31,8 @@ std::vector<KernelTime> FrameTimer::kernels() const {
   std::vector<KernelTime> out;
   for (const auto& [name, event] : events_) {
     // By value: clang before 16 cannot capture a structured binding.
-    auto it = std::find_if(out.begin(), out.end(), [&, n = name](const KernelTime& k) { return k.name == n; });
+    auto it = std::find_if(out.begin(), out.end(),
+                           [&, n = name](const KernelTime& k) { return k.name == n; });
     if (it == out.end()) {
       out.push_back({name, 0.0, 0});
       it = out.end() - 1;
@@ -107,7 +112,8 @@ void enqueueBinning(ClContext& cl, const BinningKernels& kernels, int lightCount
 void reserveList(ClContext& cl, cl::Buffer& list, size_t& capacity, size_t entries) {
   if (entries <= capacity && list()) return;
   capacity = std::max(entries, capacity);
-  list = cl::Buffer(cl.context(), CL_MEM_READ_WRITE, std::max<size_t>(capacity, 1) * sizeof(uint32_t));
+  list =
+      cl::Buffer(cl.context(), CL_MEM_READ_WRITE, std::max<size_t>(capacity, 1) * sizeof(uint32_t));
 }
 
 uint32_t runUntilListFits(ClContext& cl, cl::Buffer& list, size_t& capacity,

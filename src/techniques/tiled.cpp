@@ -13,8 +13,7 @@ namespace {
 class TiledTechnique : public Technique {
  public:
   TiledTechnique(ClContext& cl, const TechniqueConfig& config) : cl_(cl), config_(config) {
-    if (config.tileWidth < 1 || config.tileHeight < 1)
-      throw Error("tile size must be positive");
+    if (config.tileWidth < 1 || config.tileHeight < 1) throw Error("tile size must be positive");
     std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
                           " -DTILE_H=" + std::to_string(config.tileHeight) + config.lanesOption();
     program_ = cl.build("tiled.cl", options);
@@ -31,7 +30,8 @@ class TiledTechnique : public Technique {
   FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
     if (config_.presizeLists)
-      reserveList(cl_, tileLights_, capacity_, tileListBound(grid_, frame, int(config_.spotCulling)));
+      reserveList(cl_, tileLights_, capacity_,
+                  tileListBound(grid_, frame, int(config_.spotCulling)));
     FrameResult result;
     uint32_t total = runUntilListFits(
         cl_, tileLights_, capacity_, total_,

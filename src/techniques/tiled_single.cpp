@@ -23,7 +23,8 @@ class TiledSingleTechnique : public Technique {
     build(fitGroup(std::min(config.tileWidth, 16), std::min(config.tileHeight, 16),
                    deviceGroupLimit(cl)));
     GroupLimit kernelLimit = groupLimit(cl, kernel_);
-    if (size_t(groupW_) * groupH_ > kernelLimit.size) build(fitGroup(groupW_, groupH_, kernelLimit));
+    if (size_t(groupW_) * groupH_ > kernelLimit.size)
+      build(fitGroup(groupW_, groupH_, kernelLimit));
   }
 
   std::string name() const override { return "tiled-single"; }
@@ -51,9 +52,10 @@ class TiledSingleTechnique : public Technique {
         .add(cl::Local(size_t(capacity_) * sizeof(cl_uint)));
     if (config_.lanes > 1) args.add(cl::Local(laneTileBytes()));
     args.done();
-    q.enqueueNDRangeKernel(kernel_, cl::NullRange,
-                           cl::NDRange(size_t(grid_.tilesX) * groupW_, size_t(grid_.tilesY) * groupH_),
-                           cl::NDRange(groupW_, groupH_), nullptr, timer_.next("tile_shade"));
+    q.enqueueNDRangeKernel(
+        kernel_, cl::NullRange,
+        cl::NDRange(size_t(grid_.tilesX) * groupW_, size_t(grid_.tilesY) * groupH_),
+        cl::NDRange(groupW_, groupH_), nullptr, timer_.next("tile_shade"));
     q.finish();
 
     FrameResult result;

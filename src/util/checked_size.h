@@ -14,12 +14,14 @@ class CheckedSize {
 
   friend CheckedSize operator+(CheckedSize a, CheckedSize b) {
     CheckedSize r(0);
-    r.overflow_ = a.overflow_ || b.overflow_ || __builtin_add_overflow(a.value_, b.value_, &r.value_);
+    r.overflow_ =
+        a.overflow_ || b.overflow_ || __builtin_add_overflow(a.value_, b.value_, &r.value_);
     return r;
   }
   friend CheckedSize operator*(CheckedSize a, CheckedSize b) {
     CheckedSize r(0);
-    r.overflow_ = a.overflow_ || b.overflow_ || __builtin_mul_overflow(a.value_, b.value_, &r.value_);
+    r.overflow_ =
+        a.overflow_ || b.overflow_ || __builtin_mul_overflow(a.value_, b.value_, &r.value_);
     return r;
   }
 

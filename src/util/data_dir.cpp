@@ -29,8 +29,8 @@ std::string resolveDataDir(const std::string& override, const fs::path& executab
   if (!override.empty()) return override;
   // No /proc (the executable unknown): the source tree, as before there was an install tree.
   if (executable.empty()) return sourceDir;
-  const fs::path installed = (executable.parent_path() / ".." / "share" / "tileshade" / name)
-                                 .lexically_normal();
+  const fs::path installed =
+      (executable.parent_path() / ".." / "share" / "tileshade" / name).lexically_normal();
   if (isDirectory(installed)) return installed.string();
   if (inBuildFolder(executable) && isDirectory(sourceDir)) return sourceDir;
   // Neither: the install path, so that the "cannot read" error names where it was looked for.

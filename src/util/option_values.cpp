@@ -62,7 +62,7 @@ float checkNumber(const std::string& option, double value, NumberRule rule, doub
 long long checkInteger(const std::string& option, long long value, long long lo, long long hi) {
   if (value < lo || value > hi)
     badOptionValue(option, std::to_string(value),
-        "expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
+                   "expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
   return value;
 }
 
@@ -87,7 +87,8 @@ long long parseInteger(const std::string& option, const std::string& text, long 
   if (!std::regex_match(s, form)) badOptionValue(option, text, "expected an integer");
   long long v = std::strtoll(s.c_str(), nullptr, 10);
   if (v < lo || v > hi)
-    badOptionValue(option, text, "expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
+    badOptionValue(option, text,
+                   "expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
   return v;
 }
 
@@ -111,7 +112,8 @@ std::pair<int, int> parseResolution(const std::string& text) {
     badOptionValue("--resolution", text, "expected WxH (e.g. 1280x720)");
   int w = std::atoi(m[1].str().c_str()), h = std::atoi(m[2].str().c_str());
   if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
-    badOptionValue("--resolution", text, "sides must be within 1.." + std::to_string(kMaxImageSide));
+    badOptionValue("--resolution", text,
+                   "sides must be within 1.." + std::to_string(kMaxImageSide));
   return {w, h};
 }
 

@@ -10,8 +10,12 @@
 namespace ts {
 
 Progress::Progress(size_t total, bool enabled, std::string name)
-    : total_(total), name_(std::move(name)), enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0),
-      start_(std::chrono::steady_clock::now()), lastLine_(start_) {}
+    : total_(total),
+      name_(std::move(name)),
+      enabled_(enabled),
+      tty_(isatty(STDERR_FILENO) != 0),
+      start_(std::chrono::steady_clock::now()),
+      lastLine_(start_) {}
 
 Progress::~Progress() { finish(); }
 

@@ -87,7 +87,12 @@ TEST(BenchSweep, InvalidValuesGiveOneClearLine) {
   expectOneLineError([&] { expand("light_range", "-3"); }, {"--light-range", "-3"});
   expectOneLineError([&] { expand("culling", "sphere"); }, {"--culling", "sphere"});
   expectOneLineError([&] { expand("tile", ","); }, {"--tile", "empty"});
-  expectOneLineError([] { BenchSweep s; s.set("colour", {"red"}); }, {"colour", "technique"});
+  expectOneLineError(
+      [] {
+        BenchSweep s;
+        s.set("colour", {"red"});
+      },
+      {"colour", "technique"});
 }
 
 TEST(BenchSweep, OptionsAndColumnsAreUnique) {

@@ -42,9 +42,9 @@ TEST(BenchStats, MedianMinMaxOnKnownInputs) {
   // summarizeRows: per configuration over frames, the last row of a repeated frame wins.
   nlohmann::json rows = nlohmann::json::array();
   auto row = [](const std::string& id, int frame, double ms) {
-    return nlohmann::json{{"config_id", id}, {"config", {{"technique", "t"}}}, {"frame", frame},
-                          {"total_ms", ms}, {"wall_ms", ms + 1},
-                          {"kernels", {{{"name", "k"}, {"ms", ms}}}}};
+    return nlohmann::json{{"config_id", id},   {"config", {{"technique", "t"}}},
+                          {"frame", frame},    {"total_ms", ms},
+                          {"wall_ms", ms + 1}, {"kernels", {{{"name", "k"}, {"ms", ms}}}}};
   };
   rows.push_back(row("a", 0, 10));
   rows.push_back(row("a", 1, 30));

@@ -102,11 +102,16 @@ TEST(BenchRun, WritesOneRowPerConfigurationAndFrameThenResumes) {
   std::vector<std::map<std::string, std::string>> rows;
   ASSERT_EQ(csvRows(dir + "/bench.csv", &header, &rows), 4u);
   EXPECT_EQ(header, ts::benchCsvColumns());
-  for (const char* col : {"config_id", "technique", "tile", "gbuffer", "resolution", "frame",
-                          "total_ms", "kernels", "wall_ms", "compile_ms", "raster_ms",
-                          "lighting_computations", "evaluations", "gbuffer_bytes_read",
-                          "limit_ms", "limit_pct", "flops_basis", "err_rmse", "err_psnr_db",
-                          "err_shading_max_rel_peak"})
+  for (const char* col : {"config_id",   "technique",
+                          "tile",        "gbuffer",
+                          "resolution",  "frame",
+                          "total_ms",    "kernels",
+                          "wall_ms",     "compile_ms",
+                          "raster_ms",   "lighting_computations",
+                          "evaluations", "gbuffer_bytes_read",
+                          "limit_ms",    "limit_pct",
+                          "flops_basis", "err_rmse",
+                          "err_psnr_db", "err_shading_max_rel_peak"})
     EXPECT_NE(std::find(header.begin(), header.end(), col), header.end()) << col;
   std::set<std::pair<std::string, std::string>> keys;
   for (auto& row : rows) {
@@ -130,9 +135,9 @@ TEST(BenchRun, WritesOneRowPerConfigurationAndFrameThenResumes) {
   ASSERT_EQ(doc["rows"].size(), 4u);
   ASSERT_EQ(doc["summaries"].size(), 2u);
   const auto& j = doc["rows"][0];
-  for (const char* k : {"technique", "kernels", "total_ms", "lighting_computations", "evaluations",
-                        "gbuffer_bytes_read", "config", "frame", "wall_ms", "limit", "error",
-                        "error_shading"})
+  for (const char* k :
+       {"technique", "kernels", "total_ms", "lighting_computations", "evaluations",
+        "gbuffer_bytes_read", "config", "frame", "wall_ms", "limit", "error", "error_shading"})
     EXPECT_TRUE(j.contains(k)) << k;
   // The shading-only error (the kernels' float positions) is the fp32 arithmetic's alone.
   EXPECT_LE(j["error_shading"]["max_rel_peak"].get<double>(), 2e-5);
@@ -221,7 +226,8 @@ void writeLines(const std::string& path, const std::vector<std::string>& lines) 
 }
 
 // Replaces field `column` of a CSV line written by the runner (no quoted fields).
-std::string withField(const std::string& line, const std::string& column, const std::string& value) {
+std::string withField(const std::string& line, const std::string& column,
+                      const std::string& value) {
   auto cols = ts::benchCsvColumns();
   std::vector<std::string> fields;
   EXPECT_TRUE(ts::parseCsvRecord(line, fields)) << line;
@@ -257,7 +263,9 @@ class BenchResume : public ::testing::Test {
     o.resume = true;
     return o;
   }
-  std::vector<std::string> lines(const ts::BenchOptions& o) { return fileLines(o.outDir + "/bench.csv"); }
+  std::vector<std::string> lines(const ts::BenchOptions& o) {
+    return fileLines(o.outDir + "/bench.csv");
+  }
 
   // Resumes; returns stderr. Then every line of bench.csv parses with every column, and
   // bench.json and summary.csv hold what bench.csv holds.
@@ -286,7 +294,8 @@ class BenchResume : public ::testing::Test {
 
 // Exactly one warning line, naming the count and the reason; never the row itself.
 void expectDropped(const std::string& err, size_t rows, const std::string& reason) {
-  std::string lead = "tileshade: warning: bench --resume: dropped " + std::to_string(rows) + " row(s) of ";
+  std::string lead =
+      "tileshade: warning: bench --resume: dropped " + std::to_string(rows) + " row(s) of ";
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err.substr(0, 500);
   EXPECT_EQ(err.rfind(lead, 0), 0u) << err.substr(0, 500);
   EXPECT_NE(err.find(reason), std::string::npos) << err.substr(0, 500);
@@ -323,8 +332,12 @@ TEST_F(BenchResume, MegabyteJunkLineIsDroppedNotEchoed) {
   writeLines(o.outDir + "/bench.csv", l);
   std::string err = resume(o, 0, 4);
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 2) << err.substr(0, 500);
-  EXPECT_NE(err.find("dropped 1 row(s) of " + o.outDir + "/bench.csv: fewer fields"), std::string::npos) << err.substr(0, 500);
-  EXPECT_NE(err.find("dropped 1 row(s) of " + o.outDir + "/bench.csv: more fields"), std::string::npos) << err.substr(0, 500);
+  EXPECT_NE(err.find("dropped 1 row(s) of " + o.outDir + "/bench.csv: fewer fields"),
+            std::string::npos)
+      << err.substr(0, 500);
+  EXPECT_NE(err.find("dropped 1 row(s) of " + o.outDir + "/bench.csv: more fields"),
+            std::string::npos)
+      << err.substr(0, 500);
   EXPECT_LT(err.size(), 600u);
 }
 
@@ -422,7 +435,7 @@ TEST_F(BenchResume, RowsRebuiltFromTheCsvAgreeWithTheirRecordNextTime) {
   o.error = true;
   o.errorFrames = "1";
   fs::remove(o.outDir + "/bench.csv");
-  ts::runBench(o);  // with error columns, so that they round-trip too
+  ts::runBench(o);                       // with error columns, so that they round-trip too
   fs::remove(o.outDir + "/bench.json");  // lost: the rows come back from bench.csv
   o.printTable = false;
   ::testing::internal::CaptureStderr();
@@ -472,17 +485,34 @@ TEST(BenchPlot, PlotScriptRunsOnASmallCsv) {
     for (const char* tile : {"16x16", "32x16"})
       for (int frame : {0, 10, 20}) {
         std::map<std::string, std::string> v = {
-            {"config_id", std::string(technique) + tile}, {"device", "cpu"},
-            {"scene", "builtin:street"}, {"light_set", "many"}, {"light_count", "-1"},
-            {"light_range", "0"}, {"light_threshold", "0"}, {"seed", "1"},
-            {"resolution", "64x36"}, {"gbuffer", "fp32"}, {"technique", technique},
-            {"tile", tile}, {"culling", "rect"}, {"math", "precise"}, {"slices", "16"},
-            {"device_name", "Test / cpu"}, {"frame", std::to_string(frame)}, {"lights", "924"},
+            {"config_id", std::string(technique) + tile},
+            {"device", "cpu"},
+            {"scene", "builtin:street"},
+            {"light_set", "many"},
+            {"light_count", "-1"},
+            {"light_range", "0"},
+            {"light_threshold", "0"},
+            {"seed", "1"},
+            {"resolution", "64x36"},
+            {"gbuffer", "fp32"},
+            {"technique", technique},
+            {"tile", tile},
+            {"culling", "rect"},
+            {"math", "precise"},
+            {"slices", "16"},
+            {"device_name", "Test / cpu"},
+            {"frame", std::to_string(frame)},
+            {"lights", "924"},
             {"total_ms", std::to_string(1.0 + frame * 0.1 + (technique[0] == 'd' ? 2 : 0))},
             {"kernels", "bin=0.5;shade=" + std::to_string(0.5 + frame * 0.1)},
-            {"wall_ms", "3"}, {"compile_ms", "100"}, {"raster_ms", "2"},
-            {"lighting_computations", std::to_string(1000 + frame)}, {"evaluations", "900"},
-            {"limit_ms", "0.1"}, {"limit_pct", "10"}, {"flops_basis", "evaluations"}};
+            {"wall_ms", "3"},
+            {"compile_ms", "100"},
+            {"raster_ms", "2"},
+            {"lighting_computations", std::to_string(1000 + frame)},
+            {"evaluations", "900"},
+            {"limit_ms", "0.1"},
+            {"limit_pct", "10"},
+            {"flops_basis", "evaluations"}};
         std::vector<std::string> fields;
         for (const auto& c : cols) fields.push_back(v.count(c) ? v[c] : "");
         csv << ts::csvLine(fields) << "\n";
@@ -496,7 +526,8 @@ TEST(BenchPlot, PlotScriptRunsOnASmallCsv) {
   ASSERT_EQ(rc, 0) << log;
   EXPECT_TRUE(fs::exists(dir + "/plots/report.md")) << log;
   size_t png = 0;
-  for (const auto& e : fs::directory_iterator(dir + "/plots")) png += e.path().extension() == ".png";
+  for (const auto& e : fs::directory_iterator(dir + "/plots"))
+    png += e.path().extension() == ".png";
   EXPECT_GE(png, 2u) << log;
   fs::remove_all(dir);
 }
@@ -521,14 +552,18 @@ TEST(BenchPlot, BadInputIsOneLineError) {
       {"missing.csv", "", "no such file"},
       {"empty.csv", "\n", "empty"},
       {"nocolumn.csv", ts::csvLine(noFrame) + "\n", "no column frame"},
-      {"text.csv", header + "\n" + set(good, "total_ms", "fast") + "\n", "total_ms is not a number: 'fast'"},
-      {"kernels.csv", header + "\n" + set(good, "kernels", "shade=x") + "\n", "kernel time is not a number"},
+      {"text.csv", header + "\n" + set(good, "total_ms", "fast") + "\n",
+       "total_ms is not a number: 'fast'"},
+      {"kernels.csv", header + "\n" + set(good, "kernels", "shade=x") + "\n",
+       "kernel time is not a number"},
       {"truncated.csv", header + "\n1,2,3\n", "line 2: 3 field(s)"},
       {"noid.csv", header + "\n" + set(good, "config_id", "") + "\n", "no config_id"},
       {"junk.csv", header + "\n" + std::string(1 << 20, 'x') + "\n", "junk.csv"},
       {"bad.json", "{\"rows\": [", "not JSON"},
       {"rows.json", "{\"rows\": 5}", "no \"rows\" list"},
-      {"row.json", "{\"rows\": [{\"config\": {\"technique\": \"tiled\", \"tile\": \"16x16\"}, \"config_id\": \"a\", \"frame\": 0, \"total_ms\": \"x\"}]}",
+      {"row.json",
+       "{\"rows\": [{\"config\": {\"technique\": \"tiled\", \"tile\": \"16x16\"}, \"config_id\": "
+       "\"a\", \"frame\": 0, \"total_ms\": \"x\"}]}",
        "total_ms is not a number"},
   };
   for (const auto& [name, text, needle] : cases) {

@@ -24,11 +24,15 @@ namespace {
 
 TEST(HostileStats, BenchSummariesKeepInfiniteErrors) {
   auto row = [](int frame, json error) {
-    return json{{"config_id", "c"}, {"config", {{"technique", "tiled"}}}, {"technique", "tiled"},
-                {"frame", frame}, {"total_ms", 1.0}, {"error", error}, {"nonfinite_pixels", frame}};
+    return json{{"config_id", "c"},         {"config", {{"technique", "tiled"}}},
+                {"technique", "tiled"},     {"frame", frame},
+                {"total_ms", 1.0},          {"error", error},
+                {"nonfinite_pixels", frame}};
   };
-  json rows = json::array({row(0, {{"max_abs", 0.0}, {"rmse", 0.0}, {"psnr_db", "inf"}, {"max_rel_peak", 0.0}}),
-                           row(1, {{"max_abs", "inf"}, {"rmse", "inf"}, {"psnr_db", "-inf"}, {"max_rel_peak", "inf"}})});
+  json rows = json::array(
+      {row(0, {{"max_abs", 0.0}, {"rmse", 0.0}, {"psnr_db", "inf"}, {"max_rel_peak", 0.0}}),
+       row(1,
+           {{"max_abs", "inf"}, {"rmse", "inf"}, {"psnr_db", "-inf"}, {"max_rel_peak", "inf"}})});
   json s = ts::summarizeRows(rows);
   ASSERT_EQ(s.size(), 1u);
   EXPECT_EQ(s[0]["error"]["psnr_db"], "-inf");  // not "inf" (exact), not the finite frame's
@@ -52,7 +56,7 @@ void expectConfigError(const std::string& text, const std::string& needle) {
 }
 
 TEST(HostileBenchConfig, AbsurdValuesAreOneLineErrors) {
-  expectConfigError(R"({"calib_mib": -1})", "calib_mib");  // was shifted into a huge size_t
+  expectConfigError(R"({"calib_mib": -1})", "calib_mib");    // was shifted into a huge size_t
   expectConfigError(R"({"warmup": 4294967297})", "warmup");  // was truncated to 1
   expectConfigError(R"({"repeat": 0})", "repeat");
   expectConfigError(R"({"frames": 1e30})", "frames");
@@ -62,8 +66,8 @@ TEST(HostileBenchConfig, AbsurdValuesAreOneLineErrors) {
   // A product of lists far beyond what could run: refused before it is built.
   std::string many;
   for (int i = 1; i <= 60; ++i) many += (i > 1 ? "," : "") + std::to_string(i);
-  expectConfigError(R"({"seed": [)" + many + R"(], "light_count": [)" + many +
-                        R"(], "tile": [)" + many + R"(], "slices": [)" + many + "]}",
+  expectConfigError(R"({"seed": [)" + many + R"(], "light_count": [)" + many + R"(], "tile": [)" +
+                        many + R"(], "slices": [)" + many + "]}",
                     "configurations");
   // Repeated values do not multiply: 1000 copies of one tile size are one configuration.
   ts::BenchOptions o;

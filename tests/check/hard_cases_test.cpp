@@ -49,17 +49,19 @@ using test::runTileshade;
 
 TEST(CheckCommand, PrintsTheTableAndFailsOnBadInputWithOneLine) {
   if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
-  CliRun ok = runTileshade("check --case resolution-1x1 --technique brute --gbuffer fp16 --device cpu");
+  CliRun ok =
+      runTileshade("check --case resolution-1x1 --technique brute --gbuffer fp16 --device cpu");
   EXPECT_EQ(ok.status, 0) << ok.output;
   EXPECT_NE(ok.output.find("max err/peak"), std::string::npos) << ok.output;
-  EXPECT_NE(ok.output.find("resolution-1x1                brute             fp16"), std::string::npos)
+  EXPECT_NE(ok.output.find("resolution-1x1                brute             fp16"),
+            std::string::npos)
       << ok.output;
   EXPECT_NE(ok.output.find("all 2 hard-case runs passed"), std::string::npos) << ok.output;
   CliRun list = runTileshade("check --list");
   EXPECT_EQ(list.status, 0);
   for (const auto& c : hardCases()) EXPECT_NE(list.output.find(c.name), std::string::npos);
-  for (const char* bad : {"check --case no-such-case", "check --technique nonsense",
-                          "check --gbuffer fp8"}) {
+  for (const char* bad :
+       {"check --case no-such-case", "check --technique nonsense", "check --gbuffer fp8"}) {
     CliRun r = runTileshade(std::string(bad) + " --device cpu");
     EXPECT_NE(r.status, 0) << bad;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << bad << ": " << r.output;

@@ -2,9 +2,10 @@
 // the kernels' work-group sizes were fixed up to 256 while CL_DEVICE_MAX_WORK_GROUP_SIZE was read
 // and ignored, so on a device allowing 128 (Oclgrind's --max-wgsize 128) every launch failed with
 // CL_INVALID_WORK_GROUP_SIZE. The shapes are tested on their own (work_group_test.cpp); here every
-// technique renders, on a context capped to a stricter device's limit, what the reference gives. tests/extra_tests.cmake
-// also runs these cases with PoCL enforcing the limit itself ($POCL_MAX_WORK_GROUP_SIZE), so a
-// launch that ignores it fails there as it would on such a device.
+// technique renders, on a context capped to a stricter device's limit, what the reference gives.
+// tests/extra_tests.cmake also runs these cases with PoCL enforcing the limit itself
+// ($POCL_MAX_WORK_GROUP_SIZE), so a launch that ignores it fails there as it would on such a
+// device.
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -30,7 +31,8 @@ void expectEveryTechniqueWithin(size_t limit) {
   };
   for (Config c : {Config{16, 16, 1}, Config{16, 16, 16}, Config{24, 8, 4}}) {
     for (const auto& name : techniqueNames()) {
-      if (c.tileW != 16 && (name == "brute" || name.rfind("deferred", 0) == 0)) continue;  // no tiles
+      if (c.tileW != 16 && (name == "brute" || name.rfind("deferred", 0) == 0))
+        continue;  // no tiles
       TechniqueConfig config;
       config.tileWidth = c.tileW;
       config.tileHeight = c.tileH;

@@ -39,9 +39,9 @@ TEST(GBufferCli, RenderRecordsWhichRasterizerRanAndItsTime) {
   if (!fs::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
   for (const char* raster : {"software", "gl"}) {
     const fs::path out = fresh(std::string("render_") + raster);
-    test::CliRun r = runTileshade(std::string("render --raster ") + raster +
-                                  " --lights few --width 96 --height 54 --device cpu --out " +
-                                  out.string());
+    test::CliRun r =
+        runTileshade(std::string("render --raster ") + raster +
+                     " --lights few --width 96 --height 54 --device cpu --out " + out.string());
     if (r.status != 0 && std::string(raster) == "gl" &&
         r.output.find("no OpenGL context") != std::string::npos)
       GTEST_SKIP() << r.output;
@@ -57,8 +57,10 @@ TEST(GBufferCli, RenderRecordsWhichRasterizerRanAndItsTime) {
 TEST(GBufferCli, DumpReadBackByEveryTechniqueWithCheckAndHeatmap) {
   if (!fs::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
   const fs::path dumped = fresh("dumped"), again = fresh("again");
-  test::CliRun r = runTileshade("render --scene builtin:atrium --width 80 --height 48 --gbuffer "
-                                "packed --device cpu --dump --out " + dumped.string());
+  test::CliRun r = runTileshade(
+      "render --scene builtin:atrium --width 80 --height 48 --gbuffer "
+      "packed --device cpu --dump --out " +
+      dumped.string());
   ASSERT_EQ(r.status, 0) << r.output;
   for (const char* f : {"gbuffer.exr", "gbuffer.json", "lights.json"})
     EXPECT_TRUE(fs::exists(dumped / f)) << f;
@@ -78,7 +80,8 @@ TEST(GBufferCli, DumpReadBackByEveryTechniqueWithCheckAndHeatmap) {
   const fs::path bench = fresh("bench");
   r = runTileshade("bench --scene gbuffer:" + dumped.string() +
                    " --resolution 80x48 --technique tiled --gbuffer fp32,packed --frames 1 "
-                   "--no-calibrate --quiet --device cpu --out " + bench.string());
+                   "--no-calibrate --quiet --device cpu --out " +
+                   bench.string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("raster ms"), std::string::npos) << r.output;
 }
@@ -88,9 +91,11 @@ TEST(GBufferCli, BenchSweepsTheRasterizer) {
   std::string why;
   if (!glAvailable(why)) GTEST_SKIP() << why;
   const fs::path bench = fresh("bench_raster");
-  test::CliRun r = runTileshade("bench --raster software,gl --lights few --resolution 96x54 "
-                                "--technique tiled --frames 2 --no-calibrate --quiet --device cpu "
-                                "--out " + bench.string());
+  test::CliRun r = runTileshade(
+      "bench --raster software,gl --lights few --resolution 96x54 "
+      "--technique tiled --frames 2 --no-calibrate --quiet --device cpu "
+      "--out " +
+      bench.string());
   ASSERT_EQ(r.status, 0) << r.output;
   const json doc = readJson(bench / "bench.json");
   int rows[2] = {0, 0};
@@ -106,19 +111,21 @@ TEST(GBufferCli, BenchSweepsTheRasterizer) {
 TEST(GBufferCli, BadInputFailsWithOneLine) {
   if (!fs::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
   const fs::path dumped = fresh("bad_dump");
-  ASSERT_EQ(runTileshade("render --width 32 --height 18 --device cpu --dump --out " +
-                         dumped.string()).status, 0);
+  ASSERT_EQ(
+      runTileshade("render --width 32 --height 18 --device cpu --dump --out " + dumped.string())
+          .status,
+      0);
   json lights = readJson(dumped / "lights.json");
   lights["lights"][0].erase("range");
   std::ofstream(dumped / "lights.json") << lights.dump();
   const std::string out = " --device cpu --out " + fresh("bad_out").string();
   for (const std::string& args : std::vector<std::string>{
            "render --raster vulkan", "render --gbuffer-in /nonexistent/folder",
-        "render --gbuffer-in " + dumped.string(),
-        "render --gbuffer-in " + dumped.string() + " --width 64",
-        "render --gbuffer-in " + dumped.string() + " --raster gl",
-        "bench --raster vulkan --no-calibrate --quiet",
-        "bench --scene gbuffer:" + dumped.string() + " --no-calibrate --quiet"}) {
+           "render --gbuffer-in " + dumped.string(),
+           "render --gbuffer-in " + dumped.string() + " --width 64",
+           "render --gbuffer-in " + dumped.string() + " --raster gl",
+           "bench --raster vulkan --no-calibrate --quiet",
+           "bench --scene gbuffer:" + dumped.string() + " --no-calibrate --quiet"}) {
     test::CliRun r = runTileshade(args + out);
     EXPECT_NE(r.status, 0) << args;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
@@ -135,8 +142,10 @@ TEST(GBufferCli, GlDriverThatDrawsNothingIsAnError) {
   const char* before = std::getenv("GALLIUM_DRIVER");
   const std::string saved = before ? before : "";
   setenv("GALLIUM_DRIVER", "softpipe", 1);
-  test::CliRun r = runTileshade("render --raster gl --lights few --width 96 --height 54 "
-                                "--device cpu --check --out " + out.string());
+  test::CliRun r = runTileshade(
+      "render --raster gl --lights few --width 96 --height 54 "
+      "--device cpu --check --out " +
+      out.string());
   if (before) setenv("GALLIUM_DRIVER", saved.c_str(), 1);
   else unsetenv("GALLIUM_DRIVER");
   if (r.output.find("no OpenGL context") != std::string::npos) GTEST_SKIP() << r.output;

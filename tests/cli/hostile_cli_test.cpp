@@ -1,8 +1,9 @@
 // Hostile use of the command line and its outputs (issue #12): options that make no sense, every
 // failed or truncated write, images with NaN/inf pixels (never reported as exact), bench configs
 // with absurd values. The expected outcome is one line "tileshade: error: ..." and exit status 1
-// before any file is written, or an honest report. The same subjects in-process, without the binary:
-// util/hostile_values_test.cpp, reference/hostile_stats_test.cpp, bench/hostile_bench_test.cpp.
+// before any file is written, or an honest report. The same subjects in-process, without the
+// binary: util/hostile_values_test.cpp, reference/hostile_stats_test.cpp,
+// bench/hostile_bench_test.cpp.
 
 #include <cmath>
 #include <filesystem>
@@ -36,9 +37,7 @@ using ts::test::runTileshade;
 using ts::test::Streams;
 
 // A fresh folder per test (CTest runs tests in parallel processes).
-fs::path freshDir(const std::string& name) {
-  return ts::test::freshDir("hostile", name);
-}
+fs::path freshDir(const std::string& name) { return ts::test::freshDir("hostile", name); }
 
 size_t lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
 
@@ -50,7 +49,8 @@ void expectOneErrorLine(const std::string& args, const std::vector<std::string>&
   EXPECT_EQ(r.exitCode(), 1) << args << "\n" << r.output;
   EXPECT_EQ(lines(r.output), 1u) << args << "\n" << r.output;
   EXPECT_EQ(r.output.rfind("tileshade: error: ", 0), 0u) << args << "\n" << r.output;
-  for (const auto& n : needles) EXPECT_NE(r.output.find(n), std::string::npos) << args << "\n" << r.output;
+  for (const auto& n : needles)
+    EXPECT_NE(r.output.find(n), std::string::npos) << args << "\n" << r.output;
 }
 
 // ---- item 6: options that make no sense ------------------------------------------------------
@@ -60,18 +60,27 @@ TEST(HostileOptions, NumbersThatMakeNoSenseAreRefusedWithOneLine) {
   fs::path out = freshDir("options");
   std::string common = " --device cpu --width 32 --height 18 --out " + out.string();
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"--light-threshold nan", "--light-threshold"}, {"--light-threshold -1", "--light-threshold"},
-      {"--light-threshold inf", "--light-threshold"}, {"--exposure nan", "--exposure"},
-      {"--exposure -1", "--exposure"},               {"--exposure 0", "--exposure"},
-      {"--light-range -2", "--light-range"},         {"--light-range inf", "--light-range"},
-      {"--light-count 99999999", "--light-count"},   {"--slices 0", "--slices"},
-      {"--frame -1", "--frame"},                     {"--tile 99999999999", "--tile"},
-      {"--tile 0x16", "--tile"},                     {"--heatmap", "--heatmap needs --check"},
-      {"--width 0", "--width"},                      {"--height 100000", "--height"},
+      {"--light-threshold nan", "--light-threshold"},
+      {"--light-threshold -1", "--light-threshold"},
+      {"--light-threshold inf", "--light-threshold"},
+      {"--exposure nan", "--exposure"},
+      {"--exposure -1", "--exposure"},
+      {"--exposure 0", "--exposure"},
+      {"--light-range -2", "--light-range"},
+      {"--light-range inf", "--light-range"},
+      {"--light-count 99999999", "--light-count"},
+      {"--slices 0", "--slices"},
+      {"--frame -1", "--frame"},
+      {"--tile 99999999999", "--tile"},
+      {"--tile 0x16", "--tile"},
+      {"--heatmap", "--heatmap needs --check"},
+      {"--width 0", "--width"},
+      {"--height 100000", "--height"},
   };
   for (const auto& [args, needle] : cases) expectOneErrorLine("render " + args + common, {needle});
   // Once "stoul" was the whole message.
-  expectOneErrorLine("render --device 99999999999999999999 --out " + out.string(), {"device index"});
+  expectOneErrorLine("render --device 99999999999999999999 --out " + out.string(),
+                     {"device index"});
   // Nothing was written: every option is checked before any work.
   EXPECT_TRUE(fs::is_empty(out)) << out;
   fs::remove_all(out);
@@ -80,9 +89,10 @@ TEST(HostileOptions, NumbersThatMakeNoSenseAreRefusedWithOneLine) {
 TEST(HostileOptions, BadSlicesFailBeforeAnyImageIsWritten) {
   if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
   fs::path out = freshDir("slices");
-  expectOneErrorLine("render --technique all --slices 0 --device cpu --width 32 --height 18 --out " +
-                         (out / "run").string(),
-                     {"--slices"});
+  expectOneErrorLine(
+      "render --technique all --slices 0 --device cpu --width 32 --height 18 --out " +
+          (out / "run").string(),
+      {"--slices"});
   EXPECT_FALSE(fs::exists(out / "run")) << "images written before the error";
   fs::remove_all(out);
 }
@@ -99,21 +109,22 @@ TEST(HostileOptions, SceneExportRefusesOtherExtensions) {
 
 // ---- item 5: every write is checked ----------------------------------------------------------
 
-// Each output file of `render` in turn is a link to /dev/full (a full disk): one error line, exit 1,
-// no "wrote DIR/".
+// Each output file of `render` in turn is a link to /dev/full (a full disk): one error line, exit
+// 1, no "wrote DIR/".
 TEST(HostileWrites, EveryRenderOutputFileIsChecked) {
   if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   for (const char* file : {"image.png", "image.exr", "stats.json", "lights.json", "gbuffer.exr"}) {
     fs::path out = freshDir(std::string("full_") + file);
     fs::create_symlink("/dev/full", out / file);
-    CliRun r = runTileshade("render --lights few --width 32 --height 18 --device cpu --dump --out " +
-                            out.string());
+    CliRun r = runTileshade(
+        "render --lights few --width 32 --height 18 --device cpu --dump --out " + out.string());
     EXPECT_EQ(r.exitCode(), 1) << file << "\n" << r.output;
     EXPECT_NE(r.output.find("tileshade: error: cannot write " + (out / file).string() +
                             ": No space left on device"),
               std::string::npos)
-        << file << "\n" << r.output;
+        << file << "\n"
+        << r.output;
     EXPECT_EQ(r.output.find("wrote"), std::string::npos) << file << "\n" << r.output;
     EXPECT_EQ(r.output.find("libpng"), std::string::npos) << file << "\n" << r.output;
     fs::remove_all(out);
@@ -130,9 +141,9 @@ TEST(HostileWrites, UnwritableOutputFolderIsAnError) {
   if (::geteuid() != 0) {  // a read-only folder stops everyone but root
     fs::create_directories(dir / "ro");
     fs::permissions(dir / "ro", fs::perms::owner_read | fs::perms::owner_exec);
-    expectOneErrorLine("render --lights few --width 32 --height 18 --device cpu --out " +
-                           (dir / "ro").string(),
-                       {"cannot write", "Permission denied"});
+    expectOneErrorLine(
+        "render --lights few --width 32 --height 18 --device cpu --out " + (dir / "ro").string(),
+        {"cannot write", "Permission denied"});
     fs::permissions(dir / "ro", fs::perms::owner_all);
   }
   fs::remove_all(dir);
@@ -157,10 +168,13 @@ TEST(HostileWrites, BenchOutputsAreChecked) {
   for (const char* tmp : {"bench.json.tmp", "summary.csv.tmp"}) {
     fs::path out = freshDir(std::string("bench_") + tmp);
     fs::create_symlink("/dev/full", out / tmp);
-    CliRun r = runTileshade("bench --device cpu --resolution 32x18 --frames 1 --no-calibrate --quiet "
-                            "--out " + out.string());
+    CliRun r = runTileshade(
+        "bench --device cpu --resolution 32x18 --frames 1 --no-calibrate --quiet "
+        "--out " +
+        out.string());
     EXPECT_EQ(r.exitCode(), 1) << tmp << "\n" << r.output;
-    EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << tmp << "\n" << r.output;
+    EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << tmp << "\n"
+                                                                           << r.output;
     EXPECT_EQ(r.output.find("wrote"), std::string::npos) << tmp << "\n" << r.output;
     fs::remove_all(out);
   }
@@ -179,8 +193,9 @@ TEST(HostileStats, RenderRefusesScenesThatWouldOverflowFp32) {
   doc["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = 3e38;
   doc["nodes"][1]["translation"] = {0.25, 0.25, 0.05};  // nearer than dmin: falloff 100
   std::ofstream(dir / "bright.gltf") << doc.dump();
-  CliRun r = runTileshade("render --scene " + (dir / "bright.gltf").string() +
-                          " --width 32 --height 18 --device cpu --check --out " + (dir / "out").string());
+  CliRun r =
+      runTileshade("render --scene " + (dir / "bright.gltf").string() +
+                   " --width 32 --height 18 --device cpu --check --out " + (dir / "out").string());
   EXPECT_EQ(r.exitCode(), 1) << r.output;
   EXPECT_NE(r.output.find("beyond what fp32 shading holds"), std::string::npos) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
@@ -204,12 +219,15 @@ TEST(HostileBenchConfig, ResumeFromACorruptedCsvDropsTheRowInOneLine) {
                                                                   : "");
   }
   std::ofstream(out / "bench.csv") << header << "\n" << row << "\n";
-  CliRun r = runTileshade("bench --device cpu --resolution 32x18 --technique tiled --frames 1 "
-                          "--warmup 0 --no-calibrate --quiet --resume --out " + out.string(),
-                          Streams::StderrOnly);
+  CliRun r = runTileshade(
+      "bench --device cpu --resolution 32x18 --technique tiled --frames 1 "
+      "--warmup 0 --no-calibrate --quiet --resume --out " +
+          out.string(),
+      Streams::StderrOnly);
   EXPECT_EQ(r.exitCode(), 0) << r.output;
   EXPECT_EQ(lines(r.output), 1u) << r.output;
-  EXPECT_EQ(r.output.rfind("tileshade: warning: bench --resume: dropped 1 row(s)", 0), 0u) << r.output;
+  EXPECT_EQ(r.output.rfind("tileshade: warning: bench --resume: dropped 1 row(s)", 0), 0u)
+      << r.output;
   std::ifstream in(out / "bench.csv");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(text.find("99999999999999"), std::string::npos) << "the dropped row is still there";
@@ -222,9 +240,11 @@ TEST(HostileBenchConfig, ResumeFromACorruptedCsvDropsTheRowInOneLine) {
 TEST(HostileBenchMessages, UnknownDeviceIsRefusedBeforeAnyFileEvenQuiet) {
   if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
   fs::path out = freshDir("nodevice");
-  expectOneErrorLine("bench --device cpu,no-such-device --resolution 32x18 --technique tiled "
-                     "--frames 1 --no-calibrate --quiet --out " + (out / "run").string(),
-                     {"no OpenCL device matches 'no-such-device'"});
+  expectOneErrorLine(
+      "bench --device cpu,no-such-device --resolution 32x18 --technique tiled "
+      "--frames 1 --no-calibrate --quiet --out " +
+          (out / "run").string(),
+      {"no OpenCL device matches 'no-such-device'"});
   EXPECT_FALSE(fs::exists(out / "run")) << "files written before the device was checked";
   fs::remove_all(out);
 }

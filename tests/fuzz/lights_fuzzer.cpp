@@ -8,8 +8,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
-    ts::parseLightsFile(std::string(reinterpret_cast<const char*>(data), size),
-                        "fuzz/lights.json");
+    ts::parseLightsFile(std::string(reinterpret_cast<const char*>(data), size), "fuzz/lights.json");
   } catch (const ts::Error&) {
     // a clear one-line error: the expected outcome for a bad lights file
   }

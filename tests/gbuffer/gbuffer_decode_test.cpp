@@ -42,8 +42,7 @@ TEST(GBufferDecode, KernelMatchesHostDecoder) {
         // store it and must match exactly.
         if (format == GBufferFormat::PACKED)
           EXPECT_NEAR(o[12], s.gloss, 3 * std::ldexp(1.0, std::ilogb(s.gloss) - 23));
-        else
-          EXPECT_EQ(o[12], float(s.gloss));
+        else EXPECT_EQ(o[12], float(s.gloss));
       }
     EXPECT_GT(geometry, 0u);
   }

@@ -29,9 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-fs::path freshDir(const std::string& name) {
-  return ts::test::freshDir("gbuffer_import", name);
-}
+fs::path freshDir(const std::string& name) { return ts::test::freshDir("gbuffer_import", name); }
 
 // Dumps `f` as `render --dump` does (through the dump kernel) into a fresh folder.
 fs::path dump(const PreparedFrame& f, const std::string& name) {
@@ -126,8 +124,8 @@ TEST(GBufferImport, OpenGLGBufferDumpedAndImported) {
     GTEST_SKIP() << e.what();
   }
   for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::PACKED}) {
-    PreparedFrame original = prepareFrame(*gl, 2, 101, 67, format,
-                                          analyzeScene(scene, ShadingModel::BlinnPhong));
+    PreparedFrame original =
+        prepareFrame(*gl, 2, 101, 67, format, analyzeScene(scene, ShadingModel::BlinnPhong));
     ASSERT_EQ(original.raster, RasterBackend::Gl);
     ImportedFrame imported = importGBuffer(dump(original, "gl_" + toString(format)).string());
     expectSameFrame(original, imported.frame, "OpenGL " + toString(format));
@@ -156,8 +154,7 @@ TEST(GBufferImport, PackedNormalCodesReencodeToThemselves) {
   };
   int failures = 0;
   for (int v = -32767; v <= 32767 && failures < 5; ++v)
-    for (int edge : {-32767, 32767, 0})
-      failures += !check(v, edge) + !check(edge, v);
+    for (int edge : {-32767, 32767, 0}) failures += !check(v, edge) + !check(edge, v);
   std::mt19937 rng(3);
   std::uniform_int_distribution<int> u(-32767, 32767);
   for (int i = 0; i < 2000000 && failures < 5; ++i) {
@@ -187,8 +184,8 @@ TEST(GBufferImport, ForeignDescriptorWithHardwareDepth) {
     }
   fs::path dir = freshDir("foreign");
   writeExr((dir / "frame.exr").string(), g.width, g.height,
-           {"Z", "nx", "ny", "nz", "albedo.R", "albedo.G", "albedo.B", "spec.R", "spec.G",
-            "spec.B", "spec.A"},
+           {"Z", "nx", "ny", "nz", "albedo.R", "albedo.G", "albedo.B", "spec.R", "spec.G", "spec.B",
+            "spec.A"},
            data);
   std::ofstream(dir / "lights.json") << lightsJson(original.lights, original.ambient).dump();
   const double yfovDegrees = double(scene.camera(5).yfov) * 180.0 / ts::kPiDouble;
@@ -196,8 +193,12 @@ TEST(GBufferImport, ForeignDescriptorWithHardwareDepth) {
             {"image", "frame.exr"},
             {"origin", "bottom"},
             {"camera", {{"yfov_degrees", yfovDegrees}}},
-            {"depth", {{"channel", "Z"}, {"encoding", "hardware"}, {"near", n}, {"far", f},
-                       {"range", "minus_one_to_one"}}},
+            {"depth",
+             {{"channel", "Z"},
+              {"encoding", "hardware"},
+              {"near", n},
+              {"far", f},
+              {"range", "minus_one_to_one"}}},
             {"normal", {"nx", "ny", "nz"}},
             {"normal_encoding", "unorm"},
             {"diffuse", {"albedo.R", "albedo.G", "albedo.B"}},
@@ -251,8 +252,9 @@ TEST(GBufferImport, BadFilesGiveOneLineNamingFileAndField) {
   std::ifstream(base / "gbuffer.json") >> descriptor;
   std::ifstream(base / "lights.json") >> lights;
   auto firstGeometry = [&](const std::vector<std::string>& channels, const std::vector<float>& d) {
-    const size_t stride = channels.size(), mask = size_t(std::find(channels.begin(), channels.end(),
-                                                                   "mask") - channels.begin());
+    const size_t stride = channels.size(),
+                 mask =
+                     size_t(std::find(channels.begin(), channels.end(), "mask") - channels.begin());
     for (size_t i = 0; i < d.size() / stride; ++i)
       if (d[i * stride + mask] > 0.5f) return i * stride;
     return size_t(0);
@@ -262,9 +264,12 @@ TEST(GBufferImport, BadFilesGiveOneLineNamingFileAndField) {
   };
   const std::vector<BadCase> cases = {
       {"missing channel",
-       [](json& d, json&, auto&, auto&, int&) { d["normal"] = {"Nraw.x", "Nraw.q", "Nraw.z"}; },
+       [](json& d, json&, auto&, auto&, int&) {
+         d["normal"] = {"Nraw.x", "Nraw.q", "Nraw.z"};
+       },
        {"gbuffer.exr", "Nraw.q", "normal"}},
-      {"wrong size", [](json& d, json&, auto&, auto&, int&) { d["width"] = 25; },
+      {"wrong size",
+       [](json& d, json&, auto&, auto&, int&) { d["width"] = 25; },
        {"gbuffer.exr", "24x16", "25x16"}},
       {"NaN depth",
        [&](json&, json&, auto& c, auto& data, int&) {
@@ -280,7 +285,8 @@ TEST(GBufferImport, BadFilesGiveOneLineNamingFileAndField) {
       {"light without a range",
        [](json&, json& l, auto&, auto&, int&) { l["lights"][0].erase("range"); },
        {"lights.json", "light 0", "range"}},
-      {"negative range", [](json&, json& l, auto&, auto&, int&) { l["lights"][1]["range"] = -2; },
+      {"negative range",
+       [](json&, json& l, auto&, auto&, int&) { l["lights"][1]["range"] = -2; },
        {"lights.json", "light 1", "range"}},
       {"spot without a cone",
        [](json&, json& l, auto&, auto&, int&) {
@@ -304,12 +310,13 @@ TEST(GBufferImport, BadFilesGiveOneLineNamingFileAndField) {
       {"no field of view",
        [](json& d, json&, auto&, auto&, int&) { d["camera"].erase("tan_half_fov"); },
        {"gbuffer.json", "yfov"}},
-      {"unknown field", [](json& d, json&, auto&, auto&, int&) { d["albedo"] = "kd.R"; },
+      {"unknown field",
+       [](json& d, json&, auto&, auto&, int&) { d["albedo"] = "kd.R"; },
        {"gbuffer.json", "albedo"}},
       {"hardware depth without far",
        [](json& d, json&, auto&, auto&, int&) {
-         d["depth"] = {{"channel", "P.z"}, {"encoding", "hardware"}, {"near", 0.1},
-                       {"range", "zero_to_one"}};
+         d["depth"] = {
+             {"channel", "P.z"}, {"encoding", "hardware"}, {"near", 0.1}, {"range", "zero_to_one"}};
        },
        {"gbuffer.json", "depth", "far"}},
       {"field of the other model",

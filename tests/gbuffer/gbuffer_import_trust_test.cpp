@@ -28,9 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-fs::path freshDir(const std::string& name) {
-  return ts::test::freshDir("gbuffer_trust", name);
-}
+fs::path freshDir(const std::string& name) { return ts::test::freshDir("gbuffer_trust", name); }
 
 // A dump of the street (few lights) as the files to spoil: descriptor, lights, image.
 struct DumpFiles {
@@ -82,7 +80,10 @@ void toHardwareDepth(const DumpFiles& f, json& d, FloatImage& image) {
     image.data[i * stride + pz] = geometry ? float(far * (depth - n) / (depth * (far - n))) : 1.0f;
   }
   image.channels[pz] = "Z";
-  d["depth"] = {{"channel", "Z"}, {"encoding", "hardware"}, {"near", n}, {"far", far},
+  d["depth"] = {{"channel", "Z"},
+                {"encoding", "hardware"},
+                {"near", n},
+                {"far", far},
                 {"range", "zero_to_one"}};
   d.erase("mask");
   d["camera"].erase("znear");
@@ -123,28 +124,28 @@ TEST(GBufferImportTrust, GeometryInFrontOfTheNearPlaneIsAnError) {
   ASSERT_GT(beyond, dumpFiles().minDepth * 1.01);
   for (const Spoiled& bad : std::vector<Spoiled>{
            {"descriptor znear inside the depth range",
-            [&](const DumpFiles&, json& d, json&, FloatImage&) { d["camera"]["znear"] = beyond; },
+            [&](const DumpFiles&, json&d, json&, FloatImage&) { d["camera"]["znear"] = beyond; },
             {"gbuffer.exr", "near plane", "pixel (", "\"znear\""}},
            {"descriptor znear beyond every surface",
-            [&](const DumpFiles& f, json& d, json&, FloatImage&) {
+            [&](const DumpFiles&f, json&d, json&, FloatImage&) {
               d["camera"]["znear"] = 2.0 * f.maxDepth;
               d["camera"]["zfar"] = 4.0 * f.maxDepth;
             },
             {"near plane", "pixel ("}},
            {"hardware depth below 0",
-            [](const DumpFiles& f, json& d, json&, FloatImage& image) {
+            [](const DumpFiles&f, json&d, json&, FloatImage&image) {
               toHardwareDepth(f, d, image);
               image.data[f.firstGeometry() + f.channel("P.z")] = -0.5f;
             },
             {"gbuffer.exr", "'Z'", "-0.5", "pixel (", "outside [0, 1]"}},
            {"hardware depth above 1",
-            [](const DumpFiles& f, json& d, json&, FloatImage& image) {
+            [](const DumpFiles&f, json&d, json&, FloatImage&image) {
               toHardwareDepth(f, d, image);
               image.data[f.channel("P.z")] = 1.5f;
             },
             {"'Z'", "1.5", "pixel (0, 0)", "outside [0, 1]"}},
            {"camera znear beyond the hardware near plane",
-            [](const DumpFiles& f, json& d, json&, FloatImage& image) {
+            [](const DumpFiles&f, json&d, json&, FloatImage&image) {
               toHardwareDepth(f, d, image);
               d["camera"]["znear"] = 0.5 * (f.minDepth + f.maxDepth);
             },
@@ -174,7 +175,7 @@ TEST(GBufferImportTrust, NearPlaneOnTheNearestSurfaceAndHardwareDepthAreAccepted
 TEST(GBufferImportTrust, DepthOfTheWrongSignIsAnErrorAndAnEmptyFrameAWarning) {
   for (const Spoiled& bad : std::vector<Spoiled>{
            {"view_z holding positive depths",
-            [](const DumpFiles& f, json& d, json&, FloatImage& image) {
+            [](const DumpFiles&f, json&d, json&, FloatImage&image) {
               d.erase("mask");
               const size_t stride = image.channels.size();
               for (size_t i = 0; i < image.data.size(); i += stride)
@@ -182,7 +183,7 @@ TEST(GBufferImportTrust, DepthOfTheWrongSignIsAnErrorAndAnEmptyFrameAWarning) {
             },
             {"gbuffer.exr", "'P.z'", "view_z", "\"linear\"?"}},
            {"linear holding view-space z",
-            [](const DumpFiles&, json& d, json&, FloatImage&) {
+            [](const DumpFiles&, json&d, json&, FloatImage&) {
               d.erase("mask");
               d["depth"]["encoding"] = "linear";
             },
@@ -217,7 +218,7 @@ TEST(GBufferImportTrust, ValuesTheGltfPathRefusesAreRefused) {
            {"normal x1e6", scaleNormal(1e6f), {"gbuffer.exr", "normal", "pixel (", "length"}},
            {"normal x1e-40", scaleNormal(1e-40f), {"normal", "pixel (", "length"}},
            {"unorm normal outside [0, 1]",
-            [](const DumpFiles& f, json& d, json&, FloatImage& image) {
+            [](const DumpFiles&f, json&d, json&, FloatImage&image) {
               d["normal_encoding"] = "unorm";
               const size_t stride = image.channels.size();
               for (size_t i = 0; i < image.data.size(); i += stride)
@@ -227,57 +228,59 @@ TEST(GBufferImportTrust, ValuesTheGltfPathRefusesAreRefused) {
             },
             {"'Nraw.y'", "unorm", "1.25", "outside [0, 1]"}},
            {"negative colour",
-            [](const DumpFiles& f, json&, json&, FloatImage& image) {
+            [](const DumpFiles&f, json&, json&, FloatImage&image) {
               image.data[f.firstGeometry() + f.channel("kd.G")] = -0.5f;
             },
             {"'kd.G'", "diffuse", "-0.5", "below 0"}},
            {"diffuse 3e38 (inf pixels)",
-            [](const DumpFiles& f, json&, json&, FloatImage& image) {
+            [](const DumpFiles&f, json&, json&, FloatImage&image) {
               image.data[f.firstGeometry() + f.channel("kd.R")] = 3e38f;
             },
             {"gbuffer.json", "lights.json", "fp32 shading holds"}},
            {"ambient 1e39",
-            [](const DumpFiles&, json&, json& l, FloatImage&) {
+            [](const DumpFiles&, json&, json&l, FloatImage&) {
               l["ambient"] = {1e39, 0.0, 0.0};
             },
             {"lights.json", "ambient", "float range"}},
            {"ambient 3e38 (finite, but times the diffuse beyond fp32 shading)",
-            [](const DumpFiles&, json&, json& l, FloatImage&) {
+            [](const DumpFiles&, json&, json&l, FloatImage&) {
               l["ambient"] = {3e38, 0.0, 0.0};
             },
             {"fp32 shading holds"}},
            {"negative ambient",
-            [](const DumpFiles&, json&, json& l, FloatImage&) { l["ambient"] = {0.1, -0.1, 0.0}; },
+            [](const DumpFiles&, json&, json&l, FloatImage&) {
+              l["ambient"] = {0.1, -0.1, 0.0};
+            },
             {"lights.json", "ambient", ">= 0"}},
            {"negative light colour",
-            [](const DumpFiles&, json&, json& l, FloatImage&) {
+            [](const DumpFiles&, json&, json&l, FloatImage&) {
               l["lights"][0]["color"] = {1.0, -1.0, 1.0};
             },
             {"lights.json", "light 0", "color", ">= 0"}},
            {"light at 1e39",
-            [](const DumpFiles&, json&, json& l, FloatImage&) {
+            [](const DumpFiles&, json&, json&l, FloatImage&) {
               l["lights"][0]["position"] = {1e39, 0.0, 0.0};
             },
             {"lights.json", "light 0", "position", "float range"}},
            {"light range 1e39",
-            [](const DumpFiles&, json&, json& l, FloatImage&) { l["lights"][0]["range"] = 1e39; },
+            [](const DumpFiles&, json&, json&l, FloatImage&) { l["lights"][0]["range"] = 1e39; },
             {"lights.json", "light 0", "range", "float range"}},
            {"znear that rounds to float 0",
-            [](const DumpFiles&, json& d, json&, FloatImage&) { d["camera"]["znear"] = 1e-46; },
+            [](const DumpFiles&, json&d, json&, FloatImage&) { d["camera"]["znear"] = 1e-46; },
             {"gbuffer.json", "\"znear\"", "1e-46", "smallest normal"}},
            {"field of view beyond float",
-            [](const DumpFiles&, json& d, json&, FloatImage&) {
+            [](const DumpFiles&, json&d, json&, FloatImage&) {
               d["camera"]["tan_half_fov"] = {1e39, 1.0};
             },
             {"gbuffer.json", "\"tan_half_fov\"", "3.40282347e+38"}},
            {"hardware near that rounds to float 0",
-            [](const DumpFiles& f, json& d, json&, FloatImage& image) {
+            [](const DumpFiles&f, json&d, json&, FloatImage&image) {
               toHardwareDepth(f, d, image);
               d["depth"]["near"] = 1e-46;
             },
             {"gbuffer.json", "\"near\"", "smallest normal"}},
            {"light colour 1e36 (x 1/dmin^2 = 1e38)",
-            [](const DumpFiles&, json&, json& l, FloatImage&) {
+            [](const DumpFiles&, json&, json&l, FloatImage&) {
               l["lights"][0]["color"] = {1e36, 0.0, 0.0};
             },
             {"lights.json", "fp32 shading holds"}},
@@ -337,16 +340,20 @@ TEST(GBufferImportTrust, AllUintExrKeepsItsIntegerValues) {
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
       const bool geometry = x < 3;
-      image.data.insert(image.data.end(), {geometry ? 5.0f : 0.0f, 0, 0, 1, 1, 1, 1,
-                                           geometry ? 1.0f : 0.0f});
+      image.data.insert(image.data.end(),
+                        {geometry ? 5.0f : 0.0f, 0, 0, 1, 1, 1, 1, geometry ? 1.0f : 0.0f});
     }
   const fs::path dir = freshDir("all_uint");
   writeExrWith(dir / "frame.exr", image, image.channels);
   std::ofstream(dir / "lights.json") << json{{"lights", json::array()}}.dump();
-  std::ofstream(dir / "gbuffer.json")
-      << json{{"tileshade_gbuffer", 1}, {"image", "frame.exr"}, {"camera", {{"yfov", 1.0}}},
-              {"depth", {{"channel", "Z"}, {"encoding", "linear"}}}, {"mask", "mask"},
-              {"normal", {"nx", "ny", "nz"}}, {"diffuse", {"r", "g", "b"}}}.dump();
+  std::ofstream(dir / "gbuffer.json") << json{
+      {"tileshade_gbuffer", 1},
+      {"image", "frame.exr"},
+      {"camera", {{"yfov", 1.0}}},
+      {"depth", {{"channel", "Z"}, {"encoding", "linear"}}},
+      {"mask", "mask"},
+      {"normal", {"nx", "ny", "nz"}},
+      {"diffuse", {"r", "g", "b"}}}.dump();
   const ImportedFrame imported = importGBuffer(dir.string());
   EXPECT_EQ(imported.frame.gbuffer.geometryPixels(), 3u * 4u);
   EXPECT_EQ(imported.frame.gbuffer.depth[0], 5.0f);
@@ -373,8 +380,10 @@ TEST(GBufferImportTrust, RenderOptionsThatCannotApplyAreRefused) {
   if (!fs::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
   const fs::path dumped = fs::temp_directory_path() / "tileshade_gbuffer_trust_cli";
   fs::remove_all(dumped);
-  test::CliRun r = test::runTileshade("render --lights few --width 48 --height 27 --device cpu "
-                                      "--dump --out " + dumped.string());
+  test::CliRun r = test::runTileshade(
+      "render --lights few --width 48 --height 27 --device cpu "
+      "--dump --out " +
+      dumped.string());
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string in = "render --gbuffer-in " + dumped.string() + " --device cpu --out " +
                          (dumped / "again").string() + " ";
@@ -390,8 +399,9 @@ TEST(GBufferImportTrust, RenderOptionsThatCannotApplyAreRefused) {
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << option << ": " << r.output;
   }
   // Options that apply keep working.
-  r = test::runTileshade(in + "--technique tiled --technique deferred --gbuffer fp16 "
-                              "--features general --tile 8 --math fast --check --exposure 2");
+  r = test::runTileshade(in +
+                         "--technique tiled --technique deferred --gbuffer fp16 "
+                         "--features general --tile 8 --math fast --check --exposure 2");
   EXPECT_EQ(r.status, 0) << r.output;
 }
 

@@ -24,12 +24,9 @@ using ts::GBufferFormat;
 double halfToDouble(uint16_t h) {
   int sign = h >> 15, exponent = (h >> 10) & 31, mantissa = h & 1023;
   double v;
-  if (exponent == 0)
-    v = std::ldexp(double(mantissa), -24);
-  else if (exponent == 31)
-    v = mantissa ? NAN : INFINITY;
-  else
-    v = std::ldexp(double(1024 + mantissa), exponent - 25);
+  if (exponent == 0) v = std::ldexp(double(mantissa), -24);
+  else if (exponent == 31) v = mantissa ? NAN : INFINITY;
+  else v = std::ldexp(double(1024 + mantissa), exponent - 25);
   return sign ? -v : v;
 }
 
@@ -82,16 +79,15 @@ TEST(GBufferLayout, SizesNamesAndDefines) {
   EXPECT_EQ(e32.normal.size(), n * 16);
   EXPECT_EQ(e16.normal.size(), n * 8);
   EXPECT_EQ(e16.emissive.size(), n * 8);
-  EXPECT_EQ(n * 4 + e16.normal.size() + e16.diffuse.size() + e16.specular.size() +
-                e16.emissive.size(),
-            n * e16.bytesPerPixel());
+  EXPECT_EQ(
+      n * 4 + e16.normal.size() + e16.diffuse.size() + e16.specular.size() + e16.emissive.size(),
+      n * e16.bytesPerPixel());
   EXPECT_EQ(ep.depth.size(), n);
   EXPECT_EQ(ep.normal.size(), n * 4);
   EXPECT_EQ(ep.diffuse.size(), n * 4);
   EXPECT_EQ(ep.specular.size(), n * 4);
   EXPECT_EQ(ep.emissive.size(), n * 8);
-  EXPECT_EQ(n * 4 + ep.normal.size() + ep.diffuse.size() + ep.specular.size() +
-                ep.emissive.size(),
+  EXPECT_EQ(n * 4 + ep.normal.size() + ep.diffuse.size() + ep.specular.size() + ep.emissive.size(),
             n * ep.bytesPerPixel());
   EXPECT_EQ(ts::toString(GBufferFormat::FP32), "fp32");
   EXPECT_EQ(ts::toString(GBufferFormat::FP16), "fp16");
@@ -138,8 +134,8 @@ TEST(GBufferLayout, Fp16StoresRoundToNearestEvenHalves) {
   // 0.1 is not representable: nearest half is 0x2E66 (0.0999755859375).
   // 70000 is beyond half's range: clamped to its largest, 65504 (not inf; issue #12).
   g.depth = {2.0f, 3.0f};
-  g.diffuse[0] = glm::vec4(1.0f + std::ldexp(1.0f, -11), 1.0f + 3.0f * std::ldexp(1.0f, -11),
-                           0.1f, 70000.0f);
+  g.diffuse[0] =
+      glm::vec4(1.0f + std::ldexp(1.0f, -11), 1.0f + 3.0f * std::ldexp(1.0f, -11), 0.1f, 70000.0f);
   g.normal[0] = glm::vec4(0.0f, 0.6f, 0.8f, 0.0f);
   g.specular[0] = glm::vec4(0.04f, 0.04f, 0.04f, 1000.0f);
   g.emissive[1] = glm::vec4(-2.5f, 1e-6f, 5e-8f, 0.0f);  // subnormal half, and underflow to 0
@@ -147,7 +143,7 @@ TEST(GBufferLayout, Fp16StoresRoundToNearestEvenHalves) {
   EXPECT_EQ(halfBits(e.diffuse, 0, 0), 0x3C00);  // 1.0
   EXPECT_EQ(halfBits(e.diffuse, 0, 1), 0x3C02);  // 1 + 2^-9
   EXPECT_EQ(halfBits(e.diffuse, 0, 2), 0x2E66);
-  EXPECT_EQ(halfBits(e.diffuse, 0, 3), 0x7BFF);  // 65504
+  EXPECT_EQ(halfBits(e.diffuse, 0, 3), 0x7BFF);   // 65504
   EXPECT_EQ(halfBits(e.specular, 0, 3), 0x63D0);  // 1000 exactly
   EXPECT_EQ(halfBits(e.emissive, 1, 0), 0xC100);  // -2.5
   EXPECT_EQ(halfBits(e.emissive, 1, 1), 0x0011);  // 1e-6 -> 17 * 2^-24 (nearest subnormal)
@@ -275,8 +271,8 @@ TEST(GBufferLayout, PackedOctahedralNormalsWithinTheirBound) {
 
   std::mt19937 rng(5);
   std::normal_distribution<double> gauss;
-  std::vector<glm::vec3> normals = {{1, 1, 1},   {-1, 1, -1}, {1, -1, 0}, {0, 1, -1e-7f},
-                                    {3, 0, -4},  {0.6f, 0.8f, 0},         {-1e-6f, 0, -1}};
+  std::vector<glm::vec3> normals = {{1, 1, 1},  {-1, 1, -1},     {1, -1, 0},     {0, 1, -1e-7f},
+                                    {3, 0, -4}, {0.6f, 0.8f, 0}, {-1e-6f, 0, -1}};
   for (int i = 0; i < 200000; ++i) {
     const auto g = ts::test::drawnLastFirst<3>([&] { return gauss(rng); });
     normals.emplace_back(glm::normalize(glm::dvec3(g[0], g[1], g[2])));
@@ -296,8 +292,8 @@ TEST(GBufferLayout, PackedOctahedralNormalsWithinTheirBound) {
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy) {
         if (std::abs(x + dx) > 32767 || std::abs(y + dy) > 32767) continue;
-        uint32_t w =
-            uint32_t(uint16_t(int16_t(x + dx))) | uint32_t(uint16_t(int16_t(y + dy))) << 16;
+        uint32_t w = uint32_t(uint16_t(int16_t(x + dx))) | uint32_t(uint16_t(int16_t(y + dy)))
+                                                               << 16;
         ASSERT_GE(angleBetween(octahedralDecode(w), unit), a - 2e-7) << i << " " << dx << dy;
       }
   }
@@ -322,9 +318,9 @@ TEST(GBufferLayout, PackedColoursAreUnorm8WithinHalfAStep) {
     g.specular[i] = glm::vec4(ks[0], ks[1], ks[2], 32.0f);
   }
   // Exact codes, the rounding midpoints and out-of-range values (clamped).
-  g.diffuse[0] = glm::vec4(0.0f, 1.0f, 0.5f, 1.0f);       // 0, 255, 127.5 -> 128 (half up)
+  g.diffuse[0] = glm::vec4(0.0f, 1.0f, 0.5f, 1.0f);            // 0, 255, 127.5 -> 128 (half up)
   g.diffuse[1] = glm::vec4(-0.3f, 1.7f, 1.0f / 255.0f, 0.0f);  // 0, 255, 1
-  g.specular[0] = glm::vec4(0.04f, NAN, 0.001f, 32.0f);   // 10.2 -> 10, NaN -> 0, 0.255 -> 0
+  g.specular[0] = glm::vec4(0.04f, NAN, 0.001f, 32.0f);        // 10.2 -> 10, NaN -> 0, 0.255 -> 0
   EncodedGBuffer e = ts::encode(g, GBufferFormat::PACKED);
   EXPECT_EQ(u32At(e.diffuse, 0), 0u | 255u << 8 | 128u << 16 | 255u << 24);
   EXPECT_EQ(u32At(e.diffuse, 1), 0u | 255u << 8 | 1u << 16 | 0u << 24);
@@ -360,11 +356,11 @@ TEST(GBufferLayout, PackedShininessByteWithinItsRelativeBound) {
   // b = round(255 log2(clamp(s, 1, 2048)) / 11); s' = 2^(11 b / 255).
   EXPECT_EQ(pk::encodeShininess(1.0f), 0);
   EXPECT_EQ(pk::encodeShininess(2048.0f), 255);
-  EXPECT_EQ(pk::encodeShininess(0.0f), 0);        // clamped to 1
+  EXPECT_EQ(pk::encodeShininess(0.0f), 0);  // clamped to 1
   EXPECT_EQ(pk::encodeShininess(-5.0f), 0);
-  EXPECT_EQ(pk::encodeShininess(1e6f), 255);      // clamped to 2048
+  EXPECT_EQ(pk::encodeShininess(1e6f), 255);  // clamped to 2048
   EXPECT_EQ(pk::encodeShininess(NAN), 0);
-  EXPECT_EQ(pk::encodeShininess(32.0f), 116);     // 255 * 5 / 11 = 115.9
+  EXPECT_EQ(pk::encodeShininess(32.0f), 116);  // 255 * 5 / 11 = 115.9
   EXPECT_EQ(pk::decodeShininess(0), 1.0f);
   EXPECT_NEAR(pk::decodeShininess(255), 2048.0, 2048.0 * 1e-6);
   double worst = 0.0;

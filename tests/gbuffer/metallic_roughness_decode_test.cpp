@@ -104,7 +104,8 @@ TEST(MetallicRoughnessDecode, KernelEqualsTheHostForEveryStoredValue) {
     Camera camera;
     const CameraIntrinsics intrinsics = CameraIntrinsics::from(camera, kW, kH);
     ViewLights lights;
-    DeviceFrame frame = DeviceFrame::upload(test::context(), e, intrinsics, lights, glm::vec3(0.0f));
+    DeviceFrame frame =
+        DeviceFrame::upload(test::context(), e, intrinsics, lights, glm::vec3(0.0f));
     const std::vector<float> d = decodeOnDevice(
         test::context(), frame, format, SceneFeatures::general(ShadingModel::MetallicRoughness));
     for (size_t i = 0; i < kPixels; ++i) {

@@ -29,13 +29,13 @@ namespace ts {
 namespace {
 
 // Skips the calling test, saying why, when no OpenGL context can be made here.
-#define REQUIRE_GL()                                     \
-  do {                                                   \
-    try {                                                \
-      EglContext::shared();                              \
-    } catch (const Error& e) {                           \
-      GTEST_SKIP() << e.what();                          \
-    }                                                    \
+#define REQUIRE_GL()            \
+  do {                          \
+    try {                       \
+      EglContext::shared();     \
+    } catch (const Error& e) {  \
+      GTEST_SKIP() << e.what(); \
+    }                           \
   } while (0)
 
 // ---- The per-pixel bound (docs/opengl.md) ----------------------------------------------------
@@ -54,16 +54,16 @@ constexpr double kFloatRel = 8.0 * 1.1920929e-7;
 
 // What the bound needs to know about one triangle, from the scene and the camera (double).
 struct TriangleBound {
-  bool valid = false;        // false: not bounded (degenerate on screen)
-  double baryError = 0.0;    // bound on the barycentric difference
-  double invDepthRange = 0;  // max 1/d_i - min 1/d_i over the (near-clipped) vertices
-  double depthRatio = 1.0;   // max d_i / min d_i: amplifies float rounding in OpenGL's
-                             // perspective division (a/w and 1/w planes, then their ratio)
-  double worldScale = 0.0;   // largest |coordinate| entering the float view transform
-  double normalSpread = 0.0; // largest angle between the vertex normals (view space)
-  double normalGain = 1.0;   // 1 / shortest interpolated vertex-normal length
-  double uvSpread = 0.0;     // largest |uv_i - uv_j| (max norm)
-  double uvScale = 0.0;      // largest |uv| component
+  bool valid = false;         // false: not bounded (degenerate on screen)
+  double baryError = 0.0;     // bound on the barycentric difference
+  double invDepthRange = 0;   // max 1/d_i - min 1/d_i over the (near-clipped) vertices
+  double depthRatio = 1.0;    // max d_i / min d_i: amplifies float rounding in OpenGL's
+                              // perspective division (a/w and 1/w planes, then their ratio)
+  double worldScale = 0.0;    // largest |coordinate| entering the float view transform
+  double normalSpread = 0.0;  // largest angle between the vertex normals (view space)
+  double normalGain = 1.0;    // 1 / shortest interpolated vertex-normal length
+  double uvSpread = 0.0;      // largest |uv_i - uv_j| (max norm)
+  double uvScale = 0.0;       // largest |uv| component
 };
 
 TriangleBound boundOf(const Scene& scene, const Camera& camera, const CameraIntrinsics& in,
@@ -77,7 +77,8 @@ TriangleBound boundOf(const Scene& scene, const Camera& camera, const CameraIntr
     p[k] = glm::dvec3(view * glm::dvec4(glm::dvec3(v.position), 1.0));
     n[k] = glm::dvec3(glm::transpose(glm::inverse(glm::dmat3(view))) * glm::dvec3(v.normal));
     uv[k] = glm::dvec2(v.uv);
-    for (int c = 0; c < 3; ++c) b.worldScale = std::max(b.worldScale, double(std::abs(v.position[c])));
+    for (int c = 0; c < 3; ++c)
+      b.worldScale = std::max(b.worldScale, double(std::abs(v.position[c])));
     for (int c = 0; c < 2; ++c) b.uvScale = std::max(b.uvScale, std::abs(uv[k][c]));
   }
   for (int c = 0; c < 3; ++c) b.worldScale += std::abs(view[3][c]);
@@ -156,8 +157,7 @@ Tolerances tolerancesAt(const Scene& scene, const TriangleBound& b, uint32_t t, 
   tol.depthRel = kFloatRel * (1.0 + b.worldScale / depth) + b.baryError * depth * b.invDepthRange;
   // The 2e-5 rad floor: llvmpipe's interpolation, measured up to 1.3e-5 rad on flat atrium
   // triangles seen from a random camera, more than the float terms explain (docs/opengl.md).
-  tol.normalRad =
-      2e-5 + kFloatRel * b.depthRatio + b.baryError * b.normalSpread * b.normalGain;
+  tol.normalRad = 2e-5 + kFloatRel * b.depthRatio + b.baryError * b.normalSpread * b.normalGain;
   static const Material kDefault;
   const Material& m = scene.triangleMaterial.empty()
                           ? (scene.materials.empty() ? kDefault : scene.materials[0])
@@ -166,9 +166,9 @@ Tolerances tolerancesAt(const Scene& scene, const TriangleBound& b, uint32_t t, 
   // its texel Lipschitz constant per texel of UV difference, plus the sampler's weight precision
   // (2^-8 of a texel on GPUs with 8-bit filter weights; llvmpipe's are float).
   double material = 0.0;
-  const double factor = std::max({1.0f, m.diffuse.x, m.diffuse.y, m.diffuse.z, m.baseColor.x,
-                                  m.baseColor.y, m.baseColor.z, m.emissive.x, m.emissive.y,
-                                  m.emissive.z, m.metallic, m.roughness});
+  const double factor =
+      std::max({1.0f, m.diffuse.x, m.diffuse.y, m.diffuse.z, m.baseColor.x, m.baseColor.y,
+                m.baseColor.z, m.emissive.x, m.emissive.y, m.emissive.z, m.metallic, m.roughness});
   for (int slot = 0; slot < TS_TEXTURE_SLOTS; ++slot) {
     const int index = materialTexture(m, slot);
     if (index < 0 || scene.textures[size_t(index)].width <= 0) continue;
@@ -187,7 +187,7 @@ Tolerances tolerancesAt(const Scene& scene, const TriangleBound& b, uint32_t t, 
 // The GL G-buffer against the software one for one frame; fails the test on any violation.
 struct FrameFigures {
   GBufferComparison c;
-  uint64_t outOfBound = 0;  // same-triangle pixels outside their per-pixel tolerance
+  uint64_t outOfBound = 0;           // same-triangle pixels outside their per-pixel tolerance
   uint64_t unexplainedTriangle = 0;  // other winner, neither an edge nor a depth tie
   uint64_t coverageBound = 0;
   double worstDepthRatio = 0, worstNormalRatio = 0, worstMaterialRatio = 0;  // error / tolerance
@@ -207,7 +207,8 @@ FrameFigures compareFrame(const Scene& scene, GlRasterizer& gl, const Camera& ca
   std::map<int, double> lipschitz;
   auto boundFor = [&](int32_t t) -> const TriangleBound& {
     auto it = bounds.find(uint32_t(t));
-    if (it == bounds.end()) it = bounds.emplace(uint32_t(t), boundOf(scene, camera, in, uint32_t(t))).first;
+    if (it == bounds.end())
+      it = bounds.emplace(uint32_t(t), boundOf(scene, camera, in, uint32_t(t))).first;
     return it->second;
   };
   for (int y = 0; y < height; ++y)
@@ -233,10 +234,10 @@ FrameFigures compareFrame(const Scene& scene, GlRasterizer& gl, const Camera& ca
           return false;
         }();
         const TriangleBound& bh = boundFor(th);
-        const double tieTol =
-            std::max(tol.depthRel,
-                     bh.valid ? tolerancesAt(scene, bh, uint32_t(th), hard.depth[i], lipschitz).depthRel
-                              : 1.0);
+        const double tieTol = std::max(
+            tol.depthRel,
+            bh.valid ? tolerancesAt(scene, bh, uint32_t(th), hard.depth[i], lipschitz).depthRel
+                     : 1.0);
         if (!edge && depthRel > 2.0 * tieTol) {
           ++f.unexplainedTriangle;
           ADD_FAILURE() << label << ": pixel (" << x << "," << y << ") software triangle " << ts
@@ -246,8 +247,7 @@ FrameFigures compareFrame(const Scene& scene, GlRasterizer& gl, const Camera& ca
         continue;
       }
       const glm::dvec3 ns(soft.normal[i]), nh(hard.normal[i]);
-      const double angle =
-          std::atan2(glm::length(glm::cross(ns, nh)), glm::dot(ns, nh));
+      const double angle = std::atan2(glm::length(glm::cross(ns, nh)), glm::dot(ns, nh));
       double material = 0.0;
       for (int c = 0; c < 4; ++c)
         material = std::max({material, double(std::abs(soft.diffuse[i][c] - hard.diffuse[i][c])),
@@ -364,8 +364,7 @@ TEST(GlRaster, FillRuleMatchesSoftwareOnEdgesThroughPixelCentres) {
   const GBuffer soft = rasterize(s, cam, W, H, o), hard = gl.rasterize(cam, W, H, o);
   int covered = 0;
   for (size_t i = 0; i < soft.pixelCount(); ++i) {
-    ASSERT_EQ(soft.triangleId[i], hard.triangleId[i])
-        << "pixel (" << i % W << "," << i / W << ")";
+    ASSERT_EQ(soft.triangleId[i], hard.triangleId[i]) << "pixel (" << i % W << "," << i / W << ")";
     covered += soft.triangleId[i] >= 0;
   }
   // Rectangle x 3.5..21.5, y 2.5..20.5: its top row and left column are in, the pixels whose
@@ -424,11 +423,13 @@ TEST(GlRaster, FacingNormalsAndMaterialTermsMatchSoftware) {
     }
     for (int t = 0; t < 4; ++t) EXPECT_GT(seen[t], 20) << "triangle " << t;
   }
-  EXPECT_THROW(gl.rasterize(cam, W, H, [] {
-    RasterOptions o;
-    o.fragmentCounts = true;
-    return o;
-  }()), Error);
+  EXPECT_THROW(gl.rasterize(cam, W, H,
+                            [] {
+                              RasterOptions o;
+                              o.fragmentCounts = true;
+                              return o;
+                            }()),
+               Error);
 }
 
 // glTF's wrap modes on both sides (issue #16 item 5): quads whose UVs run from -1.3 to 2.4, one
@@ -514,8 +515,8 @@ void compareScene(const Scene& scene, const std::vector<int>& frames, int width,
     total.c.triangleDiffers += f.c.triangleDiffers;
     total.c.maxDepthRel = std::max(total.c.maxDepthRel, f.c.maxDepthRel);
     total.c.maxNormalRad = std::max(total.c.maxNormalRad, f.c.maxNormalRad);
-    total.c.maxDiffuse = std::max({total.c.maxDiffuse, f.c.maxDiffuse, f.c.maxSpecular,
-                                   f.c.maxEmissive});
+    total.c.maxDiffuse =
+        std::max({total.c.maxDiffuse, f.c.maxDiffuse, f.c.maxSpecular, f.c.maxEmissive});
   }
   ::testing::Test::RecordProperty("coverage_mismatches", int(total.c.onlyA));
   ::testing::Test::RecordProperty("silhouette_pixels", int(total.c.silhouetteA));
@@ -556,7 +557,8 @@ TEST(GlRaster, RandomCamerasThroughTheNearPlaneMatchSoftware) {
       for (float& v : r) v = u(rng);
       const glm::vec3 eye = b.min + glm::vec3(r[0], 0.02f + 0.4f * r[1], r[2]) * b.extent();
       const glm::vec3 dir(r[3] - 0.5f, 0.4f * (r[4] - 0.5f), r[5] - 0.5f);
-      const Camera cam = Camera::lookAt(eye, eye + dir, {0, 1, 0}, 0.6f + 1.2f * r[6], 0.05f, 500.0f);
+      const Camera cam =
+          Camera::lookAt(eye, eye + dir, {0, 1, 0}, 0.6f + 1.2f * r[6], 0.05f, 500.0f);
       compareFrame(scene, gl, cam, 160, 96, ShadingModel::BlinnPhong,
                    std::string(name) + " random camera " + std::to_string(i));
     }
@@ -577,8 +579,8 @@ TEST(GlRaster, CrytekSponzaMatchesSoftware) {
   const std::string path = findGltf("sponza-crytek");
   if (path.empty()) GTEST_SKIP() << "../shared/scenes/sponza-crytek absent";
   const Scene scene = loadGltf(path);
-  compareScene(scene, {0, int(scene.cameraPath.size() / 2)}, 240, 135,
-               nativeShadingModel(scene), "sponza");
+  compareScene(scene, {0, int(scene.cameraPath.size() / 2)}, 240, 135, nativeShadingModel(scene),
+               "sponza");
 }
 
 TEST(GlRaster, TexturedDungeonMatchesSoftware) {
@@ -599,8 +601,8 @@ TEST(GlRaster, ImagesFromTheOpenGLGBufferPassTheReferenceChecks) {
   const Scene& scene = test::builtinScene("street", "many");
   SceneRasterizer gl(scene, RasterBackend::Gl);
   for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::PACKED}) {
-    const PreparedFrame f = prepareFrame(gl, 90, 160, 96, format,
-                                         analyzeScene(scene, ShadingModel::BlinnPhong));
+    const PreparedFrame f =
+        prepareFrame(gl, 90, 160, 96, format, analyzeScene(scene, ShadingModel::BlinnPhong));
     ASSERT_EQ(f.raster, RasterBackend::Gl);
     const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
     TechniqueConfig config;
@@ -608,7 +610,8 @@ TEST(GlRaster, ImagesFromTheOpenGLGBufferPassTheReferenceChecks) {
     for (const auto& name : techniqueNames()) {
       test::Checked c = test::renderAndCheck(f, test::cachedTechnique(name, config), ref);
       EXPECT_EQ(c.missed, 0u) << name << " " << toString(format);
-      EXPECT_LE(c.error.maxRelPeak, test::kFp32RelativeTolerance) << name << " " << toString(format);
+      EXPECT_LE(c.error.maxRelPeak, test::kFp32RelativeTolerance)
+          << name << " " << toString(format);
     }
   }
 }

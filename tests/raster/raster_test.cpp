@@ -400,8 +400,8 @@ TEST(RasterClipping, TriangleBehindTheCameraOrBeyondFarRendersNothing) {
   Camera cam = identityCamera(0.1f, 50.0f);
   Scene s;
   uint32_t m = addMaterial(s, glm::vec3(1.0f));
-  addTriangle(s, {-5, -5, 1}, {5, -5, 1}, {0, 5, 0.05f}, m);        // behind the eye
-  addTriangle(s, {-5, -5, -0.05f}, {5, -5, -0.05f}, {0, 5, -0.09f}, m);  // between eye and near
+  addTriangle(s, {-5, -5, 1}, {5, -5, 1}, {0, 5, 0.05f}, m);              // behind the eye
+  addTriangle(s, {-5, -5, -0.05f}, {5, -5, -0.05f}, {0, 5, -0.09f}, m);   // between eye and near
   addTriangle(s, {-500, -500, -60}, {500, -500, -60}, {0, 500, -60}, m);  // beyond zfar
   GBuffer g = ts::rasterize(s, cam, 33, 17, instrumented());
   EXPECT_EQ(g.geometryPixels(), 0u);
@@ -467,8 +467,8 @@ TEST(RasterShading, MaterialsNormalsAndDoubleSidedBackFaces) {
   size_t left = size_t(4) * W + 4, right = size_t(4) * W + 20;
   ASSERT_GT(g.depth[left], 0.0f);  // back faces are not culled
   ASSERT_GT(g.depth[right], 0.0f);
-  EXPECT_NEAR(g.normal[left].z, -1.0f, 1e-6f);   // as the vertex data says
-  EXPECT_NEAR(g.normal[right].z, 1.0f, 1e-6f);   // flipped towards the viewer
+  EXPECT_NEAR(g.normal[left].z, -1.0f, 1e-6f);  // as the vertex data says
+  EXPECT_NEAR(g.normal[right].z, 1.0f, 1e-6f);  // flipped towards the viewer
   EXPECT_EQ(g.normal[left].w, 0.0f);
   EXPECT_EQ(g.diffuse[left], glm::vec4(0.2f, 0.4f, 0.6f, 1.0f));
   EXPECT_EQ(g.specular[left], glm::vec4(0.1f, 0.2f, 0.3f, 40.0f));
@@ -476,7 +476,8 @@ TEST(RasterShading, MaterialsNormalsAndDoubleSidedBackFaces) {
   // Seen from an oblique camera: depth at the centre is the eye distance, normals stay unit.
   Scene r;
   uint32_t m = addMaterial(r, glm::vec3(1.0f));
-  r.vertices = {{{-10, -10, 0}, {-0.5f, 0, 1}, {}}, {{10, -10, 0}, {0.5f, 0, 1}, {}},
+  r.vertices = {{{-10, -10, 0}, {-0.5f, 0, 1}, {}},
+                {{10, -10, 0}, {0.5f, 0, 1}, {}},
                 {{0, 10, 0}, {0, 0.5f, 1}, {}}};
   r.indices = {0, 1, 2};
   r.triangleMaterial = {m};
@@ -526,7 +527,8 @@ Scene randomScene(int triangles, uint32_t seed) {
       const float uvX = u(rng);  // a braced list's elements were drawn in order
       const float uvY = u(rng);
       s.vertices.push_back({c + r * glm::vec3(p[0], p[1], p[2]),
-                            glm::normalize(glm::vec3(n[0], n[1], 1.0f)), {uvX, uvY}});
+                            glm::normalize(glm::vec3(n[0], n[1], 1.0f)),
+                            {uvX, uvY}});
     }
     s.indices.insert(s.indices.end(), {base, base + 1, base + 2});
     s.triangleMaterial.push_back(uint32_t(rng() % s.materials.size()));

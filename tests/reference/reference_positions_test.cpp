@@ -15,8 +15,8 @@ namespace {
 // Light 0 put 2e-5 units in front of the surface that the frame's centre pixel sees (about 20
 // float ulps of its distance), measured from the kernels' float position of that pixel.
 PreparedFrame lightOnTheCentrePixel() {
-  PreparedFrame f = prepareFrame(test::builtinScene("atrium", "small"), 0, 64, 36,
-                                 GBufferFormat::FP32);
+  PreparedFrame f =
+      prepareFrame(test::builtinScene("atrium", "small"), 0, 64, 36, GBufferFormat::FP32);
   const int x = 32, y = 18;
   const float depth = f.encoded.depth[size_t(y) * 64 + x];
   EXPECT_GT(depth, 0.0f) << "the centre pixel sees no geometry";
@@ -30,12 +30,13 @@ PreparedFrame lightOnTheCentrePixel() {
 TEST(ReferencePositions, KernelFloatPositionsIsolateTheShadingArithmetic) {
   const PreparedFrame f = lightOnTheCentrePixel();
   const ReferenceImage fromDepth = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
-  const ReferenceImage kernelFloat = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient,
-                                                    0, 0, {}, ReferencePositions::KernelFloat);
+  const ReferenceImage kernelFloat = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0,
+                                                    0, {}, ReferencePositions::KernelFloat);
   EXPECT_EQ(kernelFloat.contributing, fromDepth.contributing);
   for (const char* name : {"brute", "tiled"}) {
     SCOPED_TRACE(name);
-    const FrameResult r = test::renderOnly(f, test::cachedTechnique(name, TechniqueConfig{}), false);
+    const FrameResult r =
+        test::renderOnly(f, test::cachedTechnique(name, TechniqueConfig{}), false);
     const ErrorStats vsDepth = compareToReference(r.image, fromDepth, 0.0);
     const ErrorStats vsKernel = compareToReference(r.image, kernelFloat, 0.0);
     // The position's rounding (~1e-6 units against a 2e-5 distance) is percent of the peak ...
@@ -46,11 +47,11 @@ TEST(ReferencePositions, KernelFloatPositionsIsolateTheShadingArithmetic) {
 }
 
 TEST(ReferencePositions, TheSameAwayFromIllConditionedPlaces) {
-  const PreparedFrame f = prepareFrame(test::builtinScene("street", "many"), 0, 64, 36,
-                                       GBufferFormat::FP32);
+  const PreparedFrame f =
+      prepareFrame(test::builtinScene("street", "many"), 0, 64, 36, GBufferFormat::FP32);
   const ReferenceImage fromDepth = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
-  const ReferenceImage kernelFloat = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient,
-                                                    0, 0, {}, ReferencePositions::KernelFloat);
+  const ReferenceImage kernelFloat = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0,
+                                                    0, {}, ReferencePositions::KernelFloat);
   ASSERT_GT(fromDepth.peak, 0.0);
   double worst = 0.0;
   for (size_t i = 0; i < fromDepth.rgb.size(); ++i)

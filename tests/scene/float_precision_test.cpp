@@ -53,8 +53,9 @@ fs::path scratch(const std::string& name) {
 json spotTriangle(double inner, double outer) {
   json doc = test::triangle();
   doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {
-      {"type", "spot"}, {"intensity", 2}, {"spot", {{"innerConeAngle", inner},
-                                                    {"outerConeAngle", outer}}}};
+      {"type", "spot"},
+      {"intensity", 2},
+      {"spot", {{"innerConeAngle", inner}, {"outerConeAngle", outer}}}};
   return doc;
 }
 
@@ -87,8 +88,8 @@ TEST(FloatLimits, SceneExportOfAHalfPiSpotLoadsAgain) {
   exportGltf(s, path);
   std::ifstream in(path);
   const json written = json::parse(in);
-  const double outer = written["extensions"]["KHR_lights_punctual"]["lights"][0]["spot"]
-                              ["outerConeAngle"];
+  const double outer =
+      written["extensions"]["KHR_lights_punctual"]["lights"][0]["spot"]["outerConeAngle"];
   EXPECT_LE(outer, kHalfPi);  // valid for strict loaders too
   std::vector<std::string> warnings;
   Scene back = loadGltf(path, &warnings);
@@ -123,7 +124,10 @@ TEST(FloatLimits, ADumpedHalfPiSpotReadsBackExactly) {
 }
 
 json oneSpot(json cone) {
-  json light = {{"type", "spot"}, {"position", {0, 0, -2}}, {"color", {1, 1, 1}}, {"range", 4},
+  json light = {{"type", "spot"},
+                {"position", {0, 0, -2}},
+                {"color", {1, 1, 1}},
+                {"range", 4},
                 {"direction", {0, 0, -1}}};
   light.update(cone);
   return {{"lights", {light}}};
@@ -144,8 +148,9 @@ TEST(FloatLimits, ThirdPartyLightsAtAFloatLimitAreClampedToIt) {
 }
 
 TEST(FloatLimits, LightsBeyondAFloatLimitAreRefusedWithTheLimitInFull) {
-  std::string e = errorOf(
-      [] { readLights(oneSpot({{"cos_outer", -1e-3}, {"cone_scale", 1.0}}), "badcos"); });
+  std::string e = errorOf([] {
+    readLights(oneSpot({{"cos_outer", -1e-3}, {"cone_scale", 1.0}}), "badcos");
+  });
   EXPECT_NE(e.find("cos_outer"), std::string::npos) << e;
   EXPECT_NE(e.find("-0.001"), std::string::npos) << e;
   e = errorOf([] {
@@ -162,8 +167,10 @@ TEST(FloatLimits, LightsBeyondAFloatLimitAreRefusedWithTheLimitInFull) {
 std::string descriptorError(double yfov) {
   const fs::path dir = scratch("descriptor");
   fs::create_directories(dir);
-  std::ofstream(dir / "gbuffer.json") << json{{"tileshade_gbuffer", 1}, {"image", "gbuffer.exr"},
-                                               {"camera", {{"yfov", yfov}}}}.dump();
+  std::ofstream(dir / "gbuffer.json") << json{
+      {"tileshade_gbuffer", 1},
+      {"image", "gbuffer.exr"},
+      {"camera", {{"yfov", yfov}}}}.dump();
   const std::string e = errorOf([&] { readGBufferDescriptor(dir.string()); });
   fs::remove_all(dir);
   return e;
@@ -173,13 +180,16 @@ TEST(FloatLimits, ADescriptorFieldOfViewIsBelowPiAsAFloat) {
   // Below pi, but its float (the camera's) is above: the tangent of half of it would be negative.
   const std::string e = descriptorError(3.14159264);
   EXPECT_NE(e.find("\"yfov\" must be below 180 degrees (pi = 3.141592653589793) as a float, got "
-                   "3.14159264"), std::string::npos) << e;
+                   "3.14159264"),
+            std::string::npos)
+      << e;
   // The largest float below pi was refused by a limit of 3.14159: now the error is elsewhere.
   const std::string fine = descriptorError(3.1415925);
   EXPECT_EQ(fine.find("yfov"), std::string::npos) << fine;
 }
 
-// ---- item 11: far from the origin, light positions stay double -----------------------------------
+// ---- item 11: far from the origin, light positions stay double
+// -----------------------------------
 
 // triangle() moved by `shift`: the light 0.123456789 off any float's grid (at 1e5 a float's
 // spacing is 0.0078125), the camera looking at it. Vertex positions are the file's floats.
@@ -236,7 +246,8 @@ TEST(FarFromOrigin, AFarSceneShadesAsItsTwinAtTheOrigin) {
     ASSERT_EQ(moved.rgb.size(), twin.rgb.size());
     double worst = 0.0;
     for (size_t i = 0; i < twin.rgb.size(); ++i)
-      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(moved.rgb[i][c] - twin.rgb[i][c]));
+      for (int c = 0; c < 3; ++c)
+        worst = std::max(worst, std::abs(moved.rgb[i][c] - twin.rgb[i][c]));
     // Up to the float rounding of view-space positions of magnitude ~3 (the G-buffer's depth, the
     // lights): a few 1e-7, relative.
     EXPECT_LT(worst / twin.peak, 2e-6) << far;

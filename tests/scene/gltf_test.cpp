@@ -26,9 +26,8 @@ class TempDir {
  public:
   TempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("tileshade_gltf_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
-             std::to_string(::getpid()));
+    path_ = fs::temp_directory_path() / ("tileshade_gltf_" + std::string(info->test_suite_name()) +
+                                         "_" + info->name() + "_" + std::to_string(::getpid()));
     fs::remove_all(path_);
     fs::create_directories(path_);
   }
@@ -188,7 +187,8 @@ TEST(GltfLoad, TransformsFarFromTheOriginStayInDouble) {
   // stays at 1000000.3, so the vertex lies 0.0125 to its right.
   ASSERT_FALSE(s.vertices.empty());
   EXPECT_EQ(s.vertices[0].position.x, 1000000.3125f);
-  glm::dvec4 v = s.cameraPath[0].viewFromWorld * glm::dvec4(glm::dvec3(s.vertices[0].position), 1.0);
+  glm::dvec4 v =
+      s.cameraPath[0].viewFromWorld * glm::dvec4(glm::dvec3(s.vertices[0].position), 1.0);
   EXPECT_NEAR(v.x, 0.0125, 1e-6);
   EXPECT_NEAR(v.z, -10.0, 1e-9);
 }
@@ -222,10 +222,10 @@ TEST(GltfLoad, AccessorsStridesNormalizedSparseAndModes) {
   for (auto& q : quad) {
     for (float v : q) b.put(v);
     for (float v : {0.f, 0.f, 2.f}) b.put(v);  // unnormalized normal
-  }                                                                      // 0..96
+  }                                            // 0..96
   for (uint8_t v : {0, 0, 0, 0, 255, 0, 0, 0, 255, 255, 0, 0, 0, 255, 0, 0}) b.put(v);  // 96..112
-  for (uint8_t v : {0, 1, 3, 2}) b.put(v);                                             // 112..116
-  b.put(uint8_t(2));                                                                   // 116
+  for (uint8_t v : {0, 1, 3, 2}) b.put(v);                                              // 112..116
+  b.put(uint8_t(2));                                                                    // 116
   b.align4();
   for (float v : {2.f, 2.f, 0.f}) b.put(v);  // 120..132
   const int16_t shorts[3][3] = {{32767, 0, 0}, {0, 32767, 0}, {0, 0, 32767}};
@@ -335,7 +335,8 @@ struct MaterialStats {
 std::map<std::string, MaterialStats> statsByMaterial(const Scene& s) {
   std::map<std::string, MaterialStats> out;
   for (size_t t = 0; t < s.triangleCount(); ++t) {
-    glm::vec3 a = s.vertices[s.indices[3 * t]].position, b = s.vertices[s.indices[3 * t + 1]].position,
+    glm::vec3 a = s.vertices[s.indices[3 * t]].position,
+              b = s.vertices[s.indices[3 * t + 1]].position,
               c = s.vertices[s.indices[3 * t + 2]].position;
     auto& m = out[s.materials[s.triangleMaterial[t]].name];
     ++m.triangles;
@@ -477,9 +478,11 @@ TEST(GltfExport, TexturesRoundTripAsSrgbPng) {
   t.width = 4;
   t.height = 2;
   for (int i = 0; i < 8; ++i)
-    t.texels.push_back(glm::vec4(float(i) / 7.0f, 1.0f - float(i) / 7.0f, i % 2 ? 0.02f : 0.5f, 1.0f));
+    t.texels.push_back(
+        glm::vec4(float(i) / 7.0f, 1.0f - float(i) / 7.0f, i % 2 ? 0.02f : 0.5f, 1.0f));
   s.textures.push_back(t);
-  for (glm::vec3 p : {glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), glm::vec3(1, 1, 0), glm::vec3(0, 1, 0)}) {
+  for (glm::vec3 p :
+       {glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), glm::vec3(1, 1, 0), glm::vec3(0, 1, 0)}) {
     ts::Vertex v;
     v.position = p;
     v.normal = {0, 0, 1};
@@ -488,7 +491,8 @@ TEST(GltfExport, TexturesRoundTripAsSrgbPng) {
   }
   s.indices = {0, 1, 2, 0, 2, 3};
   s.triangleMaterial = {0, 0};
-  s.cameraPath.push_back(ts::Camera::lookAt({0.5f, 0.5f, 3}, {0.5f, 0.5f, 0}, {0, 1, 0}, 1.0f, 0.1f, 10.0f));
+  s.cameraPath.push_back(
+      ts::Camera::lookAt({0.5f, 0.5f, 3}, {0.5f, 0.5f, 0}, {0, 1, 0}, 1.0f, 0.1f, 10.0f));
   TempDir dir;
   for (const char* name : {"tex.gltf", "tex.glb"}) {
     SCOPED_TRACE(name);
@@ -534,7 +538,8 @@ TEST(GltfExport, TextureWrapModesRoundTrip) {
   }
   s.indices = {0, 1, 2};
   s.triangleMaterial = {0};
-  s.cameraPath.push_back(ts::Camera::lookAt({0.3, 0.3, 3}, {0.3, 0.3, 0}, {0, 1, 0}, 1.0f, 0.1f, 10.0f));
+  s.cameraPath.push_back(
+      ts::Camera::lookAt({0.3, 0.3, 3}, {0.3, 0.3, 0}, {0, 1, 0}, 1.0f, 0.1f, 10.0f));
   TempDir dir;
   ts::exportGltf(s, dir.file("wrap.gltf"));
   Scene l = ts::loadGltf(dir.file("wrap.gltf"));

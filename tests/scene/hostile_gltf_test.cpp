@@ -54,9 +54,12 @@ void expectError(const json& doc, const std::string& fragment) {
 }
 
 bool allFinite(const ts::Scene& s) {
-  auto finite = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  auto finite = [](glm::vec3 v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
   for (const auto& v : s.vertices)
-    if (!finite(v.position) || !finite(v.normal) || !std::isfinite(v.uv.x) || !std::isfinite(v.uv.y))
+    if (!finite(v.position) || !finite(v.normal) || !std::isfinite(v.uv.x) ||
+        !std::isfinite(v.uv.y))
       return false;
   for (const auto& l : s.lights)
     if (!finite(l.position) || !finite(l.color) || !finite(l.direction) || !std::isfinite(l.range))
@@ -185,12 +188,15 @@ TEST(HostileGltf, NumbersBeyondFloatAreErrors) {
   expectError(with([&](json& d) { d["nodes"][1]["translation"] = {1e39, 0, 0}; }), "translation");
   expectError(with([&](json& d) { d["nodes"][0]["scale"] = {1, -1e300, 1}; }), "scale");
   expectError(with([&](json& d) { d["cameras"][0]["perspective"]["znear"] = 1e39; }), "znear");
+  expectError(
+      with([&](json& d) {
+        d["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1e39, 1, 1, 1}}}}}};
+        d["meshes"][0]["primitives"][0]["material"] = 0;
+      }),
+      "baseColorFactor");
   expectError(with([&](json& d) {
-                d["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1e39, 1, 1, 1}}}}}};
-                d["meshes"][0]["primitives"][0]["material"] = 0;
+                d["materials"] = {{{"emissiveFactor", {1, 1, 1e39}}}};
               }),
-              "baseColorFactor");
-  expectError(with([&](json& d) { d["materials"] = {{{"emissiveFactor", {1, 1, 1e39}}}}; }),
               "emissiveFactor");
 }
 
@@ -210,11 +216,11 @@ TEST(HostileGltf, ProductsBeyondFloatAreErrors) {
   // Factors are clamped to [0, 1], so a strength or colour factor within float's range keeps
   // their products within it too.
   doc = triangle();
-  doc["materials"] = {
-      {{"emissiveFactor", {1, 1, 1}},
-       {"extensions",
-        {{"KHR_materials_emissive_strength", {{"emissiveStrength", 3.4e38}}},
-         {"KHR_materials_specular", {{"specularFactor", 1}, {"specularColorFactor", {3e38, 1, 1}}}}}}}};
+  doc["materials"] = {{{"emissiveFactor", {1, 1, 1}},
+                       {"extensions",
+                        {{"KHR_materials_emissive_strength", {{"emissiveStrength", 3.4e38}}},
+                         {"KHR_materials_specular",
+                          {{"specularFactor", 1}, {"specularColorFactor", {3e38, 1, 1}}}}}}}};
   doc["meshes"][0]["primitives"][0]["material"] = 0;
   r = load(doc);
   ASSERT_TRUE(r.ok) << r.error;
@@ -224,15 +230,16 @@ TEST(HostileGltf, ProductsBeyondFloatAreErrors) {
 
 TEST(HostileGltf, FactorsOutsideZeroToOneAreClampedWithOneWarning) {
   json doc = triangle();
-  doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {2, 0.5, -1, 1}},
-                                                 {"metallicFactor", 1.5}}},
-                       {"emissiveFactor", {3, 0, 0}}}};
+  doc["materials"] = {
+      {{"pbrMetallicRoughness", {{"baseColorFactor", {2, 0.5, -1, 1}}, {"metallicFactor", 1.5}}},
+       {"emissiveFactor", {3, 0, 0}}}};
   doc["meshes"][0]["primitives"][0]["material"] = 0;
   Loaded r = load(doc);
   ASSERT_TRUE(r.ok) << r.error;
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_NE(r.warnings[0].find("clamped 4 material factor(s)"), std::string::npos) << r.warnings[0];
-  EXPECT_NE(r.warnings[0].find("materials[0].baseColorFactor 2"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("materials[0].baseColorFactor 2"), std::string::npos)
+      << r.warnings[0];
   const ts::Material& m = r.scene.materials[0];
   EXPECT_EQ(m.baseColor, glm::vec3(1.0f, 0.5f, 0.0f));
   EXPECT_EQ(m.metallic, 1.0f);
@@ -310,7 +317,8 @@ TEST(HostileGltf, DeeplyNestedExtrasAreRefused) {
   EXPECT_NE(r.error.find("nested deeper than"), std::string::npos) << r.error;
 }
 
-// ---- degenerate cameras --------------------------------------------------------------------------
+// ---- degenerate cameras
+// --------------------------------------------------------------------------
 
 TEST(HostileGltf, DegenerateCamerasAreErrorsNotBlackImages) {
   json doc = triangle();
@@ -347,7 +355,8 @@ TEST(HostileGltf, GeometryBeyondWhatAFloatCameraFramesIsAnError) {
   expectError(doc, "too large to frame");
 }
 
-// ---- warnings and textures -----------------------------------------------------------------------
+// ---- warnings and textures
+// -----------------------------------------------------------------------
 
 std::string capturedStderr(const std::function<void()>& f) {
   ::testing::internal::CaptureStderr();
@@ -361,7 +370,8 @@ TEST(HostileGltf, NoWarningLinePrecedesTheError) {
   doc["extensionsRequired"] = {"KHR_texture_transform"};
   doc["extensionsUsed"].push_back("KHR_texture_transform");
   doc["accessors"][0]["count"] = 30;
-  std::filesystem::path path = std::filesystem::temp_directory_path() / "tileshade_hostile_warn.gltf";
+  std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "tileshade_hostile_warn.gltf";
   std::ofstream(path) << doc.dump();
   std::string err = capturedStderr([&] { EXPECT_THROW(ts::loadGltf(path.string()), ts::Error); });
   EXPECT_EQ(err, "");
@@ -400,8 +410,8 @@ TEST(HostileGltf, AMissingTextureIsWarnedOnce) {
 }
 
 std::vector<unsigned char> pngHeader(uint32_t width, uint32_t height, bool goodCrc) {
-  std::vector<unsigned char> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13,
-                                    'I',  'H', 'D', 'R'};
+  std::vector<unsigned char> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n',
+                                    0,    0,   0,   13,  'I',  'H',  'D',  'R'};
   for (uint32_t v : {width, height})
     for (int k = 3; k >= 0; --k) png.push_back((unsigned char)(v >> (8 * k)));
   for (unsigned char c : {8, 2, 0, 0, 0}) png.push_back(c);
@@ -433,8 +443,8 @@ TEST(HostileGltf, FarOffTextureCoordinatesWrapWithoutOverflow) {
   t.width = 2;
   t.height = 2;
   t.texels = {glm::vec4(1), glm::vec4(2), glm::vec4(3), glm::vec4(4)};
-  for (auto wrap : {ts::TextureWrap::Repeat, ts::TextureWrap::ClampToEdge,
-                    ts::TextureWrap::MirroredRepeat}) {
+  for (auto wrap :
+       {ts::TextureWrap::Repeat, ts::TextureWrap::ClampToEdge, ts::TextureWrap::MirroredRepeat}) {
     t.wrapS = t.wrapT = wrap;
     for (float u : {1e10f, -1e10f, 3e38f, -3e38f}) {
       glm::vec4 v = t.sample({u, 0.25f});
@@ -466,9 +476,9 @@ TEST(HostileGltf, TextureWrapModesFollowOpenGL) {
   EXPECT_FLOAT_EQ(at(W::ClampToEdge, 9.0f), 3.0f);
   EXPECT_FLOAT_EQ(at(W::ClampToEdge, 0.5f), 2.0f);
   EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 0.0f), 1.0f);
-  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.0f), 3.0f);   // the edge of the mirror
-  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.25f), 3.0f);  // = u 0.75
-  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.75f), 1.0f);  // = u 0.25
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.0f), 3.0f);    // the edge of the mirror
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.25f), 3.0f);   // = u 0.75
+  EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.75f), 1.0f);   // = u 0.25
   EXPECT_FLOAT_EQ(at(W::MirroredRepeat, -0.25f), 1.0f);  // = u 0.25
   EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 2.75f), 3.0f);   // period 2
   EXPECT_FLOAT_EQ(at(W::MirroredRepeat, 1.5f), 2.0f);
@@ -513,7 +523,8 @@ TEST(HostileGltf, MinificationFiltersUnlikeTheMagnificationOneAreWarned) {
   doc["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}, {"minFilter", 9984}},
                      {{"minFilter", 9986}},
                      {{"magFilter", 9728}, {"minFilter", 9987}}};
-  doc["textures"] = {{{"source", 0}, {"sampler", 0}}, {{"source", 0}, {"sampler", 1}},
+  doc["textures"] = {{{"source", 0}, {"sampler", 0}},
+                     {{"source", 0}, {"sampler", 1}},
                      {{"source", 0}, {"sampler", 2}}};
   doc["materials"][0]["emissiveTexture"] = {{"index", 1}};
   doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 2}};
@@ -596,7 +607,8 @@ TEST(HostileGltf, LightsGivenAsAnObjectAreBlamedNotTheNode) {
   Loaded r = load(doc);
   ASSERT_FALSE(r.ok);
   EXPECT_NE(r.error.find("extensions.KHR_lights_punctual.lights: expected an array"),
-            std::string::npos) << r.error;
+            std::string::npos)
+      << r.error;
   EXPECT_EQ(r.error.find("nodes"), std::string::npos) << r.error;
 }
 
@@ -608,12 +620,14 @@ TEST(HostileGltf, AYfovThatRoundsToPiAsAFloatIsRefused) {
   EXPECT_TRUE(load(doc).ok);
 }
 
-// ---- the fuzzers' findings --------------------------------------------------------------------------
+// ---- the fuzzers' findings
+// --------------------------------------------------------------------------
 
 // Files under tests/data/fuzz/: inputs the fuzzers found crashing, hanging or leaking before the
 // fix. Each must load or fail with one line (the sanitizer build runs this too).
 TEST(HostileGltf, FuzzerFindingsLoadOrFailCleanly) {
-  std::filesystem::path dir = std::filesystem::path(ts::test::sourceDir()) / "tests" / "data" / "fuzz";
+  std::filesystem::path dir =
+      std::filesystem::path(ts::test::sourceDir()) / "tests" / "data" / "fuzz";
   if (!std::filesystem::exists(dir)) GTEST_SKIP() << dir << " absent";
   size_t files = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {

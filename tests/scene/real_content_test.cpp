@@ -49,8 +49,7 @@ std::vector<Light> scatteredLights(const Scene& scene, int n) {
     const auto c = test::drawnLastFirst<3>(draw);  // the colour first, as g++ drew the arguments
     const auto p = test::drawnLastFirst<3>(draw);
     lights.push_back(Light::point(b.min + glm::vec3(p[0], p[1], p[2]) * b.extent(),
-                                  glm::vec3(c[0], c[1], c[2]) * size * size * 0.01f,
-                                  0.25f * size));
+                                  glm::vec3(c[0], c[1], c[2]) * size * size * 0.01f, 0.25f * size));
   }
   return lights;
 }

@@ -28,14 +28,14 @@ TEST(SceneFeatures, BuiltinsAndTheirVariants) {
     bool specular, emissive, point, spot, directional;
   };
   const ShadingModel bp = ShadingModel::BlinnPhong, mr = ShadingModel::MetallicRoughness;
-  for (const Expect& e : std::vector<Expect>{
-           {"", bp, true, true, true, false, false},
-           {"diffuse", bp, false, false, true, false, false},
-           {"no-emission", bp, true, false, true, false, false},
-           {"spot", bp, true, true, true, true, false},
-           {"sun", bp, true, true, true, false, true},
-           {"metallic-roughness", mr, true, true, true, false, false},
-           {"diffuse,spot,sun", bp, false, false, true, true, true}}) {
+  for (const Expect& e :
+       std::vector<Expect>{{"", bp, true, true, true, false, false},
+                           {"diffuse", bp, false, false, true, false, false},
+                           {"no-emission", bp, true, false, true, false, false},
+                           {"spot", bp, true, true, true, true, false},
+                           {"sun", bp, true, true, true, false, true},
+                           {"metallic-roughness", mr, true, true, true, false, false},
+                           {"diffuse,spot,sun", bp, false, false, true, true, true}}) {
     Scene s = builtin("street", "many", e.variant);
     SceneFeatures f = analyzeScene(s, nativeShadingModel(s));
     EXPECT_EQ(f.model, e.model) << e.variant;
@@ -81,8 +81,8 @@ TEST(SceneFeatures, RealGltfContent) {
 }
 
 TEST(SceneFeatures, ChoosingOverridesTheAnalysisButNeverDropsANeed) {
-  SceneFeatures need = analyzeScene(builtin("street", "many", "diffuse,spot"),
-                                    ShadingModel::BlinnPhong);
+  SceneFeatures need =
+      analyzeScene(builtin("street", "many", "diffuse,spot"), ShadingModel::BlinnPhong);
   EXPECT_EQ(chooseFeatures("auto", need), need);
   SceneFeatures general = chooseFeatures("general", need);
   EXPECT_TRUE(general.specular && general.emissive && general.spot && general.directional);
@@ -112,9 +112,9 @@ TEST(GBufferLayouts, OnlyThePlanesTheFeaturesNeed) {
   };
   const ShadingModel bp = ShadingModel::BlinnPhong, mr = ShadingModel::MetallicRoughness;
   for (const Expect& e : std::vector<Expect>{
-           {"", bp, 68, 36, 24},               // depth + normal, diffuse, specular, emissive
-           {"no-emission", bp, 52, 28, 16},    // no emissive plane
-           {"diffuse", bp, 36, 20, 12},        // depth + normal + diffuse
+           {"", bp, 68, 36, 24},                    // depth + normal, diffuse, specular, emissive
+           {"no-emission", bp, 52, 28, 16},         // no emissive plane
+           {"diffuse", bp, 36, 20, 12},             // depth + normal + diffuse
            {"metallic-roughness", mr, 52, 28, 21},  // + emissive; packed: + roughness byte
            {"metallic-roughness,no-emission", mr, 36, 20, 13}}) {
     Scene s = builtin("atrium", "small", e.variant);

@@ -23,12 +23,15 @@ struct PowSample {
 
 PowSample samples() {
   PowSample p;
-  const float exponents[] = {1.0f, 1.5f, 2.0f, 4.7f, 8.0f, 16.0f, 32.5f, 64.0f, 128.0f,
-                             255.0f, 512.0f, 1000.0f, 2048.0f};
+  const float exponents[] = {1.0f,  1.5f,   2.0f,   4.7f,   8.0f,    16.0f,  32.5f,
+                             64.0f, 128.0f, 255.0f, 512.0f, 1000.0f, 2048.0f};
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f), log2x(-126.0f, 0.0f);
   for (float s : exponents) {
-    auto add = [&](float x) { p.x.push_back(x); p.s.push_back(s); };
+    auto add = [&](float x) {
+      p.x.push_back(x);
+      p.s.push_back(s);
+    };
     for (float x : {0.0f, 1.0f, FLT_MIN, std::nextafter(1.0f, 0.0f), 0.5f, 0.70710677f, 0.999f,
                     1e-45f, 1e-40f})
       add(x);
@@ -36,7 +39,10 @@ PowSample samples() {
     for (int i = 0; i < 2000; ++i) add(std::exp2(log2x(rng)));
     for (int i = 0; i < 2000; ++i) add(1.0f - std::ldexp(unit(rng), -8));  // near 1: highlights
   }
-  while (p.x.size() % 16) { p.x.push_back(1.0f); p.s.push_back(1.0f); }
+  while (p.x.size() % 16) {
+    p.x.push_back(1.0f);
+    p.s.push_back(1.0f);
+  }
   return p;
 }
 

@@ -35,25 +35,23 @@ dvec3 shadeD(const MrCase& c) {
   double alpha;
   sd::ts_metallic_roughness_terms(c.base, c.metallic, c.roughness, &cDiff, &kd, &ks, &alpha);
   dvec3 V = glm::normalize(-c.P);
-  sd::ts_shading_point p = sd::ts_make_shading_point(c.P, c.N, V, alpha,
-                                                     TS_SHADING_METALLIC_ROUGHNESS);
+  sd::ts_shading_point p =
+      sd::ts_make_shading_point(c.P, c.N, V, alpha, TS_SHADING_METALLIC_ROUGHNESS);
   return sd::ts_punctual_light(&p, kd, ks, dvec4(c.L, c.range), dvec4(c.color, 1.0),
-                               dvec4(0, 0, 0, -1), TS_MODEL_WINDOWED,
-                               TS_SHADING_METALLIC_ROUGHNESS, 1, 1);
+                               dvec4(0, 0, 0, -1), TS_MODEL_WINDOWED, TS_SHADING_METALLIC_ROUGHNESS,
+                               1, 1);
 }
 
 glm::dvec3 shadeF(const MrCase& c) {
   glm::vec3 cDiff, kd, ks;
   float alpha;
-  sf::ts_metallic_roughness_terms(glm::vec3(c.base), float(c.metallic), float(c.roughness),
-                                  &cDiff, &kd, &ks, &alpha);
+  sf::ts_metallic_roughness_terms(glm::vec3(c.base), float(c.metallic), float(c.roughness), &cDiff,
+                                  &kd, &ks, &alpha);
   glm::vec3 P(c.P), N = glm::normalize(glm::vec3(c.N)), V = glm::normalize(-P);
-  sf::ts_shading_point p = sf::ts_make_shading_point(P, N, V, alpha,
-                                                     TS_SHADING_METALLIC_ROUGHNESS);
+  sf::ts_shading_point p = sf::ts_make_shading_point(P, N, V, alpha, TS_SHADING_METALLIC_ROUGHNESS);
   return dvec3(sf::ts_punctual_light(&p, kd, ks, glm::vec4(glm::vec3(c.L), float(c.range)),
-                                     glm::vec4(glm::vec3(c.color), 1.0f),
-                                     glm::vec4(0, 0, 0, -1), TS_MODEL_WINDOWED,
-                                     TS_SHADING_METALLIC_ROUGHNESS, 1, 1));
+                                     glm::vec4(glm::vec3(c.color), 1.0f), glm::vec4(0, 0, 0, -1),
+                                     TS_MODEL_WINDOWED, TS_SHADING_METALLIC_ROUGHNESS, 1, 1));
 }
 
 // The same case with its float-rounded inputs, in double: what the float build sees.
@@ -101,8 +99,8 @@ void expectFloatWithinRounding(const MrCase& c, const std::string& what) {
   for (int k = 0; k < 3; ++k) {
     ASSERT_TRUE(std::isfinite(f[k])) << what;
     EXPECT_LE(std::abs(f[k] - d[k]), 32.0 * sensitivity + 1e-5 * peak + 1e-30)
-        << what << " channel " << k << ": float " << f[k] << " double " << d[k]
-        << " sensitivity " << sensitivity;
+        << what << " channel " << k << ": float " << f[k] << " double " << d[k] << " sensitivity "
+        << sensitivity;
   }
 }
 
@@ -124,8 +122,8 @@ dvec3 textbookMr(const MrCase& c) {
   double r = std::clamp(c.roughness, TS_MIN_ROUGHNESS, 1.0), a = r * r, a2 = a * a;
   // chi+(N.H): no microfacet faces away from the normal.
   double D = NH > 0.0 ? a2 / (kPiDouble * std::pow(NH * NH * (a2 - 1.0) + 1.0, 2.0)) : 0.0;
-  double Vis = 1.0 / ((NL + std::sqrt(a2 + (1 - a2) * NL * NL)) *
-                      (NV + std::sqrt(a2 + (1 - a2) * NV * NV)));
+  double Vis =
+      1.0 / ((NL + std::sqrt(a2 + (1 - a2) * NL * NL)) * (NV + std::sqrt(a2 + (1 - a2) * NV * NV)));
   dvec3 f0 = glm::mix(dvec3(0.04), c.base, c.metallic);
   dvec3 F = f0 + (1.0 - f0) * std::pow(1.0 - VH, 5.0);
   dvec3 cDiff = c.base * (1.0 - c.metallic);
@@ -244,9 +242,9 @@ TEST(SpotLights, AngularFalloffIsTheExtensions) {
   };
   auto point = [&](double angle) {
     dvec3 dir(std::sin(angle), 0, -std::cos(angle));
-    return sd::ts_punctual_light(&p, dvec3(1.0), dvec3(0.0), dvec4(P - 2.0 * dir, 10.0),
-                                 dvec4(1.0), dvec4(0, 0, 0, -1), TS_MODEL_PHYSICAL,
-                                 TS_SHADING_BLINN_PHONG, 0, 1)
+    return sd::ts_punctual_light(&p, dvec3(1.0), dvec3(0.0), dvec4(P - 2.0 * dir, 10.0), dvec4(1.0),
+                                 dvec4(0, 0, 0, -1), TS_MODEL_PHYSICAL, TS_SHADING_BLINN_PHONG, 0,
+                                 1)
         .x;
   };
   EXPECT_DOUBLE_EQ(at(0.0), point(0.0));
@@ -281,8 +279,8 @@ struct Cone {
 // A point of the sector (inside the range ball and the cone), uniform enough for bounds tests.
 dvec3 samplePoint(const Cone& c, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  dvec3 t = glm::normalize(glm::cross(c.axis, std::abs(c.axis.x) < 0.9 ? dvec3(1, 0, 0)
-                                                                       : dvec3(0, 1, 0)));
+  dvec3 t = glm::normalize(
+      glm::cross(c.axis, std::abs(c.axis.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0)));
   dvec3 b = glm::cross(c.axis, t);
   double theta = c.outer * std::sqrt(u(rng)), phi = 2 * kPiDouble * u(rng);
   if (u(rng) < 0.3) theta = c.outer;  // the cone's surface

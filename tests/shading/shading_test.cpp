@@ -19,8 +19,8 @@ TEST(Shading, DiffuseOnlyMatchesHandComputedValue) {
   dvec3 P(0, 0, -5), N(0, 0, 1), V = glm::normalize(-P);
   dvec3 Lp(0, 0, -3);  // 2 units straight above the surface
   double r = 4.0;
-  dvec3 c = ts_point_light(P, N, V, dvec3(0.5), dvec3(0.0), 16.0, Lp, dvec3(1.0), r,
-                           TS_MODEL_WINDOWED);
+  dvec3 c =
+      ts_point_light(P, N, V, dvec3(0.5), dvec3(0.0), 16.0, Lp, dvec3(1.0), r, TS_MODEL_WINDOWED);
   double q = 4.0 / 16.0;
   double window = (1 - q * q) * (1 - q * q);
   EXPECT_NEAR(c.x, 0.5 * window / 4.0, 1e-15);
@@ -31,8 +31,7 @@ TEST(Shading, NothingAtOrBeyondTheRangeButPhysicalModelIgnoresRange) {
   dvec3 Lp(0, 0, -3);
   EXPECT_EQ(ts_point_light(P, N, V, dvec3(1), dvec3(1), 8, Lp, dvec3(1), 2.0, TS_MODEL_WINDOWED),
             dvec3(0.0));
-  dvec3 phys = ts_point_light(P, N, V, dvec3(1), dvec3(0), 8, Lp, dvec3(1), 2.0,
-                              TS_MODEL_PHYSICAL);
+  dvec3 phys = ts_point_light(P, N, V, dvec3(1), dvec3(0), 8, Lp, dvec3(1), 2.0, TS_MODEL_PHYSICAL);
   EXPECT_NEAR(phys.x, 1.0 / 4.0, 1e-15);
 }
 
@@ -115,12 +114,12 @@ TEST(Shading, FloatBuildAgreesWithDoubleToFloatRounding) {
     dvec3 N = glm::normalize(dvec3(n[0], n[1], n[2]) + dvec3(0, 0, 1.5));
     const auto l = ts::test::drawnLastFirst<3>(draw);
     dvec3 Lp = P + 3.0 * dvec3(l[0], l[1], l[2]);
-    dvec3 d = ts_point_light(P, N, glm::normalize(-P), dvec3(0.7), dvec3(0.3), 24, Lp,
-                             dvec3(2.0), 4.0, TS_MODEL_WINDOWED);
+    dvec3 d = ts_point_light(P, N, glm::normalize(-P), dvec3(0.7), dvec3(0.3), 24, Lp, dvec3(2.0),
+                             4.0, TS_MODEL_WINDOWED);
     glm::vec3 Pf(P), Nf(N), Lf(Lp);
-    glm::vec3 f = ts::shading_f::ts_point_light(Pf, Nf, glm::normalize(-Pf), glm::vec3(0.7f),
-                                                glm::vec3(0.3f), 24.0f, Lf, glm::vec3(2.0f),
-                                                4.0f, TS_MODEL_WINDOWED);
+    glm::vec3 f =
+        ts::shading_f::ts_point_light(Pf, Nf, glm::normalize(-Pf), glm::vec3(0.7f), glm::vec3(0.3f),
+                                      24.0f, Lf, glm::vec3(2.0f), 4.0f, TS_MODEL_WINDOWED);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], d[c], 1e-4 * std::max(1.0, std::abs(d[c])));
   }
 }
@@ -147,8 +146,9 @@ void checkSphereBounds(dvec3 c, double r, double znear, double tx, double ty) {
       double phi = ts::kPiDouble * j / n;
       // Points on the surface and inside (the clipped solid's extremes can be on the near cap).
       for (double s : {1.0, 0.5}) {
-        dvec3 p = c + s * r * dvec3(std::sin(theta) * std::cos(phi), std::cos(theta),
-                                    std::sin(theta) * std::sin(phi));
+        dvec3 p = c + s * r *
+                          dvec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                std::sin(theta) * std::sin(phi));
         if (-p.z < znear) {
           // Points on the near plane inside the sphere's cross-section, approached from in front.
           continue;
@@ -211,12 +211,12 @@ TEST(Culling, TileRectangleCoversBoundsAndClampsToTheGrid) {
   EXPECT_EQ(x1, 6);
   EXPECT_EQ(y1, 3);
   // A small box in the upper-left quadrant (NDC y up, rows down).
-  ASSERT_TRUE(ts_ndc_bounds_to_tiles(dvec4(-0.9, 0.5, -0.5, 0.9), 100, 50, 16, 16, &x0, &y0, &x1,
-                                     &y1));
-  EXPECT_EQ(x0, 0);   // px 5
-  EXPECT_EQ(x1, 1);   // px 25
-  EXPECT_EQ(y0, 0);   // py 2.5
-  EXPECT_EQ(y1, 0);   // py 12.5
+  ASSERT_TRUE(
+      ts_ndc_bounds_to_tiles(dvec4(-0.9, 0.5, -0.5, 0.9), 100, 50, 16, 16, &x0, &y0, &x1, &y1));
+  EXPECT_EQ(x0, 0);  // px 5
+  EXPECT_EQ(x1, 1);  // px 25
+  EXPECT_EQ(y0, 0);  // py 2.5
+  EXPECT_EQ(y1, 0);  // py 12.5
   EXPECT_FALSE(ts_ndc_bounds_to_tiles(dvec4(1.5, 0, 2, 1), 100, 50, 16, 16, &x0, &y0, &x1, &y1));
 }
 
@@ -257,8 +257,8 @@ TEST(Culling, PerTileTestsAreConservative) {
       inside = px >= px0 && px <= px1 && py >= py0 && py <= py1;
     }
     for (int mode : {TS_CULL_FRUSTUM, TS_CULL_AABB}) {
-      int pass = ts_sphere_meets_tile(c, r, mode, px0, py0, px1, py1, width, height, tx, ty, zmin,
-                                      zmax);
+      int pass =
+          ts_sphere_meets_tile(c, r, mode, px0, py0, px1, py1, width, height, tx, ty, zmin, zmax);
       if (inside) {
         ASSERT_TRUE(pass) << "mode " << mode << " rejected a sphere inside the tile";
       }

@@ -7,7 +7,8 @@
 
 namespace ts::test {
 
-inline Scene builtin(const std::string& name, const std::string& lights, const std::string& variant) {
+inline Scene builtin(const std::string& name, const std::string& lights,
+                     const std::string& variant) {
   SceneOptions o;
   o.lightSet = lights;
   o.variant = variant;

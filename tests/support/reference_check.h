@@ -33,7 +33,6 @@ inline double relativeDifference(const std::vector<glm::vec4>& a, const std::vec
   return peak > 0.0 ? diff / peak : diff;
 }
 
-
 // fp32 kernels against the double reference: each pixel sums up to a few hundred light terms,
 // each with a relative rounding error of a few float ulps (~1e-7), plus the float position
 // reconstruction; 2e-5 of the image peak leaves a margin of ~10x over what we observe while
@@ -118,8 +117,8 @@ inline PreparedFrame hugeLightsFrame(int count = 300) {
   scene.lights.clear();
   for (int i = 0; i < count; ++i) {
     const auto p = drawnLastFirst<3>([&] { return u(rng); });
-    scene.lights.push_back(Light::point(b.min + glm::vec3(p[0], p[1], p[2]) * b.extent(),
-                                        glm::vec3(0.05f), 1000.0f));
+    scene.lights.push_back(
+        Light::point(b.min + glm::vec3(p[0], p[1], p[2]) * b.extent(), glm::vec3(0.05f), 1000.0f));
   }
   return prepareFrame(scene, 0, 96, 64, GBufferFormat::FP32);
 }

@@ -42,7 +42,8 @@ inline std::filesystem::path freshDir(const std::string& area, const std::string
 // ../shared/scenes beside the checkout (present in CI and on developer machines, absent for a
 // new user): returns "" when the file is missing.
 inline std::string sharedScene(const std::string& relative) {
-  std::filesystem::path p = std::filesystem::path(sourceDir()) / ".." / "shared" / "scenes" / relative;
+  std::filesystem::path p =
+      std::filesystem::path(sourceDir()) / ".." / "shared" / "scenes" / relative;
   return std::filesystem::exists(p) ? p.lexically_normal().string() : std::string();
 }
 

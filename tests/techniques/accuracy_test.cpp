@@ -192,8 +192,8 @@ TEST(AccuracyKnobs, PackedDecodeMatchesTheHostForEveryCode) {
   const CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   ViewLights lights;
   DeviceFrame frame = DeviceFrame::upload(test::context(), e, in, lights, glm::vec3(0.0f));
-  const std::vector<float> d = decodeOnDevice(test::context(), frame, GBufferFormat::PACKED,
-                                              TechniqueConfig().features);
+  const std::vector<float> d =
+      decodeOnDevice(test::context(), frame, GBufferFormat::PACKED, TechniqueConfig().features);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const float* o = &d[(size_t(y) * W + x) * 17];
@@ -209,9 +209,10 @@ TEST(AccuracyKnobs, PackedDecodeMatchesTheHostForEveryCode) {
       // exp2 of the shininess byte: the same float (OpenCL's exp2 may be 3 ulp off in general;
       // docs/accuracy.md), checked for all 256 codes.
       ASSERT_NEAR(o[12], float(s.gloss), 3.0 * std::ldexp(double(s.gloss), -23)) << x;
-      if (y == 0) RecordProperty("shininess_" + std::to_string(x) + "_ulps_off",
-                                 std::to_string(std::abs(double(o[12]) - s.gloss) /
-                                                std::ldexp(s.gloss, -23)));
+      if (y == 0)
+        RecordProperty(
+            "shininess_" + std::to_string(x) + "_ulps_off",
+            std::to_string(std::abs(double(o[12]) - s.gloss) / std::ldexp(s.gloss, -23)));
     }
 }
 
@@ -234,8 +235,8 @@ TEST(AccuracyKnobs, TileSizeAndSlicingNeverChangeTheImage) {
   }
   for (const Knobs& k : grids) {
     FrameResult r = renderTiled(f, k, true);
-    std::string what = k.technique + " tile " + std::to_string(k.tile) + " slices " +
-                       std::to_string(k.slices);
+    std::string what =
+        k.technique + " tile " + std::to_string(k.tile) + " slices " + std::to_string(k.slices);
     double e = compareToReference(r.image, ref, 0.0).maxRelPeak;
     RecordProperty(k.technique + "_" + std::to_string(k.tile) + "_" + std::to_string(k.slices),
                    sci(e));
@@ -251,8 +252,8 @@ TEST(AccuracyKnobs, RelaxedArithmeticWithinItsBound) {
   ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
   // docs/accuracy.md: -cl-fast-relaxed-math <= 2.5e-4 and native_ functions (whose accuracy OpenCL
   // leaves to the implementation) <= 1e-3 of the peak (checked on the test device).
-  for (const auto& [math, bound] : {std::pair{"fast", kFastMathBound},
-                                    std::pair{"native", kNativeMathBound}}) {
+  for (const auto& [math, bound] :
+       {std::pair{"fast", kFastMathBound}, std::pair{"native", kNativeMathBound}}) {
     Knobs k;
     k.math = mathModeNames().parse(math);
     double e = compareToReference(renderTiled(f, k).image, ref, 0.0).maxRelPeak;
@@ -266,7 +267,12 @@ TEST(AccuracyKnobs, RelaxedArithmeticWithinItsBound) {
 // features (as `render` runs it): relaxed arithmetic's error depends on the shading terms the
 // scene uses (metallic-roughness's distribution term most), so one scene does not stand for all.
 TEST(AccuracyKnobs, RelaxedArithmeticWithinItsBoundOnEveryBuiltin) {
-  const char* const variants[] = {"", "diffuse", "no-emission", "metallic-roughness", "spot", "sun",
+  const char* const variants[] = {"",
+                                  "diffuse",
+                                  "no-emission",
+                                  "metallic-roughness",
+                                  "spot",
+                                  "sun",
                                   "spot,sun,metallic-roughness"};
   std::map<std::string, double> worst;
   for (const auto& name : builtinSceneNames())
@@ -281,8 +287,8 @@ TEST(AccuracyKnobs, RelaxedArithmeticWithinItsBoundOnEveryBuiltin) {
         const SceneFeatures features = analyzeScene(s, nativeShadingModel(s));
         const PreparedFrame f = prepareFrame(s, 0, 96, 54, GBufferFormat::FP32, features);
         const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
-        for (const auto& [math, bound] : {std::pair{"fast", kFastMathBound},
-                                          std::pair{"native", kNativeMathBound}}) {
+        for (const auto& [math, bound] :
+             {std::pair{"fast", kFastMathBound}, std::pair{"native", kNativeMathBound}}) {
           TechniqueConfig config;
           config.features = features;
           config.math = mathModeNames().parse(math);
@@ -305,8 +311,8 @@ TEST(AccuracyKnobs, ThresholdRangesTradeErrorForWork) {
     Scene cut = s;
     applyThresholdRanges(cut.lights, t);
     PreparedFrame f = prepareFrame(cut, 10, kWidth, kHeight, GBufferFormat::FP32);
-    ReferenceImage physical = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient,
-                                             TS_MODEL_PHYSICAL);
+    ReferenceImage physical =
+        shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, TS_MODEL_PHYSICAL);
     FrameResult r = renderTiled(f, {});
     double e = compareToReference(r.image, physical, 0.0).maxRelPeak;
     EXPECT_GT(e, lastError) << "t = " << t;

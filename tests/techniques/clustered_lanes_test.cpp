@@ -89,13 +89,12 @@ TEST_P(ClusteredLanes, EqualThePerPixelImageAndMissNothing) {
 // one other width (kernel builds are the slow part).
 INSTANTIATE_TEST_SUITE_P(
     WidthsLayoutsAndVariants, ClusteredLanes,
-    ::testing::Values(LanesCase{"street", "many", "", 20, GBufferFormat::FP32, {2, 4, 8, 16}},
-                      LanesCase{"street", "few", "spot,sun", 100, GBufferFormat::FP16, {4, 16}},
-                      LanesCase{"street", "many", "spot,sun", 40, GBufferFormat::PACKED, {2, 16}},
-                      LanesCase{"atrium", "mixed", "metallic-roughness", 20,
-                                GBufferFormat::PACKED, {8, 16}},
-                      LanesCase{"atrium", "big", "sun,metallic-roughness", 70,
-                                GBufferFormat::FP32, {16}}),
+    ::testing::Values(
+        LanesCase{"street", "many", "", 20, GBufferFormat::FP32, {2, 4, 8, 16}},
+        LanesCase{"street", "few", "spot,sun", 100, GBufferFormat::FP16, {4, 16}},
+        LanesCase{"street", "many", "spot,sun", 40, GBufferFormat::PACKED, {2, 16}},
+        LanesCase{"atrium", "mixed", "metallic-roughness", 20, GBufferFormat::PACKED, {8, 16}},
+        LanesCase{"atrium", "big", "sun,metallic-roughness", 70, GBufferFormat::FP32, {16}}),
     [](const auto& info) { return "case" + std::to_string(info.index); });
 
 }  // namespace

@@ -54,7 +54,8 @@ class ClusteredMatchesReference : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ClusteredMatchesReference, WithinFp32RoundingAndNoMissedLight) {
   const Case& k = GetParam();
-  PreparedFrame f = prepareFrame(builtinScene(k.scene, k.lights), k.frame, k.width, k.height, k.format);
+  PreparedFrame f =
+      prepareFrame(builtinScene(k.scene, k.lights), k.frame, k.width, k.height, k.format);
   ASSERT_GT(f.gbuffer.geometryPixels(), f.gbuffer.pixelCount() / 4) << "camera sees little";
   Checked c = renderAndCheck(f, technique("clustered", k.format, k.tile, k.slices));
   EXPECT_EQ(c.missed, 0u);
@@ -105,7 +106,8 @@ TEST(ClusteredCulling, FrustumAndBoxTestsStayConservative) {
     EXPECT_EQ(c.missed, 0u) << "culling " << toString(culling);
     EXPECT_LE(c.error.maxRelPeak, kFp32RelativeTolerance) << "culling " << toString(culling);
     if (culling == CullTest::Rect) rectEvaluations = c.result.counters.evaluations;
-    else EXPECT_LE(c.result.counters.evaluations, rectEvaluations) << "culling " << toString(culling);
+    else
+      EXPECT_LE(c.result.counters.evaluations, rectEvaluations) << "culling " << toString(culling);
   }
 }
 
@@ -117,7 +119,8 @@ TEST(ClusteredCulling, FrustumAndBoxTestsStayConservative) {
 TEST(ClusteredVsTiled, OneSliceListsEqualTiledPerTile) {
   for (const auto& [name, lights, frameIndex] :
        {std::tuple{"street", "many", 0}, std::tuple{"atrium", "mixed", 90}}) {
-    PreparedFrame f = prepareFrame(builtinScene(name, lights), frameIndex, 200, 120, GBufferFormat::FP32);
+    PreparedFrame f =
+        prepareFrame(builtinScene(name, lights), frameIndex, 200, 120, GBufferFormat::FP32);
     FrameResult clustered = renderOnly(f, technique("clustered", GBufferFormat::FP32, 16, 1), true);
     FrameResult tiled = renderOnly(f, technique("tiled", GBufferFormat::FP32, 16, 1), true);
     const LightAssignment& c = *clustered.assignment;
@@ -143,15 +146,15 @@ TEST(ClusteredVsTiled, OneSliceListsEqualTiledPerTile) {
 // depth range then holds lights its pixels are nowhere near. Slices separate those depths.
 TEST(ClusteredVsTiled, FewerEvaluationsAcrossDepthDiscontinuities) {
   for (int frameIndex : {0, 60}) {
-    PreparedFrame f = prepareFrame(builtinScene("street", "many"), frameIndex, 200, 120,
-                                   GBufferFormat::FP32);
+    PreparedFrame f =
+        prepareFrame(builtinScene("street", "many"), frameIndex, 200, 120, GBufferFormat::FP32);
     uint64_t tiled =
         renderOnly(f, technique("tiled", GBufferFormat::FP32, 16, 1), false).counters.evaluations;
     uint64_t previous = tiled;
     for (int slices : {16, 32}) {
-      uint64_t clustered = renderOnly(f, technique("clustered", GBufferFormat::FP32, 16, slices),
-                                      false)
-                               .counters.evaluations;
+      uint64_t clustered =
+          renderOnly(f, technique("clustered", GBufferFormat::FP32, 16, slices), false)
+              .counters.evaluations;
       EXPECT_LT(clustered, tiled) << "frame " << frameIndex << " slices " << slices;
       EXPECT_LE(clustered, previous) << "frame " << frameIndex << " slices " << slices;
       previous = clustered;
@@ -203,7 +206,8 @@ TEST(ClusteredCulling, NoLightsAndNoGeometry) {
   Scene sky = builtinScene("street", "many");
   Bounds b = sky.bounds();
   glm::vec3 eye(0.0f, b.max.y + 10.0f, 0.0f);
-  sky.cameraPath = {Camera::lookAt(eye, eye + glm::vec3(0, 1, 0.01f), {0, 0, 1}, 1.0f, 0.1f, 500.0f)};
+  sky.cameraPath = {
+      Camera::lookAt(eye, eye + glm::vec3(0, 1, 0.01f), {0, 0, 1}, 1.0f, 0.1f, 500.0f)};
   PreparedFrame empty = prepareFrame(sky, 0, 64, 40, GBufferFormat::FP32);
   ASSERT_EQ(empty.gbuffer.geometryPixels(), 0u);
   Checked e = renderAndCheck(empty, technique("clustered", GBufferFormat::FP32, 16, 16));
@@ -235,7 +239,8 @@ TEST(ClusteredConfig, TheLargestAcceptedSliceCountRenders) {
     ADD_FAILURE() << "accepted " << config.clusterSlices << " slices";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("1.." + std::to_string(kMaxClusterSlices)),
-              std::string::npos) << e.what();
+              std::string::npos)
+        << e.what();
   }
 }
 

@@ -99,7 +99,8 @@ TEST(ConfigKnobs, NamesAndKernelNumbersAreTheEstablishedOnes) {
   c.spotCulling = SpotCulling::RangeSphere;
   c.math = MathMode::Native;
   const std::string options = c.kernelOptions();
-  for (const char* want : {" -DTS_MODEL=1", " -DTS_CULL=2", " -DTS_SPOT_CULL=2", " -DTS_NATIVE_MATH"})
+  for (const char* want :
+       {" -DTS_MODEL=1", " -DTS_CULL=2", " -DTS_SPOT_CULL=2", " -DTS_NATIVE_MATH"})
     EXPECT_NE(options.find(want), std::string::npos) << want << " in " << options;
   c.math = MathMode::Fast;
   EXPECT_NE(c.kernelOptions().find(" -cl-fast-relaxed-math"), std::string::npos);
@@ -122,8 +123,8 @@ std::string helpLine(const std::string& help, const std::string& option) {
 }
 
 template <typename E>
-void expectHelpLists(const std::string& help, const std::string& option,
-                     const EnumNames<E>& table, bool withHelp) {
+void expectHelpLists(const std::string& help, const std::string& option, const EnumNames<E>& table,
+                     bool withHelp) {
   const std::string line = helpLine(help, option);
   ASSERT_FALSE(line.empty()) << option << " not in:\n" << help;
   EXPECT_NE(line.find(withHelp ? table.help() : table.list()), std::string::npos)
@@ -160,8 +161,8 @@ TEST(ConfigCli, HelpListsTheTablesNames) {
 
 TEST(ConfigCli, UnknownKnobValueIsOneLineNamingTheOption) {
   if (!fs::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
-  for (const char* option : {"--culling", "--spot-culling", "--math", "--lanes", "--gbuffer",
-                             "--raster"}) {
+  for (const char* option :
+       {"--culling", "--spot-culling", "--math", "--lanes", "--gbuffer", "--raster"}) {
     const test::CliRun r =
         test::runTileshade(std::string("render --width 8 --height 8 ") + option + " bogus");
     EXPECT_EQ(r.exitCode(), 1) << option;
@@ -262,8 +263,8 @@ TEST(BenchDepthSplit, ConfigFileTakesBooleansAndOptionRefusesOtherValues) {
 // A bench.csv of the version before the column is not resumed: one clear line, as for any file
 // with other columns.
 TEST(BenchDepthSplit, ResumeOfAFileWithoutTheColumnIsOneClearError) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("tileshade_depth_split_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("tileshade_depth_split_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::vector<std::string> old = benchCsvColumns();
   old.erase(std::find(old.begin(), old.end(), "depth_split"));

@@ -61,7 +61,7 @@ uint64_t insidePairs(const PreparedFrame& f, int only = -1) {
       float depth = f.encoded.depth[size_t(y) * cam.width + x];
       if (depth <= 0.0f) continue;
       glm::vec3 p = shading_f::ts_view_position(x, y, depth, cam.tanHalfFovX, cam.tanHalfFovY,
-                                                 cam.width, cam.height);
+                                                cam.width, cam.height);
       for (size_t i = 0; i < f.lights.size(); ++i) {
         if (only >= 0 && size_t(only) != i) continue;
         const glm::vec4& pr = f.lights.positionRange[i];

@@ -24,11 +24,11 @@
 namespace ts {
 namespace {
 
+using test::builtin;
 using test::Checked;
 using test::kFp32RelativeTolerance;
 using test::renderAndCheck;
 using test::renderOnly;
-using test::builtin;
 
 // ---- the analysis ----------------------------------------------------------------------------
 
@@ -48,9 +48,9 @@ TEST(SceneFeatures, KernelsRefuseFramesTheyCannotShade) {
   Scene plain = builtin("atrium", "small", "diffuse");
   PreparedFrame trimmed = prepareFrame(plain, 0, 32, 24, GBufferFormat::FP32,
                                        analyzeScene(plain, ShadingModel::BlinnPhong));
-  EXPECT_THROW(renderOnly(trimmed, *createTechnique("tiled", test::context(), TechniqueConfig()),
-                          false),
-               Error);
+  EXPECT_THROW(
+      renderOnly(trimmed, *createTechnique("tiled", test::context(), TechniqueConfig()), false),
+      Error);
 }
 
 // ---- specialised == general --------------------------------------------------------------------
@@ -71,7 +71,8 @@ TEST_P(SpecialisedPipeline, SameImageAsTheGeneralOne) {
     SceneFeatures need = analyzeScene(s, nativeShadingModel(s));
     SceneFeatures general = SceneFeatures::general(need.model);
     // Each precision once, per pixel and in lanes.
-    for (auto [format, lanes] : {std::pair{GBufferFormat::FP32, 1}, {GBufferFormat::PACKED, 16},
+    for (auto [format, lanes] : {std::pair{GBufferFormat::FP32, 1},
+                                 {GBufferFormat::PACKED, 16},
                                  {GBufferFormat::FP16, 4}}) {
       PreparedFrame fs = prepareFrame(s, 30, 96, 64, format, need);
       PreparedFrame fg = prepareFrame(s, 30, 96, 64, format, general);
@@ -91,8 +92,8 @@ TEST_P(SpecialisedPipeline, SameImageAsTheGeneralOne) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryTechnique, SpecialisedPipeline,
-                         ::testing::ValuesIn(techniqueNames()), [](const auto& info) {
+INSTANTIATE_TEST_SUITE_P(EveryTechnique, SpecialisedPipeline, ::testing::ValuesIn(techniqueNames()),
+                         [](const auto& info) {
                            std::string n = info.param;
                            for (char& ch : n)
                              if (ch == '-') ch = '_';
@@ -145,15 +146,16 @@ std::vector<LightCase> lightCases() {
           {"street_diffuse_spot", "street", "many", "diffuse,spot", 0}};
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Variants, EveryTechniqueWithLightTypes,
-    ::testing::Combine(::testing::ValuesIn(techniqueNames()), ::testing::ValuesIn(lightCases())),
-    [](const auto& info) {
-      std::string n = std::get<0>(info.param) + "_" + std::get<1>(info.param).label;
-      for (char& ch : n)
-        if (ch == '-') ch = '_';
-      return n;
-    });
+INSTANTIATE_TEST_SUITE_P(Variants, EveryTechniqueWithLightTypes,
+                         ::testing::Combine(::testing::ValuesIn(techniqueNames()),
+                                            ::testing::ValuesIn(lightCases())),
+                         [](const auto& info) {
+                           std::string n =
+                               std::get<0>(info.param) + "_" + std::get<1>(info.param).label;
+                           for (char& ch : n)
+                             if (ch == '-') ch = '_';
+                           return n;
+                         });
 
 // Spot lights placed against the camera: the camera inside a cone, cones behind it and through
 // the near plane, cones seen edge-on, narrow and wide; random cameras in both built-ins.
@@ -175,16 +177,15 @@ TEST(SpotCulling, ConesAroundTheCameraMissNothing) {
       float range = 0.15f * glm::length(b.extent());
       auto spot = [&](glm::vec3 p, glm::vec3 axis, float outerDeg) {
         float outer = glm::radians(outerDeg);
-        scene.lights.push_back(
-            Light::spot(p, glm::normalize(axis), glm::vec3(range * range * 0.02f), range,
-                        0.5f * outer, outer));
+        scene.lights.push_back(Light::spot(
+            p, glm::normalize(axis), glm::vec3(range * range * 0.02f), range, 0.5f * outer, outer));
       };
       spot(eye + glm::vec3(0, 0.5f, 0), -fwd + glm::vec3(0, -0.3f, 0), 40);  // camera inside
-      spot(eye - 2.0f * fwd, fwd, 25);                     // behind, shining past the camera
-      spot(eye + 0.05f * fwd, fwd + 0.2f * side, 60);      // apex at the near plane
-      spot(eye + 0.3f * range * fwd, side, 15);            // edge-on, narrow
+      spot(eye - 2.0f * fwd, fwd, 25);                 // behind, shining past the camera
+      spot(eye + 0.05f * fwd, fwd + 0.2f * side, 60);  // apex at the near plane
+      spot(eye + 0.3f * range * fwd, side, 15);        // edge-on, narrow
       spot(eye + 0.5f * range * fwd - 0.4f * range * side, side, 85);  // edge-on, almost flat
-      for (int k = 0; k < 20; ++k) {                       // anywhere, any direction
+      for (int k = 0; k < 20; ++k) {                                   // anywhere, any direction
         // Last argument first, as g++ drew them (random_draws.h).
         const float outerDeg = 5.0f + 80.0f * u(rng);
         const auto a = test::drawnLastFirst<3>(draw);
@@ -239,12 +240,15 @@ TEST(RealContentInItsOwnModel, EveryTechniqueMatchesTheReference) {
     bool addLights;
   };
   std::vector<Real> scenes;
-  if (auto p = test::sharedScene("dungeon/level-dungeon.gltf"); !p.empty()) scenes.push_back({p, false});
-  if (auto p = test::sharedScene("sponza-crytek/sponza.gltf"); !p.empty()) scenes.push_back({p, true});
+  if (auto p = test::sharedScene("dungeon/level-dungeon.gltf"); !p.empty())
+    scenes.push_back({p, false});
+  if (auto p = test::sharedScene("sponza-crytek/sponza.gltf"); !p.empty())
+    scenes.push_back({p, true});
   const std::string engine =
       "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
   if (std::filesystem::exists(engine)) scenes.push_back({engine, true});
-  if (scenes.empty()) GTEST_SKIP() << "no real glTF scene here (../shared/scenes, assimp-testmodels)";
+  if (scenes.empty())
+    GTEST_SKIP() << "no real glTF scene here (../shared/scenes, assimp-testmodels)";
   for (const Real& r : scenes) {
     ::testing::internal::CaptureStderr();
     Scene scene = loadGltf(r.path);
@@ -261,10 +265,11 @@ TEST(RealContentInItsOwnModel, EveryTechniqueMatchesTheReference) {
         const auto k = test::drawnLastFirst<3>(draw);
         glm::vec3 c = glm::vec3(k[0], k[1], k[2]) * size * size * 0.01f;
         if (i % 2) scene.lights.push_back(Light::point(at, c, 0.3f * size));
-        else scene.lights.push_back(Light::spot(at, glm::vec3(0, -1, 0), c, 0.4f * size, 0.3f, 0.6f));
+        else
+          scene.lights.push_back(Light::spot(at, glm::vec3(0, -1, 0), c, 0.4f * size, 0.3f, 0.6f));
       }
-      scene.lights.push_back(Light::directional(glm::normalize(glm::vec3(0.2f, -1, 0.3f)),
-                                                glm::vec3(0.3f)));
+      scene.lights.push_back(
+          Light::directional(glm::normalize(glm::vec3(0.2f, -1, 0.3f)), glm::vec3(0.3f)));
     }
     SceneFeatures need = analyzeScene(scene, nativeShadingModel(scene));
     ASSERT_EQ(need.model, ShadingModel::MetallicRoughness) << r.path;

@@ -37,8 +37,8 @@ FrameResult render(const PreparedFrame& f, const std::string& technique, Techniq
 // group is partly padding and the last groups of the screen partly off it. Every width with the
 // range cut (vectors exit early where no lane is in range); 16 also without it (physical model).
 TEST(Lanes, EveryWidthGivesThePerPixelImage) {
-  PreparedFrame f = prepareFrame(test::builtinScene("street", "many"), 20, 150, 90,
-                                 GBufferFormat::FP32);
+  PreparedFrame f =
+      prepareFrame(test::builtinScene("street", "many"), 20, 150, 90, GBufferFormat::FP32);
   for (RangeModel model : {RangeModel::Windowed, RangeModel::Physical}) {
     TechniqueConfig config;
     config.tileWidth = 10;
@@ -66,8 +66,8 @@ TEST(Lanes, EveryWidthGivesThePerPixelImage) {
 // The lanes path stays within the reference tolerance on its own (not only relative to the
 // per-pixel kernels).
 TEST(Lanes, MatchReferenceWithNoMissedLight) {
-  const PreparedFrame f = prepareFrame(test::builtinScene("atrium", "mixed"), 20, 160, 96,
-                                       GBufferFormat::FP16);
+  const PreparedFrame f =
+      prepareFrame(test::builtinScene("atrium", "mixed"), 20, 160, 96, GBufferFormat::FP16);
   for (const char* name : {"tiled", "brute", "clustered"}) {
     TechniqueConfig config;
     config.format = GBufferFormat::FP16;
@@ -85,15 +85,15 @@ TEST(Lanes, MatchReferenceWithNoMissedLight) {
 // contribute nothing to that pixel, as per pixel, and nothing undefined to the other lanes of its
 // vector.
 TEST(Lanes, LightExactlyOnASurfacePointStaysFinite) {
-  PreparedFrame f = prepareFrame(test::builtinScene("atrium", "big"), 0, 96, 64,
-                                 GBufferFormat::FP32);
+  PreparedFrame f =
+      prepareFrame(test::builtinScene("atrium", "big"), 0, 96, 64, GBufferFormat::FP32);
   const int x = 40, y = 30;
   const size_t i = size_t(y) * f.gbuffer.width + x;
   float depth = f.encoded.depth[i];
   ASSERT_GT(depth, 0.0f) << "pick a pixel with geometry";
-  glm::vec3 p = shading_f::ts_view_position(x, y, depth, f.intrinsics.tanHalfFovX,
-                                            f.intrinsics.tanHalfFovY, f.gbuffer.width,
-                                            f.gbuffer.height);
+  glm::vec3 p =
+      shading_f::ts_view_position(x, y, depth, f.intrinsics.tanHalfFovX, f.intrinsics.tanHalfFovY,
+                                  f.gbuffer.width, f.gbuffer.height);
   TechniqueConfig config;
   FrameResult without = render(f, "brute", config, 1);
   FrameResult manyWithout = render(f, "brute", config, 16);
@@ -118,7 +118,8 @@ TEST(Lanes, AutoPicksTheFasterWidthPerTechniqueAndDevice) {
   bool gpu = test::context().isGpu();
   for (const auto& name : techniqueNames()) {
     auto t = createTechnique(name, test::context(), TechniqueConfig{});
-    bool lanes = name == "tiled" || name == "tiled-single" || name == "clustered" || name == "brute";
+    bool lanes =
+        name == "tiled" || name == "tiled-single" || name == "clustered" || name == "brute";
     EXPECT_EQ(t->lanes(), !gpu && lanes ? 16 : 1) << name;
   }
   // tiled-single keeps its whole tile in local memory in lanes (19 floats per pixel); a tile that

@@ -34,8 +34,8 @@ void expectRepeatable(const Scene& scene, int width, int height, const std::stri
         config.format = format;
         config.lanes = lanes;
         Technique& t = test::cachedTechnique(name, config);
-        std::string what = label + ": " + name + " " + toString(format) + " lanes " +
-                           std::to_string(lanes);
+        std::string what =
+            label + ": " + name + " " + toString(format) + " lanes " + std::to_string(lanes);
         const FrameResult first = test::renderOnly(f, t, false);
         for (int run = 1; run < kRuns; ++run)
           EXPECT_TRUE(sameBits(first.image, test::renderOnly(f, t, false).image))
@@ -66,31 +66,31 @@ TEST(Repeatability, BinListsInLightIndexOrder) {
   for (const PreparedFrame& f :
        {prepareFrame(test::builtinScene("atrium", "mixed"), 0, 160, 90, GBufferFormat::FP32),
         test::hugeLightsFrame(300)})
-  for (bool presize : {true, false})
-  for (const char* name : {"tiled", "tiled-single", "clustered"}) {
-    TechniqueConfig config;
-    config.presizeLists = presize;
-    auto fresh = createTechnique(name, test::context(), config);  // its list starts small
-    Technique& t = *fresh;
-    for (int run = 0; run < kRuns; ++run) {
-      FrameResult r = test::renderOnly(f, t, true);
-      ASSERT_TRUE(r.assignment.has_value()) << name;
-      const LightAssignment& a = *r.assignment;
-      size_t unordered = 0, listed = 0;
-      for (size_t b = 0; b < a.binCount.size(); ++b) {
-        listed += a.binCount[b];
-        for (uint32_t k = 1; k < a.binCount[b]; ++k)
-          unordered += a.binLights[a.binOffset[b] + k - 1] >= a.binLights[a.binOffset[b] + k];
+    for (bool presize : {true, false})
+      for (const char* name : {"tiled", "tiled-single", "clustered"}) {
+        TechniqueConfig config;
+        config.presizeLists = presize;
+        auto fresh = createTechnique(name, test::context(), config);  // its list starts small
+        Technique& t = *fresh;
+        for (int run = 0; run < kRuns; ++run) {
+          FrameResult r = test::renderOnly(f, t, true);
+          ASSERT_TRUE(r.assignment.has_value()) << name;
+          const LightAssignment& a = *r.assignment;
+          size_t unordered = 0, listed = 0;
+          for (size_t b = 0; b < a.binCount.size(); ++b) {
+            listed += a.binCount[b];
+            for (uint32_t k = 1; k < a.binCount[b]; ++k)
+              unordered += a.binLights[a.binOffset[b] + k - 1] >= a.binLights[a.binOffset[b] + k];
+          }
+          EXPECT_GT(listed, 0u) << name;
+          bool outgrewFirstBuffer = listed > 8 * a.binCount.size();  // it starts at 8 per tile
+          if (!presize && run == 0 && std::string(name) != "tiled-single" && outgrewFirstBuffer) {
+            EXPECT_FALSE(r.counters.notes.empty()) << name << ": the list did not grow";
+          }
+          EXPECT_EQ(unordered, 0u) << name << (presize ? "" : " (grown list)") << ", run "
+                                   << run + 1 << ": entries out of order";
+        }
       }
-      EXPECT_GT(listed, 0u) << name;
-      bool outgrewFirstBuffer = listed > 8 * a.binCount.size();  // it starts at 8 per tile
-      if (!presize && run == 0 && std::string(name) != "tiled-single" && outgrewFirstBuffer) {
-        EXPECT_FALSE(r.counters.notes.empty()) << name << ": the list did not grow";
-      }
-      EXPECT_EQ(unordered, 0u) << name << (presize ? "" : " (grown list)") << ", run " << run + 1
-                               << ": entries out of order";
-    }
-  }
 }
 
 }  // namespace

@@ -34,7 +34,8 @@ const PreparedFrame& prepared(const std::string& scene, const std::string& light
   auto key = scene + lights + std::to_string(frame) + toString(format);
   auto& p = cache[key];
   if (!p)
-    p = std::make_unique<PreparedFrame>(prepareFrame(builtinScene(scene, lights), frame, 160, 96, format));
+    p = std::make_unique<PreparedFrame>(
+        prepareFrame(builtinScene(scene, lights), frame, 160, 96, format));
   return *p;
 }
 
@@ -131,7 +132,8 @@ TEST(TechniqueConfig, EveryFieldChangesTheKey) {
 TEST(BinnedTechniques, OddTileSizes) {
   const PreparedFrame& f = prepared("street", "many", 10, GBufferFormat::FP32);
   for (const char* name : {"tiled", "tiled-single", "clustered"})
-    for (auto [w, h] : {std::pair{24, 24}, std::pair{12, 20}, std::pair{17, 9}, std::pair{48, 40}}) {
+    for (auto [w, h] :
+         {std::pair{24, 24}, std::pair{12, 20}, std::pair{17, 9}, std::pair{48, 40}}) {
       TechniqueConfig config;
       config.tileWidth = w;
       config.tileHeight = h;
@@ -167,14 +169,14 @@ TEST(TiledSingle, SameTileListsAsMultiKernelTiled) {
   DeviceFrame frame = f.upload(test::context());
   FrameRequest request;
   request.wantAssignment = true;
-  for (auto [culling, tile] :
-       {std::pair{CullTest::Rect, 16}, std::pair{CullTest::Frustum, 16},
-        std::pair{CullTest::Aabb, 16}, std::pair{CullTest::Rect, 32}}) {
+  for (auto [culling, tile] : {std::pair{CullTest::Rect, 16}, std::pair{CullTest::Frustum, 16},
+                               std::pair{CullTest::Aabb, 16}, std::pair{CullTest::Rect, 32}}) {
     TechniqueConfig config;
     config.culling = culling;
     config.tileWidth = config.tileHeight = tile;
     FrameResult a = createTechnique("tiled", test::context(), config)->render(frame, request);
-    FrameResult b = createTechnique("tiled-single", test::context(), config)->render(frame, request);
+    FrameResult b =
+        createTechnique("tiled-single", test::context(), config)->render(frame, request);
     EXPECT_EQ(tileLists(*a.assignment), tileLists(*b.assignment))
         << toString(culling) << " tile " << tile;
     EXPECT_EQ(a.counters.lightingComputations, b.counters.lightingComputations);

@@ -36,8 +36,8 @@ ChunkCase issueFrame() {
   options.lightCount = 257;
   options.lightRange = 1000.0f;
   Scene scene = loadScene("builtin:street", options);
-  return {"street 160x90, 257 lights", prepareFrame(scene, 0, 160, 90, GBufferFormat::FP32), {},
-          257};
+  return {
+      "street 160x90, 257 lights", prepareFrame(scene, 0, 160, 90, GBufferFormat::FP32), {}, 257};
 }
 
 // Many chunks in odd tiles: 7x5 tiles (35 work-items, no whole number of vectors) with a 64-light
@@ -63,13 +63,14 @@ ChunkCase onePixelFrame() {
 
 size_t nonFinitePixels(const std::vector<glm::vec4>& image) {
   size_t n = 0;
-  for (const auto& p : image) n += !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+  for (const auto& p : image)
+    n += !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
   return n;
 }
 
 void expectChunkedTilesCorrect(const ChunkCase& c) {
-  ReferenceImage ref = shadeReference(c.frame.encoded, c.frame.intrinsics, c.frame.lights,
-                                      c.frame.ambient, 0);
+  ReferenceImage ref =
+      shadeReference(c.frame.encoded, c.frame.intrinsics, c.frame.lights, c.frame.ambient, 0);
   for (int lanes : {1, 2, 4, 8, 16}) {
     TechniqueConfig config = c.config;
     config.lanes = lanes;

@@ -28,15 +28,16 @@ struct Case {
 
 // Keeps CTest's names readable (GoogleTest would print the parameter's bytes).
 void PrintTo(const Case& k, std::ostream* os) {
-  *os << k.scene << "/" << k.lights << " frame " << k.frame << " tile " << k.tile << " "
-      << k.width << "x" << k.height << " " << toString(k.format);
+  *os << k.scene << "/" << k.lights << " frame " << k.frame << " tile " << k.tile << " " << k.width
+      << "x" << k.height << " " << toString(k.format);
 }
 
 class TiledMatchesReference : public ::testing::TestWithParam<Case> {};
 
 TEST_P(TiledMatchesReference, WithinFp32RoundingAndNoMissedLight) {
   const Case& k = GetParam();
-  PreparedFrame f = prepareFrame(builtinScene(k.scene, k.lights), k.frame, k.width, k.height, k.format);
+  PreparedFrame f =
+      prepareFrame(builtinScene(k.scene, k.lights), k.frame, k.width, k.height, k.format);
   ASSERT_GT(f.gbuffer.geometryPixels(), f.gbuffer.pixelCount() / 4) << "camera sees little";
   Checked c = renderAndCheck(f, tiledTechnique(k.format, k.tile));
   EXPECT_EQ(c.missed, 0u);

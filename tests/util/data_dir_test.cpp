@@ -14,9 +14,10 @@ namespace {
 struct ScratchTree {
   fs::path root;
   ScratchTree() {
-    root = fs::temp_directory_path() /
-           ("tileshade_data_dir_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    root =
+        fs::temp_directory_path() /
+        ("tileshade_data_dir_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(root);
     fs::create_directories(root);
   }
@@ -33,8 +34,9 @@ void touch(const fs::path& p) {
 TEST(DataDir, OverrideWins) {
   ScratchTree t;
   fs::create_directories(t.root / "prefix/share/tileshade/kernels");
-  EXPECT_EQ(ts::resolveDataDir("/elsewhere", t.root / "prefix/bin/tileshade", "kernels", "/src/kernels"),
-            "/elsewhere");
+  EXPECT_EQ(
+      ts::resolveDataDir("/elsewhere", t.root / "prefix/bin/tileshade", "kernels", "/src/kernels"),
+      "/elsewhere");
 }
 
 TEST(DataDir, InstallTreeBesideTheExecutable) {
@@ -55,7 +57,8 @@ TEST(DataDir, SourceTreeOnlyFromABuildFolder) {
   // From a build folder (or below it, as the fuzzers are) the source tree is used.
   touch(t.root / "build/CMakeCache.txt");
   EXPECT_EQ(ts::resolveDataDir("", t.root / "build/tileshade", "kernels", source), source);
-  EXPECT_EQ(ts::resolveDataDir("", t.root / "build/tests/fuzz/gltf_fuzzer", "kernels", source), source);
+  EXPECT_EQ(ts::resolveDataDir("", t.root / "build/tests/fuzz/gltf_fuzzer", "kernels", source),
+            source);
 }
 
 TEST(DataDir, InstallTreeWinsInsideABuildFolder) {
@@ -74,6 +77,7 @@ TEST(DataDir, UnknownExecutableKeepsTheSourceTree) {
 }
 
 TEST(DataDir, ThisTestBinaryFindsTheSourceKernels) {
-  const std::string dir = ts::dataDir("TILESHADE_NO_SUCH_VARIABLE", "kernels", TILESHADE_SOURCE_DIR "/kernels");
+  const std::string dir =
+      ts::dataDir("TILESHADE_NO_SUCH_VARIABLE", "kernels", TILESHADE_SOURCE_DIR "/kernels");
   EXPECT_TRUE(fs::exists(fs::path(dir) / "shading.h")) << dir;
 }

@@ -17,9 +17,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // A fresh folder per test (CTest runs tests in parallel processes).
-fs::path freshDir(const std::string& name) {
-  return ts::test::freshDir("hostile", name);
-}
+fs::path freshDir(const std::string& name) { return ts::test::freshDir("hostile", name); }
 
 TEST(HostileOptions, SharedValidatorsRefuseNanInfAndRanges) {
   using ts::NumberRule;

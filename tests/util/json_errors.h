@@ -26,7 +26,9 @@ inline std::string readText(const std::filesystem::path& p) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-inline std::string nested(size_t depth) { return std::string(depth, '[') + std::string(depth, ']'); }
+inline std::string nested(size_t depth) {
+  return std::string(depth, '[') + std::string(depth, ']');
+}
 
 // ts::Error's message from f(), "" when it did not throw.
 template <typename F>

@@ -2,7 +2,8 @@
 // strings, nesting beyond 64 levels and directories where files go are one short error line in
 // every file tileshade reads (gbuffer.json, lights.json, bench configs, bench.json/bench.csv on
 // resume, glTF and GLB, kernel sources), and no error line echoes more than a short prefix of
-// what the user gave. The strict parser and the readers' helpers on their own: strict_json_test.cpp.
+// what the user gave. The strict parser and the readers' helpers on their own:
+// strict_json_test.cpp.
 
 #include <algorithm>
 #include <cstring>
@@ -32,26 +33,25 @@ using json = nlohmann::json;
 namespace {
 
 using ts::test::CliRun;
-using ts::test::runTileshade;
-using ts::test::Streams;
 using ts::test::errorOf;
 using ts::test::expectMessage;
 using ts::test::kShortLine;
 using ts::test::nested;
 using ts::test::readText;
+using ts::test::runTileshade;
+using ts::test::Streams;
 using ts::test::writeText;
 
-fs::path freshDir(const std::string& name) {
-  return ts::test::freshDir("json_input", name);
-}
+fs::path freshDir(const std::string& name) { return ts::test::freshDir("json_input", name); }
 
 // Exit status 1 and one short stderr line "tileshade: error: ..." with every needle.
 void expectOneShortErrorLine(const std::string& args, const std::vector<std::string>& needles) {
   CliRun r = runTileshade(args, Streams::StderrOnly);
   EXPECT_EQ(r.exitCode(), 1) << args << "\n" << r.output.substr(0, 2000);
-  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1)
-      << args << "\n" << r.output.substr(0, 2000);
-  EXPECT_EQ(r.output.rfind("tileshade: error: ", 0), 0u) << args << "\n" << r.output.substr(0, 2000);
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << "\n"
+                                                                   << r.output.substr(0, 2000);
+  EXPECT_EQ(r.output.rfind("tileshade: error: ", 0), 0u) << args << "\n"
+                                                         << r.output.substr(0, 2000);
   EXPECT_LT(r.output.size(), kShortLine) << args << "\n" << r.output.substr(0, 2000);
   for (const auto& n : needles)
     EXPECT_NE(r.output.find(n), std::string::npos) << args << "\n" << r.output.substr(0, 2000);
@@ -152,9 +152,8 @@ TEST(JsonInput, DuplicateKeysInTheDescriptorAreAnError) {
 TEST(JsonInput, DuplicateKeysInABenchConfigAreAnError) {
   ts::BenchOptions o;
   auto apply = [&](const std::string& text) {
-    return errorOf([&] {
-      ts::applyBenchConfig(text, "c.json", o, [](const std::string&) { return false; });
-    });
+    return errorOf(
+        [&] { ts::applyBenchConfig(text, "c.json", o, [](const std::string&) { return false; }); });
   };
   expectMessage(apply(R"({"technique": "tiled", "frames": "0", "technique": "brute"})"),
                 {"bench config c.json", "\"technique\" appears twice"});
@@ -168,7 +167,8 @@ TEST(JsonInput, DuplicateKeysInABenchConfigAreAnError) {
 TEST(JsonInput, DuplicateKeysInGltfAndGlbAreAnError) {
   const std::string text = triangleWith(R"("scene": 0)");  // "scene" is there already
   expectMessage(loadGltfError(text), {"hostile.gltf", "\"scene\" appears twice"});
-  expectMessage(loadGltfError(glb(text), "hostile.glb"), {"hostile.glb", "\"scene\" appears twice"});
+  expectMessage(loadGltfError(glb(text), "hostile.glb"),
+                {"hostile.glb", "\"scene\" appears twice"});
   // A node's translation twice: tinygltf would have kept the last one.
   json doc = ts::test::triangle();
   std::string nodes = doc.dump();
@@ -181,7 +181,8 @@ TEST(JsonInput, DuplicateKeysInGltfAndGlbAreAnError) {
 TEST(JsonInput, NulInAPathIsAnError) {
   // gbuffer.json's image, a glTF image uri, a bench config's scene.
   expectMessage(errorOf([&] {
-                  ts::parseGBufferDescriptor(R"({"image": "gbuffer.exr\u0000.png"})", "gbuffer.json");
+                  ts::parseGBufferDescriptor(R"({"image": "gbuffer.exr\u0000.png"})",
+                                             "gbuffer.json");
                 }),
                 {"gbuffer.json", "\\u0000"});
   expectMessage(loadGltfError(triangleWith(R"("images": [{"uri": "a.png\u0000.jpg"}])")),
@@ -194,7 +195,8 @@ TEST(JsonInput, NulInAPathIsAnError) {
                 {"c.json", "\\u0000"});
 }
 
-// ---- deep nesting and long echoes on the command line ---------------------------------------------
+// ---- deep nesting and long echoes on the command line
+// ---------------------------------------------
 
 TEST(JsonInput, DeepNestingInEveryJsonKindIsOneShortLine) {
   if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
@@ -270,7 +272,8 @@ TEST(JsonInput, GltfMessagesEchoLongNamesShort) {
   json doc = ts::test::triangle();
   doc["extensionsRequired"] = {huge};
   doc["extensionsUsed"].push_back(huge);
-  doc["materials"] = {{{"name", huge}, {"pbrMetallicRoughness", {{"baseColorFactor", {2, 0, 0, 1}}}}}};
+  doc["materials"] = {
+      {{"name", huge}, {"pbrMetallicRoughness", {{"baseColorFactor", {2, 0, 0, 1}}}}}};
   doc["meshes"][0]["primitives"][0]["material"] = 0;
   const std::vector<std::string> warnings = warningsOf(doc.dump());
   ASSERT_GE(warnings.size(), 2u);
@@ -286,7 +289,8 @@ TEST(JsonInput, GltfMessagesEchoLongNamesShort) {
   expectMessage(loadGltfError(doc.dump()), {"hostile.gltf", "scene: expected", " bytes)"});
 }
 
-// ---- directories where files go --------------------------------------------------------------------
+// ---- directories where files go
+// --------------------------------------------------------------------
 
 TEST(JsonInput, ADirectoryWhereAFileGoesIsOneLineNamingIt) {
   if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
@@ -314,8 +318,9 @@ TEST(JsonInput, ADirectoryWhereAFileGoesIsOneLineNamingIt) {
   fs::create_directories(dir / "config.json");
   expectOneShortErrorLine("bench --list --config " + (dir / "config.json").string(),
                           {"bench config " + (dir / "config.json").string() + isDir});
-  const std::string bench = "bench --technique brute --resolution 64x36 --frames 1 --no-calibrate "
-                            "--quiet --device cpu --resume --out ";
+  const std::string bench =
+      "bench --technique brute --resolution 64x36 --frames 1 --no-calibrate "
+      "--quiet --device cpu --resume --out ";
   for (const char* file : {"bench.csv", "bench.json"}) {
     const fs::path b = dir / (std::string("resume_") + file);
     fs::create_directories(b / file);
@@ -353,8 +358,9 @@ TEST(JsonInput, AGltfBufferThatIsADirectoryIsOneLineNamingIt) {
 
 TEST(JsonInput, DuplicateKeysOrNestingInBenchJsonOnResumeAreAnError) {
   if (!binaryBuilt()) GTEST_SKIP() << "tileshade binary not built";
-  const std::string bench = "bench --technique brute --resolution 64x36 --frames 1 --no-calibrate "
-                            "--quiet --device cpu --resume --out ";
+  const std::string bench =
+      "bench --technique brute --resolution 64x36 --frames 1 --no-calibrate "
+      "--quiet --device cpu --resume --out ";
   const fs::path dir = freshDir("resume_json");
   for (const std::string& text : {std::string(R"({"rows": [], "rows": []})"), nested(100000)}) {
     writeText(dir / "bench.csv", "");

@@ -24,9 +24,7 @@ using ts::test::expectMessage;
 using ts::test::nested;
 using ts::test::writeText;
 
-fs::path freshDir(const std::string& name) {
-  return ts::test::freshDir("json_input", name);
-}
+fs::path freshDir(const std::string& name) { return ts::test::freshDir("json_input", name); }
 
 TEST(ShortText, KeepsShortTextAndCutsLongTextWithItsLength) {
   EXPECT_EQ(ts::shortText("tiled"), "tiled");
@@ -69,8 +67,7 @@ TEST(StrictJson, SyntaxErrorsAreShortAndSayWhere) {
   expectMessage(errorOfParse(""), {"src: not valid JSON: ", "line 1, column 1"});
   expectMessage(errorOfParse("{\"a\": \"" + std::string(1 << 20, 'z')),  // unterminated
                 {"src: not valid JSON"});
-  expectMessage(errorOfParse("{\"a\": " + std::string(1 << 20, '7') + "x}"),
-                {"not valid JSON"});
+  expectMessage(errorOfParse("{\"a\": " + std::string(1 << 20, '7') + "x}"), {"not valid JSON"});
   // Comments only where asked for (bench configs).
   EXPECT_NE(errorOfParse("{\"a\": 1 /* c */}"), "");
   EXPECT_NO_THROW(ts::parseStrictJson("{\"a\": 1 /* c */}", "src", ts::JsonComments::Allowed));
