@@ -247,6 +247,8 @@ void runRender(const RenderOptions& options) {
       {"tile", {o.tileWidth, o.tileHeight}},
       {"culling", toString(o.culling)},
       {"spot_culling", toString(o.spotCulling)},
+      {"depth_split", o.depthSplit},
+      {"slices", o.clusterSlices},
       {"math", toString(o.math)},
       {"lanes_requested", lanesName(o.lanes)},
       {"light_threshold", o.lightThreshold},

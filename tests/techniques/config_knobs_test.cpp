@@ -8,8 +8,11 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "bench/bench_cli.h"
 #include "bench/bench_config.h"
@@ -277,6 +280,31 @@ TEST(BenchDepthSplit, ResumeOfAFileWithoutTheColumnIsOneClearError) {
     const std::string m = e.what();
     EXPECT_EQ(m.find('\n'), std::string::npos) << m;
     EXPECT_NE(m.find("other columns"), std::string::npos) << m;
+  }
+  fs::remove_all(dir);
+}
+
+// stats.json names every knob of a render as bench names it: the same value text as the bench
+// dimension of that name (bench.csv's column), for values other than the defaults.
+TEST(ConfigKnobs, StatsJsonNamesTheKnobsAsBenchDoes) {
+  const fs::path dir = test::freshDir("config_knobs", "stats");
+  const std::map<std::string, std::string> knobs = {
+      {"culling", "aabb"}, {"spot_culling", "range-sphere"},
+      {"math", "fast"},    {"depth_split", "true"},
+      {"slices", "8"},     {"gbuffer", "packed"}};
+  std::string args = "render --width 32 --height 18 --technique tiled --out " + dir.string();
+  for (const auto& [name, value] : knobs) {
+    args += " " + findDimension(name).optionName();
+    if (name != "depth_split") args += " " + value;  // a flag on render's command line
+  }
+  test::CliRun r = test::runTileshade(args);
+  ASSERT_EQ(r.exitCode(), 0) << r.output;
+  std::ifstream in(dir / "stats.json");
+  const nlohmann::json stats = nlohmann::json::parse(in);
+  for (const auto& [name, value] : knobs) {
+    ASSERT_TRUE(stats.contains(name)) << name;
+    const nlohmann::json& v = stats[name];
+    EXPECT_EQ(v.is_string() ? v.get<std::string>() : v.dump(), value) << name;
   }
   fs::remove_all(dir);
 }
