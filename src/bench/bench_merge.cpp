@@ -101,7 +101,9 @@ ShardFolder readShardFolder(const std::string& given) {
 std::string sweepDifference(const ShardFolder& a, const ShardFolder& b) {
   if (a.hash == b.hash) return "";
   auto fa = a.runOptions.fields(), fb = b.runOptions.fields();
-  for (const auto& [name, value] : fa) {
+  for (const auto& field : fa) {
+    // A named reference, not a structured binding: C++17 lambdas cannot capture those (clang).
+    const std::string &name = field.first, &value = field.second;
     auto other = std::find_if(fb.begin(), fb.end(), [&](const auto& p) { return p.first == name; });
     std::string theirs = other == fb.end() ? "(none)" : other->second;
     if (theirs != value)
