@@ -1,4 +1,4 @@
-// G-buffer files (src/render/gbuffer_files.h): `render --dump` read back by `--gbuffer-in`
+// G-buffer files (src/gbuffer/gbuffer_files.h): `render --dump` read back by `--gbuffer-in`
 // exactly (same stored bits, same lights, same images from every technique, in every layout),
 // a G-buffer from another renderer through a descriptor (hardware depth, unorm normals, bottom
 // row first), and one-line errors for bad files.
@@ -16,8 +16,8 @@
 #include "raster/raster_backend.h"
 #include "reference_check.h"
 #include "render/gbuffer_dump.h"
-#include "render/gbuffer_import.h"
-#include "render/image_io.h"
+#include "render/imported_frame.h"
+#include "gbuffer/image_io.h"
 #include "scene/scene_features.h"
 #include "util/error.h"
 #include "util/pi.h"

@@ -15,8 +15,8 @@
 #endif
 
 #include "render/gbuffer_dump.h"
-#include "render/gbuffer_import.h"
-#include "render/image_io.h"
+#include "render/imported_frame.h"
+#include "gbuffer/image_io.h"
 #include "reference_check.h"
 #include "test_support.h"
 #include "util/error.h"

@@ -19,7 +19,7 @@
 #include "bench/bench_run.h"
 #include "gltf_builder.h"
 #include "json_errors.h"
-#include "render/gbuffer_files.h"
+#include "gbuffer/gbuffer_files.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
 #include "util/error.h"
