@@ -4,11 +4,11 @@
  * (ts_shade_punctual, ts_shade_directionals). The per-element decoders are in
  * kernels/gbuffer_codecs.h, which the host decodes with too (src/gbuffer/gbuffer_layout.cpp:
  * decodeSurface, decodeStored); tests check the two agree through the `decode_gbuffer` kernel
- * (kernels/dump.cl): GBufferDecode (tests/pipeline_test.cpp), MetallicRoughnessDecode and
- * AccuracyKnobs.PackedDecodeMatchesTheHostForEveryCode.
+ * (kernels/dump.cl): GBufferDecode (tests/gbuffer/gbuffer_decode_test.cpp),
+ * MetallicRoughnessDecode and AccuracyKnobs.PackedDecodeMatchesTheHostForEveryCode.
  *
  * Planes (one element per pixel, row-major, row 0 = top of the screen), present only when the
- * scene needs them (SceneFeatures; the layout table is in docs/accuracy.md, "G-buffer layouts"):
+ * scene needs them (SceneFeatures; the layout table is in docs/accuracy.md, "G-buffer precision"):
  *   depth     float         linear view depth -z_view; 0 = background (no geometry). Always.
  *   normal    view-space normal (renormalised after decoding); fp32/fp16 metallic-roughness:
  *             roughness in w. Always.

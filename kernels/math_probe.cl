@@ -1,7 +1,7 @@
 /*
  * math_probe: runs the kernels' own arithmetic helpers (kernels/gbuffer.h) on inputs the host
  * gives, so that a test holds each to its documented error on the device that shades
- * (tests/math_probe_test.cpp). No technique uses this program.
+ * (tests/shading/math_probe_test.cpp). No technique uses this program.
  */
 #include "gbuffer.h"
 

@@ -232,7 +232,8 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
    * value. In a tile that crosses the frame's edge, the last work-item's pixel is off screen: with
    * the `loops` method no pixel of the tile was written, with `loopvec` (the default) every pixel
    * was, off-screen ones included, past the end of the image buffer — heap corruption once a tile
-   * listed more than one chunk of lights (issue #12; tests/tiled_single_chunks_test.cpp). */
+   * listed more than one chunk of lights (issue #12;
+   * tests/techniques/tiled_single_chunks_test.cpp). */
 #if TS_LANES == 1
   float3 sum[PIXELS_PER_ITEM];
   for (int k = 0; k < PIXELS_PER_ITEM; ++k) sum[k] = (float3)(0.0f);

@@ -3,6 +3,7 @@
 #include "scene/light_range.h"
 #include "scene/scene_features.h"
 #include "scene/scene_loader.h"
+#include "scene/view_space_lights.h"
 #include "util/error.h"
 
 namespace ts {

@@ -12,7 +12,7 @@
 #include "bench/bench_config.h"
 #include "raster/raster_backend.h"
 #include "render/frame_setup.h"
-#include "render/gbuffer_import.h"
+#include "render/imported_frame.h"
 
 namespace ts {
 

@@ -7,9 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "render/gbuffer_files.h"
-#include "render/gbuffer_import.h"
-#include "render/image_io.h"
+#include "gbuffer/gbuffer_files.h"
+#include "render/imported_frame.h"
+#include "gbuffer/image_io.h"
 #include "util/error.h"
 #include "util/pi.h"
 

@@ -1,8 +1,8 @@
 #pragma once
 // Comparing two G-buffers of the same frame made by different rasterizers (the OpenGL one against
 // the software one): where their coverage differs and by how much their values differ where both
-// cover a pixel with the same triangle. Used by tests/gl_raster_test.cpp; the bounds it is checked
-// against are derived in docs/opengl.md.
+// cover a pixel with the same triangle. Used by tests/raster/gl_raster_test.cpp; the bounds it is
+// checked against are derived in docs/opengl.md.
 #include <cstdint>
 #include <string>
 

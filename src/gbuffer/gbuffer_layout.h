@@ -79,7 +79,7 @@ float decodeUnorm8(uint8_t b);
 // in float as the kernel computes it.
 uint8_t encodeShininess(float s);
 float decodeShininess(uint8_t b);
-// Documented bounds (docs/accuracy.md; checked by tests/gbuffer_layout_test.cpp).
+// Documented bounds (docs/accuracy.md; checked by tests/gbuffer/gbuffer_layout_test.cpp).
 // Normal: half the diagonal of a 1/32767 lattice cell, stretched by up to ~2 where the octahedron
 // is farthest from the sphere; 4.31e-5 measured over 2e7 random normals (plain round-to-nearest
 // would give 6.5e-5).

@@ -29,8 +29,8 @@
 //  - Triangle ids: gl_PrimitiveID plus the draw's first triangle (one draw per run of triangles
 //    sharing a material, in scene order).
 // What cannot match bit for bit (float vertex transform, the snapped-triangle attribute
-// interpolation, sampler weight precision) is measured in tests/gl_raster_test.cpp and described
-// in docs/opengl.md.
+// interpolation, sampler weight precision) is measured in tests/raster/gl_raster_test.cpp and
+// described in docs/opengl.md.
 #include "raster/gl_rasterizer.h"
 
 #include <algorithm>

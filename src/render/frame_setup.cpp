@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "scene/shading_range.h"
+#include "scene/view_space_lights.h"
 #include "util/error.h"
 
 namespace ts {

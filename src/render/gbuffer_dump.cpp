@@ -4,10 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "render/gbuffer_files.h"
+#include "gbuffer/gbuffer_files.h"
 #include "cl/kernel_args.h"
 #include "cl/work_group.h"
-#include "render/image_io.h"
+#include "gbuffer/image_io.h"
 #include "util/file_write.h"
 #include "techniques/device_frame.h"
 #include "util/error.h"

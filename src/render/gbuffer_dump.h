@@ -1,6 +1,9 @@
 #pragma once
 // `render --dump`: the frame's G-buffer as the kernels decode it, its lights and a descriptor
-// (src/render/gbuffer_files.h), which `--gbuffer-in` reads back exactly.
+// (src/gbuffer/gbuffer_files.h), which `--gbuffer-in` reads back exactly.
+// It launches the dump kernel on the frame's DeviceFrame (modules cl, techniques, above gbuffer),
+// so it is the render command's device step and stays here; the files' format is the gbuffer
+// module's.
 #include <string>
 #include <vector>
 

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <filesystem>
 
-#include "render/gbuffer_import.h"
+#include "render/imported_frame.h"
 #include "scene/light_range.h"
 #include "scene/scene_loader.h"
 

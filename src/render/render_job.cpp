@@ -16,7 +16,7 @@
 #include "reference/reference.h"
 #include "render/frame_setup.h"
 #include "render/gbuffer_dump.h"
-#include "render/image_io.h"
+#include "gbuffer/image_io.h"
 #include "render/render_input.h"
 #include "render/stats.h"
 #include "scene/light_range.h"

@@ -14,10 +14,6 @@ namespace ts {
 
 inline cl_float4 toCl(glm::vec4 v) { return {{v.x, v.y, v.z, v.w}}; }
 
-// In double (Camera): a light far from the origin keeps its position relative to the camera.
-// (Here, not beside ViewLights: it reads the scene's lights, and scene sits above shading.)
-ViewLights toViewSpace(const std::vector<Light>& lights, const glm::dmat4& viewFromWorld);
-
 struct DeviceFrame {
   const EncodedGBuffer* gbuffer = nullptr;  // host copy of what was uploaded
   const ViewLights* lights = nullptr;       // host copy of what was uploaded

@@ -7,13 +7,6 @@
 #include "test_support.h"
 #include "tileshade/version.h"
 
-TEST(Version, HeaderMatchesItsParts) {
-  const std::string parts = std::to_string(TILESHADE_VERSION_MAJOR) + "." +
-                            std::to_string(TILESHADE_VERSION_MINOR) + "." +
-                            std::to_string(TILESHADE_VERSION_PATCH);
-  EXPECT_EQ(parts, TILESHADE_VERSION);
-}
-
 TEST(Version, FlagPrintsOneLineAndSucceeds) {
   const ts::test::CliRun r = ts::test::runTileshade("--version");
   EXPECT_EQ(r.exitCode(), 0) << r.output;

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-#include "render/gbuffer_files.h"
+#include "gbuffer/gbuffer_files.h"
 #include "util/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

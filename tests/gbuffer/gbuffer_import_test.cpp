@@ -1,4 +1,4 @@
-// G-buffer files (src/render/gbuffer_files.h): `render --dump` read back by `--gbuffer-in`
+// G-buffer files (src/gbuffer/gbuffer_files.h): `render --dump` read back by `--gbuffer-in`
 // exactly (same stored bits, same lights, same images from every technique, in every layout),
 // a G-buffer from another renderer through a descriptor (hardware depth, unorm normals, bottom
 // row first), and one-line errors for bad files.
@@ -16,8 +16,8 @@
 #include "raster/raster_backend.h"
 #include "reference_check.h"
 #include "render/gbuffer_dump.h"
-#include "render/gbuffer_import.h"
-#include "render/image_io.h"
+#include "render/imported_frame.h"
+#include "gbuffer/image_io.h"
 #include "scene/scene_features.h"
 #include "util/error.h"
 #include "util/pi.h"
@@ -135,31 +135,6 @@ TEST(GBufferImport, OpenGLGBufferDumpedAndImported) {
     Technique& t = test::cachedTechnique("tiled-single", config);
     EXPECT_TRUE(sameBits(test::renderOnly(original, t, false).image,
                          test::renderOnly(imported.frame, t, false).image));
-  }
-}
-
-// The packed normal's part of the exact round trip: every code the encoder can emit decodes (before
-// the kernels' renormalisation) to a vector that encodes back to that code. The fold's edges,
-// where two codes give one direction that only the sign of a zero component tells apart, are
-// checked exhaustively; the rest at random.
-TEST(GBufferImport, PackedNormalCodesReencodeToThemselves) {
-  auto code = [](int x, int y) {
-    return uint32_t(uint16_t(int16_t(x))) | uint32_t(uint16_t(int16_t(y))) << 16;
-  };
-  auto check = [&](int x, int y) {
-    const uint32_t c = code(x, y);
-    const uint32_t again = packed::encodeNormal(packed::decodeNormalUnnormalized(c));
-    if (again != c) ADD_FAILURE() << "code (" << x << ", " << y << ") re-encodes to " << again;
-    return again == c;
-  };
-  int failures = 0;
-  for (int v = -32767; v <= 32767 && failures < 5; ++v)
-    for (int edge : {-32767, 32767, 0}) failures += !check(v, edge) + !check(edge, v);
-  std::mt19937 rng(3);
-  std::uniform_int_distribution<int> u(-32767, 32767);
-  for (int i = 0; i < 2000000 && failures < 5; ++i) {
-    const auto xy = test::drawnLastFirst<2>([&] { return u(rng); });
-    failures += !check(xy[0], xy[1]);
   }
 }
 

@@ -10,13 +10,11 @@
 #include <functional>
 
 #include <nlohmann/json.hpp>
-#ifndef TILESHADE_NO_OIIO
-#include <OpenImageIO/imageio.h>
-#endif
 
 #include "render/gbuffer_dump.h"
-#include "render/gbuffer_import.h"
-#include "render/image_io.h"
+#include "render/imported_frame.h"
+#include "gbuffer/image_io.h"
+#include "exr_writer.h"
 #include "reference_check.h"
 #include "test_support.h"
 #include "util/error.h"
@@ -289,34 +287,7 @@ TEST(GBufferImportTrust, ValuesTheGltfPathRefusesAreRefused) {
 }
 
 #ifndef TILESHADE_NO_OIIO
-// Writes `image` as an EXR whose channels named in `uintChannels` are stored as uint, and whose
-// data window is offset by (dx, dy) inside a display window `border` pixels larger on each side.
-void writeExrWith(const fs::path& path, const FloatImage& image,
-                  const std::vector<std::string>& uintChannels, int border = 0) {
-  OIIO::ImageSpec spec(image.width, image.height, int(image.channels.size()),
-                       OIIO::TypeDesc::FLOAT);
-  spec.channelnames = image.channels;
-  spec.alpha_channel = -1;
-  std::vector<bool> isUint;
-  for (const auto& c : image.channels) {
-    isUint.push_back(std::count(uintChannels.begin(), uintChannels.end(), c) > 0);
-    spec.channelformats.push_back(isUint.back() ? OIIO::TypeDesc::UINT32 : OIIO::TypeDesc::FLOAT);
-  }
-  spec.x = spec.y = border;
-  spec.full_width = image.width + 2 * border;
-  spec.full_height = image.height + 2 * border;
-  // float and uint32 are both 4 bytes: one native buffer, each value in its channel's type
-  std::vector<uint32_t> native(image.data.size());
-  for (size_t i = 0; i < native.size(); ++i) {
-    const float v = image.data[i];
-    if (isUint[i % image.channels.size()]) native[i] = uint32_t(v);
-    else std::memcpy(&native[i], &v, 4);
-  }
-  auto out = OIIO::ImageOutput::create(path.string());
-  ASSERT_TRUE(out && out->open(path.string(), spec) &&
-              out->write_image(OIIO::TypeDesc::UNKNOWN, native.data()) && out->close())
-      << OIIO::geterror();
-}
+using test::writeExrWith;
 
 TEST(GBufferImportTrust, UintMaskChannelKeepsItsIntegerValues) {
   const DumpFiles& f = dumpFiles();
@@ -328,36 +299,6 @@ TEST(GBufferImportTrust, UintMaskChannelKeepsItsIntegerValues) {
   ASSERT_EQ(read.data, f.image.data);  // mask 1 is 1, not 2.3e-10
   EXPECT_EQ(importGBuffer(dir.string()).frame.gbuffer.geometryPixels(),
             f.frame.gbuffer.geometryPixels());
-}
-
-// Every channel uint (one format for the whole file: OpenImageIO then lists no per-channel
-// formats): integer depths, axis normals, a 0/1 mask.
-TEST(GBufferImportTrust, AllUintExrKeepsItsIntegerValues) {
-  FloatImage image;
-  image.width = 8;
-  image.height = 4;
-  image.channels = {"Z", "nx", "ny", "nz", "r", "g", "b", "mask"};
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      const bool geometry = x < 3;
-      image.data.insert(image.data.end(),
-                        {geometry ? 5.0f : 0.0f, 0, 0, 1, 1, 1, 1, geometry ? 1.0f : 0.0f});
-    }
-  const fs::path dir = freshDir("all_uint");
-  writeExrWith(dir / "frame.exr", image, image.channels);
-  std::ofstream(dir / "lights.json") << json{{"lights", json::array()}}.dump();
-  std::ofstream(dir / "gbuffer.json") << json{
-      {"tileshade_gbuffer", 1},
-      {"image", "frame.exr"},
-      {"camera", {{"yfov", 1.0}}},
-      {"depth", {{"channel", "Z"}, {"encoding", "linear"}}},
-      {"mask", "mask"},
-      {"normal", {"nx", "ny", "nz"}},
-      {"diffuse", {"r", "g", "b"}}}.dump();
-  const ImportedFrame imported = importGBuffer(dir.string());
-  EXPECT_EQ(imported.frame.gbuffer.geometryPixels(), 3u * 4u);
-  EXPECT_EQ(imported.frame.gbuffer.depth[0], 5.0f);
-  EXPECT_EQ(imported.frame.intrinsics.znear, 5.0f);
 }
 
 TEST(GBufferImportTrust, CroppedExrIsRefusedInOneLine) {

@@ -69,4 +69,11 @@ inline json triangle(std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0})
   return doc;
 }
 
+// The triangle's text with `member` (`"key": value`) added at its top level.
+inline std::string triangleWith(const std::string& member) {
+  std::string text = triangle().dump();
+  text.insert(text.size() - 1, "," + member);
+  return text;
+}
+
 }  // namespace ts::test

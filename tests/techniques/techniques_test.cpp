@@ -100,33 +100,6 @@ INSTANTIATE_TEST_SUITE_P(Builtins, EveryTechnique, ::testing::ValuesIn(everyTech
                                   toString(k.format);
                          });
 
-// check's technique cache is keyed on TechniqueConfig::key: a configuration that builds or launches
-// differently must not share a key (one with other cluster slices reused a kernel built for 16).
-TEST(TechniqueConfig, EveryFieldChangesTheKey) {
-  const TechniqueConfig base;
-  const std::vector<std::pair<std::string, std::function<void(TechniqueConfig&)>>> changes = {
-      {"format", [](TechniqueConfig& c) { c.format = GBufferFormat::PACKED; }},
-      {"features", [](TechniqueConfig& c) { c.features.directional = false; }},
-      {"tileWidth", [](TechniqueConfig& c) { c.tileWidth = 8; }},
-      {"tileHeight", [](TechniqueConfig& c) { c.tileHeight = 8; }},
-      {"clusterSlices", [](TechniqueConfig& c) { c.clusterSlices = 32; }},
-      {"presizeLists", [](TechniqueConfig& c) { c.presizeLists = false; }},
-      {"localListCapacity", [](TechniqueConfig& c) { c.localListCapacity = 64; }},
-      {"rangeModel", [](TechniqueConfig& c) { c.rangeModel = RangeModel::Physical; }},
-      {"culling", [](TechniqueConfig& c) { c.culling = CullTest::Aabb; }},
-      {"depthSplit", [](TechniqueConfig& c) { c.depthSplit = true; }},
-      {"spotCulling", [](TechniqueConfig& c) { c.spotCulling = SpotCulling::BoundSphere; }},
-      {"math", [](TechniqueConfig& c) { c.math = MathMode::Fast; }},
-      {"buildOptions", [](TechniqueConfig& c) { c.buildOptions = "-cl-opt-disable"; }},
-      {"lanes", [](TechniqueConfig& c) { c.lanes = 4; }},
-  };
-  for (const auto& [field, change] : changes) {
-    TechniqueConfig c = base;
-    change(c);
-    EXPECT_NE(c.key(), base.key()) << field;
-  }
-}
-
 // Tile sizes that are not powers of two (nor divide the image), square or not: the binned
 // techniques launch work-groups that stay inside one tile (tileDividingGroup) and stay exact.
 TEST(BinnedTechniques, OddTileSizes) {

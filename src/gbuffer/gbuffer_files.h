@@ -6,7 +6,7 @@
 //   gbuffer.exr   the per-pixel channels the descriptor names
 //   lights.json   the lights in view space, in the kernels' layout (ViewLights)
 // The tables below drive both the writer (src/render/gbuffer_dump.cpp) and the reader
-// (src/render/gbuffer_import.cpp): a new G-buffer field or light field is one row here.
+// (src/gbuffer/gbuffer_import.cpp): a new G-buffer field or light field is one row here.
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,7 +16,7 @@
 
 #include "gbuffer/gbuffer_layout.h"
 #include "scene/scene.h"
-#include "techniques/device_frame.h"
+#include "shading/view_lights.h"
 
 namespace ts {
 

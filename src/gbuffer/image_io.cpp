@@ -1,4 +1,4 @@
-#include "render/image_io.h"
+#include "gbuffer/image_io.h"
 
 #include <algorithm>
 #include <cmath>

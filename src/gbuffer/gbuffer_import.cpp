@@ -1,4 +1,4 @@
-#include "render/gbuffer_import.h"
+#include "gbuffer/gbuffer_import.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <sstream>
 #include <tuple>
 
-#include "render/image_io.h"
+#include "gbuffer/image_io.h"
 #include "scene/shading_range.h"
 #include "util/error.h"
 #include "util/short_text.h"
@@ -109,8 +109,8 @@ void reportEmptyFrame(const GBufferDescriptor& d, const EmptyFrameClues& clues) 
 
 }  // namespace
 
-ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferFormat> format) {
-  ImportedFrame out;
+ImportedGBuffer readGBufferFiles(const std::string& dirOrFile) {
+  ImportedGBuffer out;
   const GBufferDescriptor& d = out.descriptor = readGBufferDescriptor(dirOrFile);
   const FloatImage image = readImage(d.imagePath);
   const int W = image.width, H = image.height;
@@ -226,8 +226,7 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
     }
   if (g.geometryPixels() == 0) reportEmptyFrame(d, clues);
 
-  PreparedFrame& f = out.frame;
-  CameraIntrinsics& in = f.intrinsics;
+  CameraIntrinsics& in = out.intrinsics;
   in.width = W;
   in.height = H;
   in.tanHalfFovY = d.tanHalfFovY;
@@ -236,23 +235,12 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
   // visible (docs/output-formats.md).
   in.znear = d.znear ? *d.znear : float(std::isfinite(minDepth) ? minDepth : 0.1);
   in.zfar = d.zfar ? *d.zfar : std::max(float(maxDepth), 2.0f * in.znear);
-  f.camera.viewFromWorld = glm::mat4(1.0f);
-  f.camera.yfov = 2.0f * std::atan(in.tanHalfFovY);
-  f.camera.znear = in.znear;
-  f.camera.zfar = in.zfar;
-  f.gbuffer = std::move(g);
-  f.encoded = encode(f.gbuffer, format ? *format : d.layout.value_or(GBufferFormat::FP32));
-  LightsFile lights = readLightsFile(d.lightsPath);
+  out.gbuffer = std::move(g);
+  LightsFile& lights = out.lights = readLightsFile(d.lightsPath);
   for (const glm::vec4& c : lights.lights.color) range.addLight(glm::vec3(c));
   for (const glm::vec4& c : lights.lights.directionalColor) range.addLight(glm::vec3(c));
   range.ambient = std::max({lights.ambient.x, lights.ambient.y, lights.ambient.z});
   checkShadingRange(range, d.path + " with " + d.lightsPath);
-  f.lights = std::move(lights.lights);
-  f.ambient = lights.ambient;
-  f.features = SceneFeatures::general(d.model);
-  f.features.point = f.features.spot = false;
-  for (const auto& s : f.lights.spot) (s.w < -0.5f ? f.features.point : f.features.spot) = true;
-  f.features.directional = f.lights.directionalCount() > 0;
   return out;
 }
 

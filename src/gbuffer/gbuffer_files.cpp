@@ -1,4 +1,4 @@
-#include "render/gbuffer_files.h"
+#include "gbuffer/gbuffer_files.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,6 +7,7 @@
 #include <limits>
 #include <set>
 
+#include "scene/view_space_lights.h"
 #include "shading/shading_cpu.h"  // TS_DMIN
 #include "util/error.h"
 #include "util/file_read.h"
