@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <ctime>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -29,15 +28,6 @@ namespace {
 const char* const kWhat = "bench merge: ";
 
 [[noreturn]] void refuse(const std::string& why) { throw Error(kWhat + why); }
-
-std::string nowUtc() {
-  std::time_t t = std::time(nullptr);
-  std::tm g{};
-  gmtime_r(&t, &g);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &g);
-  return buf;
-}
 
 std::string shardText(const Shard& s) {
   return std::to_string(s.index) + "/" + std::to_string(s.count);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -33,15 +32,6 @@ using json = nlohmann::json;
 
 namespace ts {
 namespace {
-
-std::string nowUtc() {
-  std::time_t t = std::time(nullptr);
-  std::tm g{};
-  gmtime_r(&t, &g);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &g);
-  return buf;
-}
 
 // The scene-defining part of a configuration (frameKey() without the resolution and the
 // rasterizer: one BenchScene serves both rasterizers).

@@ -19,6 +19,9 @@ Summary summarize(std::vector<double> values);
 // CSV (RFC 4180): fields holding a comma, quote or line break are quoted, quotes doubled.
 std::string csvField(const std::string& s);
 std::string csvLine(const std::vector<std::string>& fields);
+
+// The time now as bench.json records it ("2026-12-01T23:50:39Z", UTC).
+std::string nowUtc();
 // One line read back: false for an unterminated quote or a quote inside an unquoted field (or
 // text after a closing one).
 bool parseCsvRecord(const std::string& line, std::vector<std::string>& fields);

@@ -20,6 +20,7 @@
 #include "bench/bench_merge.h"
 #include "bench/bench_run.h"
 #include "bench/bench_stats.h"
+#include "bench_test_support.h"
 #include "test_support.h"
 #include "util/error.h"
 
@@ -27,6 +28,8 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 namespace {
+
+using ts::test::expectOneLineError;
 
 std::string baseDir() {
   static const std::string dir = [] {
@@ -90,18 +93,6 @@ std::vector<std::vector<std::string>> untimedCsv(const std::string& path,
     out.push_back(kept);
   }
   return out;
-}
-
-template <typename F>
-void expectOneLineError(F&& f, std::vector<std::string> needles) {
-  try {
-    f();
-    ADD_FAILURE() << "no ts::Error thrown";
-  } catch (const ts::Error& e) {
-    std::string m = e.what();
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-    for (const auto& n : needles) EXPECT_NE(m.find(n), std::string::npos) << m << " lacks " << n;
-  }
 }
 
 // The unsharded run and shards 0/3, 1/3, 2/3 of the same sweep, once for every test.
