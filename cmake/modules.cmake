@@ -14,7 +14,8 @@
 # for "kernels/..." and "shaders/...") and the definitions every object file must agree on
 # (glm's vector layout; which optional libraries the build has).
 add_library(tileshade_common INTERFACE)
-target_include_directories(tileshade_common INTERFACE ${CMAKE_SOURCE_DIR}/src ${CMAKE_SOURCE_DIR})
+target_include_directories(tileshade_common INTERFACE ${CMAKE_SOURCE_DIR}/src ${CMAKE_SOURCE_DIR}
+                           ${CMAKE_SOURCE_DIR}/include ${CMAKE_BINARY_DIR}/generated)
 target_compile_definitions(tileshade_common INTERFACE GLM_FORCE_XYZW_ONLY)
 target_link_libraries(tileshade_common INTERFACE glm::glm)
 if(NOT TILESHADE_WITH_OIIO)

@@ -15,6 +15,8 @@ PACKAGES=(
   # the sanitizer build and the fuzzers of scripts/test.sh (clang's ASan/UBSan/libFuzzer runtimes,
   # llvm-symbolizer for readable reports)
   clang libclang-rt-14-dev llvm
+  # the Python module (python/, CTest label python): pybind11, numpy arrays, pytest
+  pybind11-dev python3-dev python3-numpy python3-pytest
   clang-format  # scripts/format_check.sh (CTest Format.ClangFormat): the layout of .clang-format
 )
 

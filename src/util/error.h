@@ -5,11 +5,9 @@
 #include <stdexcept>
 #include <string>
 
-namespace ts {
+#include "tileshade/error.h"  // ts::Error, part of the public API
 
-struct Error : std::runtime_error {
-  explicit Error(const std::string& message) : std::runtime_error(message) {}
-};
+namespace ts {
 
 // Runs f(); a std::bad_alloc inside becomes ts::Error("out of memory " + what), so the message
 // says what was too big (e.g. "out of memory rasterizing a 16384x16384 frame") instead of
