@@ -94,12 +94,12 @@ enum class LightType { Point, Spot, Directional };
 // glTF's punctual lights with tileshade's finite range (docs/techniques.md, "Lights").
 struct Light {
   LightType type = LightType::Point;
-  Float3 position{0, 0, 0};    // point, spot
-  Float3 direction{0, 0, -1};  // spot, directional: unit, where the light travels
-  Float3 color{1, 1, 1};       // linear RGB, intensity included
-  float range = 1.0f;          // point, spot: > 0, the contribution is cut to 0 beyond it
-  float innerConeAngle = 0.0f;             // spot: 0 <= inner < outer <= pi/2
-  float outerConeAngle = 0.7853981634f;    // spot
+  Float3 position{0, 0, 0};              // point, spot
+  Float3 direction{0, 0, -1};            // spot, directional: unit, where the light travels
+  Float3 color{1, 1, 1};                 // linear RGB, intensity included
+  float range = 1.0f;                    // point, spot: > 0, the contribution is cut to 0 beyond it
+  float innerConeAngle = 0.0f;           // spot: 0 <= inner < outer <= pi/2
+  float outerConeAngle = 0.7853981634f;  // spot
 
   static Light point(Float3 position, Float3 color, float range);
   static Light spot(Float3 position, Float3 direction, Float3 color, float range,
@@ -108,8 +108,8 @@ struct Light {
 };
 
 struct Lights {
-  std::vector<Light> lights;   // in index order (light lists are kept in this order)
-  Float3 ambient{0, 0, 0};     // the global ambient term
+  std::vector<Light> lights;  // in index order (light lists are kept in this order)
+  Float3 ambient{0, 0, 0};    // the global ambient term
 };
 
 // ---- G-buffers ---------------------------------------------------------------------------------
@@ -157,7 +157,7 @@ struct SceneRequest {
   std::string features = "auto";
   uint32_t seed = 1;
   int width = 1280, height = 720;
-  int frame = 0;            // of the scene's camera path
+  int frame = 0;  // of the scene's camera path
   std::string layout = "fp32";
   std::string raster = "software";  // or "gl"
 };
@@ -170,9 +170,9 @@ struct FrameInfo {
   uint64_t triangles = 0;    // 0 when no scene was rasterized
   int frame = 0;
   int width = 0, height = 0;
-  std::string layout;        // as HostGBuffer::layout
+  std::string layout;  // as HostGBuffer::layout
   std::string shadingModel;
-  std::string features;      // what the kernels model, e.g. "blinn-phong: specular, point"
+  std::string features;  // what the kernels model, e.g. "blinn-phong: specular, point"
   uint64_t bytesPerPixel = 0;
   uint64_t geometryPixels = 0;
   uint64_t lights = 0, directionalLights = 0;  // lights counts directional ones too
@@ -220,13 +220,13 @@ std::vector<TechniqueDescription> listTechniques();
 struct Settings {
   std::string technique = "tiled";
   int tileWidth = 16, tileHeight = 16;
-  int slices = 16;                 // clustered: depth slices
-  std::string culling = "rect";    // per-tile light test
+  int slices = 16;               // clustered: depth slices
+  std::string culling = "rect";  // per-tile light test
   std::string spotCulling = "cone";
   bool depthSplit = false;
-  std::string math = "precise";    // precise, fast, native
-  std::string lanes = "auto";      // auto, 1, 2, 4, 8, 16
-  std::string extraBuildOptions;   // appended to the OpenCL build options
+  std::string math = "precise";   // precise, fast, native
+  std::string lanes = "auto";     // auto, 1, 2, 4, 8, 16
+  std::string extraBuildOptions;  // appended to the OpenCL build options
 };
 
 struct KernelTiming {
@@ -255,11 +255,11 @@ struct ErrorReport {
 };
 
 struct CheckReport {
-  ErrorReport error;         // vs the reference of the kernels' model (positions in double)
-  ErrorReport shadingError;  // vs the same with the kernels' float positions: shading arithmetic
-  ErrorReport physicalError; // vs the physical model (no range cut) from fp32 planes
-  uint64_t missed = 0;       // contributing (pixel, light) pairs a light list left out
-  uint64_t contributing = 0; // contributing pairs of the reference (the ideal)
+  ErrorReport error;          // vs the reference of the kernels' model (positions in double)
+  ErrorReport shadingError;   // vs the same with the kernels' float positions: shading arithmetic
+  ErrorReport physicalError;  // vs the physical model (no range cut) from fp32 planes
+  uint64_t missed = 0;        // contributing (pixel, light) pairs a light list left out
+  uint64_t contributing = 0;  // contributing pairs of the reference (the ideal)
 };
 
 struct ShadeResult {
