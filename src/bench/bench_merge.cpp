@@ -13,6 +13,7 @@
 #include "bench/bench_stats.h"
 #include "bench/bench_summary.h"
 #include "bench/bench_sweep_record.h"
+#include "bench/calibration_rounds.h"
 #include "util/error.h"
 #include "util/file_read.h"
 #include "util/file_write.h"
@@ -318,6 +319,7 @@ BenchMergeResult mergeBenchShards(const BenchMergeOptions& o) {
     std::cout << "bench merge: " << result.shards << " shard(s) of a sweep of "
               << result.configurations << " configuration(s); " << result.rows << " row(s)\n";
     printSummaryTable(result.summaries, std::cout);
+    printCalibrations(runs, std::cout);
     std::cout << "wrote " << csvPath << ", " << jsonPath << ", " << summaryPath << "\n";
   }
   return result;

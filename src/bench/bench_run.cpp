@@ -16,6 +16,7 @@
 #include "bench/bench_resume.h"
 #include "bench/bench_stats.h"
 #include "bench/bench_sweep_record.h"
+#include "bench/calibration_rounds.h"
 #include "cl/cl_context.h"
 #include "shading/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
 #include "techniques/technique.h"
@@ -294,11 +295,7 @@ ClContext& BenchRunner::device(const std::string& spec) {
     device["calibration"] = c.toJson();
     if (o_.printTable)
       log_ << "device: " << cl.deviceName() << "\n"
-           << "calibration: copy bandwidth " << fixedText(c.bandwidthGBs, 1) << " GB/s (median of "
-           << c.copyMs.size() << ", " << (c.copyBytes >> 20) << " MiB read + written), peak "
-           << fixedText(c.peakGflops, 1) << " GFLOP/s (float"
-           << (c.vectorWidth > 1 ? std::to_string(c.vectorWidth) : "")
-           << " multiply-add chains, median of " << c.fmaMs.size() << ")\n";
+           << "calibration: " << calibrationText(device["calibration"]) << "\n";
   } else if (o_.printTable) {
     log_ << "device: " << cl.deviceName() << " (not calibrated: no limit columns)\n";
   }
@@ -418,6 +415,9 @@ BenchRunResult BenchRunner::finish() {
   writeFileAtomically(summaryPath_, summaryCsvText(result_.summaries));
   if (o_.printTable) {
     printSummaryTable(result_.summaries, log_);
+    json runs = runs_;
+    runs.push_back(run_);
+    printCalibrations(runs, log_);
     log_ << "wrote " << csvPath_ << ", " << jsonPath_ << ", " << summaryPath_ << "\n";
   }
   return result_;

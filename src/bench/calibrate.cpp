@@ -23,6 +23,11 @@ int nativeFloatWidth(const cl::Device& device) {
 nlohmann::json Calibration::toJson() const {
   return {{"copy_bandwidth_gbs", bandwidthGBs},
           {"peak_gflops", peakGflops},
+          {"copy_bandwidth_gbs_spread", spreadJson(bandwidth)},
+          {"peak_gflops_spread", spreadJson(peak)},
+          {"rounds", bandwidth.rounds.size()},
+          {"settled", settled},
+          {"agreement", agreement},
           {"copy_bytes_per_buffer", copyBytes},
           {"copy_ms", copyMs},
           {"fma_vector_width", vectorWidth},
@@ -47,24 +52,19 @@ Calibration calibrate(ClContext& cl, const CalibrationOptions& o) {
   size_t bytes = std::min(o.copyBytes, maxAlloc) / 16 * 16;
   bytes = std::max<size_t>(bytes, 16 * 1024);
   c.copyBytes = bytes;
-  {
-    cl::Buffer in(cl.context(), CL_MEM_READ_ONLY, bytes),
-        out(cl.context(), CL_MEM_WRITE_ONLY, bytes);
-    const float one = 1.0f;
-    q.enqueueFillBuffer(in, one, 0, bytes);
-    q.enqueueFillBuffer(out, one, 0, bytes);  // touch the pages before timing
-    cl::Kernel copy(program, "copy_float4");
-    KernelArgs(copy).add(in).add(out).done();
-    for (int i = 0; i <= o.repeats; ++i) {
-      cl::Event e;
-      q.enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(bytes / 16), cl::NullRange, nullptr,
-                             &e);
-      e.wait();
-      if (i > 0) c.copyMs.push_back(ClContext::eventMs(e));  // launch 0 is the warm-up
-    }
-  }
-  double copyMs = summarize(c.copyMs).median;
-  c.bandwidthGBs = copyMs > 0 ? 2.0 * double(bytes) / (copyMs * 1e-3) / 1e9 : 0.0;
+  cl::Buffer in(cl.context(), CL_MEM_READ_ONLY, bytes), out(cl.context(), CL_MEM_WRITE_ONLY, bytes);
+  const float one = 1.0f;
+  q.enqueueFillBuffer(in, one, 0, bytes);
+  q.enqueueFillBuffer(out, one, 0, bytes);  // touch the pages before timing
+  cl::Kernel copy(program, "copy_float4");
+  KernelArgs(copy).add(in).add(out).done();
+  auto launchCopy = [&] {
+    cl::Event e;
+    q.enqueueNDRangeKernel(copy, cl::NullRange, cl::NDRange(bytes / 16), cl::NullRange, nullptr,
+                           &e);
+    e.wait();
+    return ClContext::eventMs(e);
+  };
 
   // Peak arithmetic: enough work-items to fill the device, iterations doubled until a launch is
   // long enough to time reliably.
@@ -73,7 +73,7 @@ Calibration calibrate(ClContext& cl, const CalibrationOptions& o) {
   cl::Kernel fma(program, "fma_chain");
   cl_uint iterationsArg = 0;
   KernelArgs(fma).add(sink).later(iterationsArg).add(0.999f).add(0.001f).done();
-  auto launch = [&](int iterations) {
+  auto launchFma = [&](int iterations) {
     fma.setArg(iterationsArg, iterations);
     cl::Event e;
     q.enqueueNDRangeKernel(fma, cl::NullRange, cl::NDRange(c.fmaWorkItems), cl::NullRange, nullptr,
@@ -81,17 +81,36 @@ Calibration calibrate(ClContext& cl, const CalibrationOptions& o) {
     e.wait();
     return ClContext::eventMs(e);
   };
+
+  launchCopy();  // warm-up
   int iterations = 64;
-  double ms = launch(iterations);  // also the warm-up
+  double ms = launchFma(iterations);  // also the warm-up
   while (ms < o.minFmaMs && iterations < (1 << 24)) {
     iterations *= ms > 0 ? std::clamp(int(o.minFmaMs / ms * 1.2) + 1, 2, 64) : 64;
-    ms = launch(iterations);
+    ms = launchFma(iterations);
   }
   c.fmaIterations = iterations;
-  for (int i = 0; i < o.repeats; ++i) c.fmaMs.push_back(launch(iterations));
-  double fmaMs = summarize(c.fmaMs).median;
-  double flops = 2.0 * double(c.fmaWorkItems) * iterations * c.chains * c.vectorWidth;
-  c.peakGflops = fmaMs > 0 ? flops / (fmaMs * 1e-3) / 1e9 : 0.0;
+  const double flops = 2.0 * double(c.fmaWorkItems) * iterations * c.chains * c.vectorWidth;
+
+  // Whole rounds (both kernels in each, so a burst of load elsewhere hits one round, not one
+  // rate) until the best two rounds of each rate agree.
+  std::vector<std::vector<double>> rates(2);  // GB/s, GFLOP/s per round
+  while (!roundsSettled(rates, o.rounds)) {
+    std::vector<double> copyMs, fmaMs;
+    for (int i = 0; i < o.repeats; ++i) copyMs.push_back(launchCopy());
+    for (int i = 0; i < o.repeats; ++i) fmaMs.push_back(launchFma(iterations));
+    c.copyMs.insert(c.copyMs.end(), copyMs.begin(), copyMs.end());
+    c.fmaMs.insert(c.fmaMs.end(), fmaMs.begin(), fmaMs.end());
+    double copyMedian = summarize(copyMs).median, fmaMedian = summarize(fmaMs).median;
+    rates[0].push_back(copyMedian > 0 ? 2.0 * double(bytes) / (copyMedian * 1e-3) / 1e9 : 0.0);
+    rates[1].push_back(fmaMedian > 0 ? flops / (fmaMedian * 1e-3) / 1e9 : 0.0);
+  }
+  c.bandwidth = spreadOf(rates[0]);
+  c.peak = spreadOf(rates[1]);
+  c.bandwidthGBs = c.bandwidth.best;
+  c.peakGflops = c.peak.best;
+  c.agreement = o.rounds.agreement;
+  c.settled = bestTwoAgree(rates[0], c.agreement) && bestTwoAgree(rates[1], c.agreement);
   return c;
 }
 
