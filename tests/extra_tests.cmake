@@ -127,3 +127,12 @@ foreach(mode parallel slurm)
   set_tests_properties(BenchShards.${mode} PROPERTIES SKIP_RETURN_CODE 77
     ENVIRONMENT "TILESHADE_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
 endforeach()
+
+# The CPU-native yardstick agrees with `tiled` and the reference on a tiny dump
+# (tests/bench/yardstick_test.sh; the dump's images need OpenImageIO).
+if(TILESHADE_WITH_OIIO)
+  add_test(NAME BenchYardstick.AgreesWithTiledAndReference
+           COMMAND bash ${CMAKE_SOURCE_DIR}/tests/bench/yardstick_test.sh $<TARGET_FILE:tileshade>
+                   $<TARGET_FILE:tileshade-yardstick>)
+  set_tests_properties(BenchYardstick.AgreesWithTiledAndReference PROPERTIES TIMEOUT 120)
+endif()
