@@ -111,11 +111,17 @@ static inline int ts_any_lanes(TS_MASK_TYPE(TS_LANES) m) {
 #endif
 #ifdef TS_NATIVE_MATH
 /* Shading arithmetic knob: the native_ functions (implementation-defined accuracy) inside the
- * shading function only; culling below keeps the precise ones so it stays conservative. */
+ * shading function only; culling below keeps the precise ones so it stays conservative. The
+ * specular power is ts_pow_unit below with native_exp2, not native_powr: PoCL's native_powr is its
+ * full-precision powr, an out-of-line call of ~500 instructions (an extended-precision log and
+ * exp) with the live vector registers spilled around each of its three call sites, which made
+ * `--math native` 2.7x slower than precise (issue #19). */
 #define TS_SQRT native_sqrt
 #define TS_RSQRT native_rsqrt
-#define TS_POW native_powr
+#define TS_EXP2 native_exp2
 #else
+#define TS_EXP2 exp2
+#endif
 /* The specular power x^s has x = max(N.h, 0) in [0, 1] and s >= 1. OpenCL's pow also handles
  * negative bases and integer exponents, and on PoCL that generality cost ~3x the rest of a light
  * evaluation, so the kernels compute exp2(s*log2(x)). And PoCL's log2 is an out-of-line call:
@@ -163,12 +169,11 @@ static inline TS_LANE ts_log2_positive(TS_LANE x) {
   return TS_LANE_FROM_INT(e) + f * q;
 }
 static inline TS_LANE ts_pow_unit(TS_LANE x, TS_LANE s) {
-  TS_LANE p = exp2(s * ts_log2_positive(x));
+  TS_LANE p = TS_EXP2(s * ts_log2_positive(x));
   p = x >= FLT_MIN ? p : (TS_LANE)0.0f;
   return s == (TS_LANE)0.0f ? (TS_LANE)1.0f : p;
 }
 #define TS_POW ts_pow_unit
-#endif
 #include "shading.h"
 #include "culling.h"
 #define TS_FLOAT3 float3
