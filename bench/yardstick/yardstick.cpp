@@ -73,9 +73,13 @@ struct Frame {
   ts::ViewLights lights;
 };
 
-std::vector<glm::vec4> planeOf(const std::vector<uint8_t>& bytes, size_t pixels) {
+// An fp32 plane as float4s; an absent plane (empty) is what a material without the term has (0).
+std::vector<glm::vec4> planeOf(const std::vector<uint8_t>& bytes, size_t pixels, const char* name) {
   std::vector<glm::vec4> v(pixels, glm::vec4(0.0f));
-  if (bytes.size() == pixels * sizeof(glm::vec4)) std::memcpy(v.data(), bytes.data(), bytes.size());
+  if (bytes.empty()) return v;
+  if (bytes.size() != pixels * sizeof(glm::vec4))
+    throw ts::Error(std::string("the ") + name + " plane is not one float4 per pixel");
+  std::memcpy(v.data(), bytes.data(), bytes.size());
   return v;
 }
 
@@ -93,10 +97,10 @@ Frame loadFrame(const std::string& dir, ts::PreparedFrame& prepared) {
   f.directional = prepared.features.directional;
   f.depth = e.depth;
   size_t n = e.pixelCount();
-  f.normal = planeOf(e.normal, n);
-  f.diffuse = planeOf(e.diffuse, n);
-  f.specular = planeOf(e.specular, n);
-  f.emissive = planeOf(e.emissive, n);
+  f.normal = planeOf(e.normal, n, "normal");
+  f.diffuse = planeOf(e.diffuse, n, "diffuse");
+  f.specular = planeOf(e.specular, n, "specular");
+  f.emissive = planeOf(e.emissive, n, "emissive");
   f.ambient = prepared.ambient;
   f.lights = prepared.lights;
   return f;
