@@ -144,6 +144,7 @@ SceneFeatures featuresOf(const EncodedGBuffer& e, const ViewLights& lights) {
   SceneFeatures f = SceneFeatures::general(e.model);
   if (e.model == ShadingModel::BlinnPhong) f.specular = e.hasSpecular;
   f.emissive = e.hasEmissive;
+  f.textures = false;  // nothing was sampled: the planes are the caller's
   f.point = f.spot = false;
   for (size_t i = 0; i < lights.size(); ++i) (lights.isSpot(i) ? f.spot : f.point) = true;
   f.directional = lights.directionalCount() > 0;

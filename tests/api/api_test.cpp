@@ -171,18 +171,21 @@ TEST(Api, BadHostPlanesAreOneLineErrors) {
 
   Camera camera = copy.camera;
   camera.width = kWidth + 1;
-  EXPECT_NE(errorOf([&] { Frame::fromHost(device(), copy.planes, camera, copy.lights); })
-                .find("camera is 65x36"),
+  EXPECT_NE(errorOf([&] {
+              Frame::fromHost(device(), copy.planes, camera, copy.lights);
+            }).find("camera is 65x36"),
             std::string::npos);
   Lights lights = copy.lights;
   lights.lights[0].range = -1.0f;
-  EXPECT_NE(errorOf([&] { Frame::fromHost(device(), copy.planes, copy.camera, lights); })
-                .find("light 0 (point): range must be finite and > 0"),
+  EXPECT_NE(errorOf([&] {
+              Frame::fromHost(device(), copy.planes, copy.camera, lights);
+            }).find("light 0 (point): range must be finite and > 0"),
             std::string::npos);
   lights = copy.lights;
   lights.lights.push_back(Light::spot({0, 0, -5}, {0, 0, -1}, {1, 1, 1}, 5.0f, 0.6f, 0.5f));
-  EXPECT_NE(errorOf([&] { Frame::fromHost(device(), copy.planes, copy.camera, lights); })
-                .find("innerConeAngle < outerConeAngle"),
+  EXPECT_NE(errorOf([&] {
+              Frame::fromHost(device(), copy.planes, copy.camera, lights);
+            }).find("innerConeAngle < outerConeAngle"),
             std::string::npos);
 }
 
@@ -265,23 +268,26 @@ TEST(Api, DevicePlanesShadeAsHostPlanes) {
   Camera bigger = copy.camera;
   bigger.width = small.width;
   bigger.height = small.height;
-  EXPECT_NE(errorOf([&] { Frame::fromDevice(mine, small, bigger, copy.lights); })
-                .find("depth buffer holds"),
+  EXPECT_NE(errorOf([&] {
+              Frame::fromDevice(mine, small, bigger, copy.lights);
+            }).find("depth buffer holds"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { Frame::fromDevice(device(), planes, copy.camera, copy.lights); })
-                .find("Device::fromOpenCL"),
+  EXPECT_NE(errorOf([&] {
+              Frame::fromDevice(device(), planes, copy.camera, copy.lights);
+            }).find("Device::fromOpenCL"),
             std::string::npos);
 }
 
 TEST(Api, AQueueWithoutProfilingIsRefused) {
   OwnQueue plain(0);
   ClContext& cl = test::context();
-  EXPECT_NE(errorOf([&] { Device::fromOpenCL(cl.context()(), cl.device()(), plain.queue()); })
-                .find("CL_QUEUE_PROFILING_ENABLE"),
+  EXPECT_NE(errorOf([&] {
+              Device::fromOpenCL(cl.context()(), cl.device()(), plain.queue());
+            }).find("CL_QUEUE_PROFILING_ENABLE"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { Device::fromOpenCL(nullptr, cl.device()(), plain.queue()); })
-                .find("null"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf([&] { Device::fromOpenCL(nullptr, cl.device()(), plain.queue()); }).find("null"),
+      std::string::npos);
 }
 
 TEST(Api, CheckReportsRenderChecksFigures) {
@@ -313,7 +319,7 @@ TEST(Api, RunBenchReturnsTheRowsOfBenchCsv) {
   const auto dir = test::freshDir("api", "bench");
   BenchRequest request;
   request.configJson = R"({"technique": ["tiled", "brute"], "resolution": "64x36",
-                           "light_count": 40, "frames": "0", "warmup": 0, "error": true})";
+                           "light_count": 40, "frames": "1", "warmup": 0, "error": true})";
   request.outDir = dir.string();
   const auto rows = runBench(request);
   ASSERT_EQ(rows.size(), 2u);
