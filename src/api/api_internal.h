@@ -2,6 +2,7 @@
 // What stands behind the public handles of tileshade.h: a Device is a ClContext, a Frame a
 // PreparedFrame on that device (plus its cached references). Only the API's own files and the
 // command-line code above it (src/cli/) include this; engines see tileshade.h alone.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -33,6 +34,9 @@ struct Device::Impl {
   bool own = false;  // the caller's context (Device::fromOpenCL): cl_mem frames allowed
 };
 
+// The row progress of one reference pass called `label` (the command's progress bar).
+using PassProgress = std::function<RowProgress(const std::string& label)>;
+
 // The double-precision references of a frame (render --check's three; docs/accuracy.md).
 struct FrameReferences {
   ReferenceImage reference;    // windowed model, positions from depth in double
@@ -51,12 +55,13 @@ struct Frame::Impl {
 
   // Frame::fromDevice: reads the caller's planes back (for the reference and for dump).
   void readHostPlanes();
-  // Computed at the first call (seconds to minutes for big frames), then cached.
-  const FrameReferences& ensureReferences();
+  // Computed at the first call (seconds to minutes for big frames), then cached; `pass` gives
+  // each of the three passes its row progress (empty: none).
+  const FrameReferences& ensureReferences(const PassProgress& pass = {});
 };
 
 // The frame's references (computed now if no check asked for them yet): the command's heatmap.
-const FrameReferences& frameReferences(const Frame& frame);
+const FrameReferences& frameReferences(const Frame& frame, const PassProgress& pass = {});
 // `render --gbuffer-in --features`: the features an imported frame's kernels model, instead of
 // its files' own (chooseFeatures). Throws ts::Error on a bad spec.
 void overrideFrameFeatures(Frame& frame, const std::string& features);

@@ -421,32 +421,34 @@ void Frame::Impl::readHostPlanes() {
   hostPlanesComplete = true;
 }
 
-const FrameReferences& Frame::Impl::ensureReferences() {
+const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass) {
   if (references) return *references;
   readHostPlanes();
   const PreparedFrame& p = prepared;
   const int model = int(RangeModel::Windowed);
-  outOfMemoryAs("computing the double-precision reference of a " +
-                    sizeText(p.intrinsics.width, p.intrinsics.height) + " frame",
-                [&] {
-                  FrameReferences r;
-                  r.reference = shadeReference(p.encoded, p.intrinsics, p.lights, p.ambient, model,
-                                               0, nullptr);
-                  r.shadingOnly =
-                      shadeReference(p.encoded, p.intrinsics, p.lights, p.ambient, model, 0,
-                                     nullptr, ReferencePositions::KernelFloat);
-                  const EncodedGBuffer fp32 = p.encoded.format == GBufferFormat::FP32
-                                                  ? p.encoded
-                                                  : encode(p.gbuffer, GBufferFormat::FP32);
-                  r.physical = shadeReference(fp32, p.intrinsics, p.lights, p.ambient,
-                                              int(RangeModel::Physical), 0, nullptr);
-                  references = std::move(r);
-                });
+  auto progress = [&](const char* label) { return pass ? pass(label) : RowProgress(); };
+  outOfMemoryAs(
+      "computing the double-precision reference of a " +
+          sizeText(p.intrinsics.width, p.intrinsics.height) + " frame",
+      [&] {
+        FrameReferences r;
+        r.reference = shadeReference(p.encoded, p.intrinsics, p.lights, p.ambient, model, 0,
+                                     progress("windowed model"));
+        r.shadingOnly = shadeReference(p.encoded, p.intrinsics, p.lights, p.ambient, model, 0,
+                                       progress("windowed model, kernel positions"),
+                                       ReferencePositions::KernelFloat);
+        const EncodedGBuffer fp32 = p.encoded.format == GBufferFormat::FP32
+                                        ? p.encoded
+                                        : encode(p.gbuffer, GBufferFormat::FP32);
+        r.physical = shadeReference(fp32, p.intrinsics, p.lights, p.ambient,
+                                    int(RangeModel::Physical), 0, progress("physical model"));
+        references = std::move(r);
+      });
   return *references;
 }
 
-const FrameReferences& frameReferences(const Frame& frame) {
-  return frame.impl()->ensureReferences();
+const FrameReferences& frameReferences(const Frame& frame, const PassProgress& pass) {
+  return frame.impl()->ensureReferences(pass);
 }
 
 void overrideFrameFeatures(Frame& frame, const std::string& features) {

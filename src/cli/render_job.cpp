@@ -19,11 +19,31 @@
 #include "util/error.h"
 #include "util/file_write.h"
 #include "util/option_values.h"
+#include "util/progress.h"
 
 namespace fs = std::filesystem;
 
 namespace ts {
 namespace {
+
+// Progress of the double-precision reference on stderr when it is long (1e5-1e6 lights: minutes
+// per pass); nothing for the usual few-second ones.
+class ReferenceProgress {
+ public:
+  ReferenceProgress(size_t pixels, size_t lights, int passes, int rows)
+      : progress_(size_t(passes) * size_t(rows),
+                  double(pixels) * double(lights) * passes >= kLongReferenceEvaluations,
+                  "tileshade: reference") {}
+  // The RowProgress of one pass called `label`.
+  RowProgress pass(const std::string& label) {
+    return [this, label](int, int) { progress_.step(label); };
+  }
+
+ private:
+  // About 5-10 s of reference shading on two cores.
+  static constexpr double kLongReferenceEvaluations = 2e9;
+  Progress progress_;
+};
 
 std::vector<std::string> expandTechniques(const std::vector<std::string>& names) {
   std::vector<std::string> out;
@@ -164,7 +184,12 @@ void runRender(const RenderOptions& options) {
   if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
 
   // Three references (FrameReferences; docs/accuracy.md), computed once for every technique.
-  const FrameReferences* references = o.check ? &frameReferences(frame) : nullptr;
+  ReferenceProgress progress(size_t(width) * size_t(height), info.lights - info.directionalLights,
+                             3, height);
+  const FrameReferences* references =
+      o.check
+          ? &frameReferences(frame, [&](const std::string& label) { return progress.pass(label); })
+          : nullptr;
 
   std::cout << "tileshade: " << info.sceneName << " (" << info.triangles << " triangles, "
             << info.lightSummary << "), frame " << info.frame << ", " << width << "x" << height
