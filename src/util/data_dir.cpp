@@ -1,5 +1,7 @@
 #include "util/data_dir.h"
 
+#include <dlfcn.h>
+
 #include <cstdlib>
 #include <system_error>
 
@@ -22,6 +24,22 @@ bool inBuildFolder(const fs::path& executable) {
   return false;
 }
 
+// Where this code lives: the shared library (libtileshade.so) when it is one, so that an engine's
+// program finds the kernels beside the library's install tree; else the executable.
+fs::path codeLocation(std::error_code& ec) {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&codeLocation), &info) && info.dli_fname) {
+    const std::string name = info.dli_fname;
+    const size_t so = name.rfind(".so");
+    if (so != std::string::npos && (so + 3 == name.size() || name[so + 3] == '.')) {
+      fs::path library = fs::canonical(name, ec);
+      if (!ec) return library;
+    }
+  }
+  ec.clear();
+  return fs::read_symlink("/proc/self/exe", ec);
+}
+
 }  // namespace
 
 std::string resolveDataDir(const std::string& override, const fs::path& executable,
@@ -40,7 +58,7 @@ std::string resolveDataDir(const std::string& override, const fs::path& executab
 std::string dataDir(const char* envVar, const std::string& name, const std::string& sourceDir) {
   const char* env = std::getenv(envVar);
   std::error_code ec;
-  const fs::path executable = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path executable = codeLocation(ec);
   return resolveDataDir(env ? env : "", ec ? fs::path() : executable, name, sourceDir);
 }
 

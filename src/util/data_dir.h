@@ -12,7 +12,8 @@ namespace ts {
 std::string resolveDataDir(const std::string& override, const std::filesystem::path& executable,
                            const std::string& name, const std::string& sourceDir);
 
-// resolveDataDir with $envVar and this process's executable (/proc/self/exe).
+// resolveDataDir with $envVar and this code's file: libtileshade.so when linked from it (its
+// <lib>/../share/tileshade), else the process's executable (/proc/self/exe).
 std::string dataDir(const char* envVar, const std::string& name, const std::string& sourceDir);
 
 }  // namespace ts

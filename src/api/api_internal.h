@@ -1,0 +1,69 @@
+#pragma once
+// What stands behind the public handles of tileshade.h: a Device is a ClContext, a Frame a
+// PreparedFrame on that device (plus its cached references). Only the API's own files and the
+// command-line code above it (src/cli/) include this; engines see tileshade.h alone.
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "reference/reference.h"
+#include "render/frame_setup.h"
+#include "techniques/device_frame.h"
+#include "tileshade/tileshade.h"
+#include "util/error.h"
+
+namespace ts {
+
+// tileshade.h promises ts::Error for every failure: an OpenCL error inside the API becomes one,
+// with the OpenCL C++ bindings' text and the error code.
+template <typename F>
+auto openclErrorsAsTs(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const cl::Error& e) {
+    throw Error(std::string("OpenCL error: ") + e.what() + " (" + std::to_string(e.err()) + ")");
+  }
+}
+
+struct Device::Impl {
+  explicit Impl(const std::string& spec) : cl(spec) {}
+  Impl(cl_context context, cl_device_id device, cl_command_queue queue)
+      : cl(context, device, queue), own(true) {}
+  ClContext cl;
+  bool own = false;  // the caller's context (Device::fromOpenCL): cl_mem frames allowed
+};
+
+// The row progress of one reference pass called `label` (the command's progress bar).
+using PassProgress = std::function<RowProgress(const std::string& label)>;
+
+// The double-precision references of a frame (render --check's three; docs/accuracy.md).
+struct FrameReferences {
+  ReferenceImage reference;    // windowed model, positions from depth in double
+  ReferenceImage shadingOnly;  // the same with the kernels' float positions
+  ReferenceImage physical;     // physical model from the fp32 planes
+};
+
+struct Frame::Impl {
+  std::shared_ptr<Device::Impl> device;
+  PreparedFrame prepared;  // host copy; for device planes, only depth until readHostPlanes()
+  DeviceFrame onDevice;    // points into `prepared` (an Impl never moves: it is shared)
+  FrameInfo info;
+  std::optional<DeviceGBuffer> devicePlanes;  // Frame::fromDevice: the caller's buffers
+  bool hostPlanesComplete = true;
+  std::optional<FrameReferences> references;  // computed at the first check
+
+  // Frame::fromDevice: reads the caller's planes back (for the reference and for dump).
+  void readHostPlanes();
+  // Computed at the first call (seconds to minutes for big frames), then cached; `pass` gives
+  // each of the three passes its row progress (empty: none).
+  const FrameReferences& ensureReferences(const PassProgress& pass = {});
+};
+
+// The frame's references (computed now if no check asked for them yet): the command's heatmap.
+const FrameReferences& frameReferences(const Frame& frame, const PassProgress& pass = {});
+// `render --gbuffer-in --features`: the features an imported frame's kernels model, instead of
+// its files' own (chooseFeatures). Throws ts::Error on a bad spec.
+void overrideFrameFeatures(Frame& frame, const std::string& features);
+
+}  // namespace ts
