@@ -75,7 +75,7 @@ endif()
 if(TILESHADE_WITH_OIIO)
   set(TILESHADE_OIIO_LIBS PkgConfig::OIIO)
 endif()
-tileshade_module(util LIBS CLI11::CLI11 nlohmann_json::nlohmann_json Threads::Threads)
+tileshade_module(util LIBS CLI11::CLI11 nlohmann_json::nlohmann_json Threads::Threads ${CMAKE_DL_LIBS})
 tileshade_module(shading)
 tileshade_module(cl DEPS util LIBS OpenCL::OpenCL)
 target_compile_definitions(tileshade_cl PUBLIC

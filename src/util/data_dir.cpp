@@ -1,5 +1,8 @@
 #include "util/data_dir.h"
 
+#include <dlfcn.h>
+#include <link.h>
+
 #include <cstdlib>
 #include <system_error>
 
@@ -22,6 +25,34 @@ bool inBuildFolder(const fs::path& executable) {
   return false;
 }
 
+// The folder the install tree's share/ sits beside: the file's own (<prefix>/bin,
+// <prefix>/lib), or for a Python module in <prefix>/lib/python3*/{dist,site}-packages,
+// <prefix>/lib.
+fs::path installBase(const fs::path& file) {
+  const fs::path dir = file.parent_path();
+  const std::string folder = dir.filename().string();
+  if ((folder == "dist-packages" || folder == "site-packages") &&
+      dir.parent_path().filename().string().rfind("python3", 0) == 0) {
+    return dir.parent_path().parent_path();
+  }
+  return dir;
+}
+
+// The shared object holding this function, absolute; empty when it is the executable itself (the
+// dynamic linker's entry for the main program has no name) or unknown.
+fs::path sharedObjectPath() {
+  Dl_info info;
+  link_map* map = nullptr;
+  if (dladdr1(reinterpret_cast<void*>(&sharedObjectPath), &info, reinterpret_cast<void**>(&map),
+              RTLD_DL_LINKMAP) == 0 ||
+      map == nullptr || map->l_name == nullptr || map->l_name[0] == '\0') {
+    return {};
+  }
+  std::error_code ec;
+  const fs::path path = fs::absolute(map->l_name, ec);
+  return ec ? fs::path() : path;
+}
+
 }  // namespace
 
 std::string resolveDataDir(const std::string& override, const fs::path& executable,
@@ -30,7 +61,7 @@ std::string resolveDataDir(const std::string& override, const fs::path& executab
   // No /proc (the executable unknown): the source tree, as before there was an install tree.
   if (executable.empty()) return sourceDir;
   const fs::path installed =
-      (executable.parent_path() / ".." / "share" / "tileshade" / name).lexically_normal();
+      (installBase(executable) / ".." / "share" / "tileshade" / name).lexically_normal();
   if (isDirectory(installed)) return installed.string();
   if (inBuildFolder(executable) && isDirectory(sourceDir)) return sourceDir;
   // Neither: the install path, so that the "cannot read" error names where it was looked for.
@@ -39,9 +70,13 @@ std::string resolveDataDir(const std::string& override, const fs::path& executab
 
 std::string dataDir(const char* envVar, const std::string& name, const std::string& sourceDir) {
   const char* env = std::getenv(envVar);
-  std::error_code ec;
-  const fs::path executable = fs::read_symlink("/proc/self/exe", ec);
-  return resolveDataDir(env ? env : "", ec ? fs::path() : executable, name, sourceDir);
+  fs::path code = sharedObjectPath();
+  if (code.empty()) {
+    std::error_code ec;
+    code = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) code.clear();
+  }
+  return resolveDataDir(env ? env : "", code, name, sourceDir);
 }
 
 }  // namespace ts

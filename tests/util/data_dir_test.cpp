@@ -71,6 +71,32 @@ TEST(DataDir, InstallTreeWinsInsideABuildFolder) {
             (t.root / "build/stage/share/tileshade/shaders").string());
 }
 
+TEST(DataDir, InstallTreeOfALibraryOrPythonModule) {
+  ScratchTree t;
+  fs::create_directories(t.root / "prefix/share/tileshade/kernels");
+  const std::string installed = (t.root / "prefix/share/tileshade/kernels").string();
+  EXPECT_EQ(ts::resolveDataDir("", t.root / "prefix/lib/libtileshade.so.0", "kernels", "/src"),
+            installed);
+  // Debian's dist-packages and a python3.X site-packages: three folders below the prefix.
+  EXPECT_EQ(ts::resolveDataDir("", t.root / "prefix/lib/python3/dist-packages/tileshade.cpython.so",
+                               "kernels", "/src"),
+            installed);
+  EXPECT_EQ(
+      ts::resolveDataDir("", t.root / "prefix/lib/python3.11/site-packages/tileshade.cpython.so",
+                         "kernels", "/src"),
+      installed);
+  // Not for any folder of that name: only below a python3* one.
+  EXPECT_EQ(ts::resolveDataDir("", t.root / "prefix/lib/other/dist-packages/tileshade.so",
+                               "kernels", "/src"),
+            (t.root / "prefix/lib/other/share/tileshade/kernels").string());
+  // The module in place (build/python/) reads the source tree, as the build's binary does.
+  touch(t.root / "build/CMakeCache.txt");
+  fs::create_directories(t.root / "src/kernels");
+  EXPECT_EQ(ts::resolveDataDir("", t.root / "build/python/tileshade.cpython.so", "kernels",
+                               (t.root / "src/kernels").string()),
+            (t.root / "src/kernels").string());
+}
+
 TEST(DataDir, UnknownExecutableKeepsTheSourceTree) {
   // Never a path relative to the working directory.
   EXPECT_EQ(ts::resolveDataDir("", fs::path(), "kernels", "/src/kernels"), "/src/kernels");
