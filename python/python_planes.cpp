@@ -84,6 +84,16 @@ class DictReader {
     entries_.erase(it);
     return value;
   }
+  // Every key one of `keys`, before any is read: a typo is named, not reported as a key missing.
+  void only(const std::set<std::string>& keys) const {
+    for (const auto& e : entries_) {
+      if (!keys.count(e.first)) {
+        std::string known;
+        for (const auto& k : keys) known += (known.empty() ? "" : ", ") + k;
+        throw py::value_error(name_ + ": unknown key '" + e.first + "' (keys: " + known + ")");
+      }
+    }
+  }
   // Every key taken; `context` says what the leftovers do not apply to.
   void finish(const std::string& context) const {
     if (entries_.empty()) return;
@@ -146,6 +156,7 @@ std::pair<int, int> depthSize(py::handle depth) {
 ts::Camera cameraFrom(py::handle camera, int width, int height) {
   if (py::isinstance<ts::Camera>(camera)) return camera.cast<ts::Camera>();
   DictReader d(camera, "camera");
+  d.only({"width", "height", "yfov", "tan_half_fov", "znear", "zfar", "view_from_world"});
   const int w = d.has("width") ? intValue(d.take("width"), "camera width") : width;
   const int h = d.has("height") ? intValue(d.take("height"), "camera height") : height;
   const float znear = d.has("znear") ? floatValue(d.take("znear"), "camera znear") : 0.1f;
@@ -173,13 +184,14 @@ ts::Camera cameraFrom(py::handle camera, int width, int height) {
   if (d.has("view_from_world")) {
     c.viewFromWorld = matrixValue(d.take("view_from_world"), "camera view_from_world");
   }
-  d.finish("(camera keys: width, height, yfov, tan_half_fov, znear, zfar, view_from_world)");
   return c;
 }
 
 ts::Light lightFrom(py::handle light, const std::string& name) {
   if (py::isinstance<ts::Light>(light)) return light.cast<ts::Light>();
   DictReader d(light, name);
+  d.only(
+      {"type", "position", "direction", "color", "range", "inner_cone_angle", "outer_cone_angle"});
   const std::string type = textValue(d.take("type"), name + " type");
   const auto f3 = [&](const char* key) { return float3Value(d.take(key), name + " " + key); };
   const auto f = [&](const char* key) { return floatValue(d.take(key), name + " " + key); };
