@@ -1,8 +1,27 @@
 # `cmake --install build --prefix P` and the Debian package (CPack DEB) made from the same rules.
-# The paths are fixed (not GNUInstallDirs') because the binary finds its data at
-# <exe>/../share/tileshade (src/util/data_dir.h). No library or headers yet: the API is not
-# designed (issue #20).
+# The paths are fixed (not GNUInstallDirs') because the binary and the library find their data at
+# <exe or lib>/../share/tileshade (src/util/data_dir.h).
 install(TARGETS tileshade RUNTIME DESTINATION bin)
+# The API (docs/api.md): libtileshade.so, its headers and a CMake package, so that
+# find_package(tileshade) gives the target tileshade::tileshade.
+install(TARGETS tileshade_library EXPORT tileshadeTargets
+        LIBRARY DESTINATION lib
+        INCLUDES DESTINATION include)
+install(FILES ${CMAKE_SOURCE_DIR}/include/tileshade/tileshade.h
+              ${CMAKE_SOURCE_DIR}/include/tileshade/error.h
+              ${CMAKE_BINARY_DIR}/generated/tileshade/version.h
+        DESTINATION include/tileshade)
+install(EXPORT tileshadeTargets NAMESPACE tileshade:: DESTINATION lib/cmake/tileshade)
+include(CMakePackageConfigHelpers)
+configure_package_config_file(${CMAKE_SOURCE_DIR}/cmake/tileshadeConfig.cmake.in
+                              ${CMAKE_BINARY_DIR}/generated/tileshadeConfig.cmake
+                              INSTALL_DESTINATION lib/cmake/tileshade)
+# Before 1.0 a minor version may change the API: only the same major.minor is compatible.
+write_basic_package_version_file(${CMAKE_BINARY_DIR}/generated/tileshadeConfigVersion.cmake
+                                 COMPATIBILITY SameMinorVersion)
+install(FILES ${CMAKE_BINARY_DIR}/generated/tileshadeConfig.cmake
+              ${CMAKE_BINARY_DIR}/generated/tileshadeConfigVersion.cmake
+        DESTINATION lib/cmake/tileshade)
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/kernels/ DESTINATION share/tileshade/kernels)
 if(TILESHADE_WITH_GL)
   install(DIRECTORY ${CMAKE_SOURCE_DIR}/shaders/ DESTINATION share/tileshade/shaders)

@@ -54,6 +54,8 @@ function(tileshade_module name)
   list(TRANSFORM M_DEPS PREPEND tileshade_ OUTPUT_VARIABLE dep_targets)
   if(sources)
     add_library(tileshade_${name} STATIC ${sources})
+    # Linked into libtileshade.so as well as into the executable.
+    set_target_properties(tileshade_${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
     target_link_libraries(tileshade_${name} PUBLIC tileshade_common ${dep_targets} ${M_LIBS}
                           PRIVATE tileshade_warnings)
   else()
@@ -75,7 +77,8 @@ endif()
 if(TILESHADE_WITH_OIIO)
   set(TILESHADE_OIIO_LIBS PkgConfig::OIIO)
 endif()
-tileshade_module(util LIBS CLI11::CLI11 nlohmann_json::nlohmann_json Threads::Threads ${CMAKE_DL_LIBS})
+tileshade_module(util LIBS CLI11::CLI11 nlohmann_json::nlohmann_json Threads::Threads
+                      ${CMAKE_DL_LIBS})
 tileshade_module(shading)
 tileshade_module(cl DEPS util LIBS OpenCL::OpenCL)
 target_compile_definitions(tileshade_cl PUBLIC
@@ -95,6 +98,12 @@ tileshade_module(bench DEPS util cl gbuffer raster reference render scene shadin
                  LIBS CLI11::CLI11 nlohmann_json::nlohmann_json)
 tileshade_module(check DEPS util cl gbuffer reference render scene shading techniques
                  LIBS CLI11::CLI11 nlohmann_json::nlohmann_json Threads::Threads)
+# The public C++ API (include/tileshade/tileshade.h) over the modules below it.
+tileshade_module(api DEPS util cl gbuffer raster reference render scene shading techniques bench
+                 LIBS OpenCL::OpenCL)
+# The command line's own code: what `tileshade render` does with the API's results (table, files).
+tileshade_module(cli DEPS util api gbuffer reference render scene shading techniques
+                 LIBS nlohmann_json::nlohmann_json)
 
 # A directory of src/ that is no module would build into nothing (and fail only at link time).
 file(GLOB TILESHADE_SRC_ENTRIES RELATIVE ${CMAKE_SOURCE_DIR}/src ${CMAKE_SOURCE_DIR}/src/*)

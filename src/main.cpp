@@ -7,7 +7,7 @@
 #include "bench/bench_cli.h"
 #include "check/check_cli.h"
 #include "cl/cl_context.h"
-#include "render/render_job.h"
+#include "cli/render_job.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
 #include "util/error.h"

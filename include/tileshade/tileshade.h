@@ -255,11 +255,13 @@ struct ErrorReport {
 };
 
 struct CheckReport {
-  ErrorReport error;          // vs the reference of the kernels' model (positions in double)
-  ErrorReport shadingError;   // vs the same with the kernels' float positions: shading arithmetic
-  ErrorReport physicalError;  // vs the physical model (no range cut) from fp32 planes
-  uint64_t missed = 0;        // contributing (pixel, light) pairs a light list left out
-  uint64_t contributing = 0;  // contributing pairs of the reference (the ideal)
+  ErrorReport error;           // vs the reference of the kernels' model (positions in double)
+  ErrorReport shadingError;    // vs the same with the kernels' float positions: shading arithmetic
+  ErrorReport physicalError;   // vs the physical model (no range cut) from fp32 planes
+  uint64_t missed = 0;         // contributing (pixel, light) pairs a light list left out
+  uint64_t contributing = 0;   // contributing pairs of the reference (the ideal)
+  bool missedCounted = true;   // false: the technique keeps no light lists to check (missed = 0)
+  double referencePeak = 0.0;  // the reference's largest channel value (non-finite ones too)
 };
 
 struct ShadeResult {

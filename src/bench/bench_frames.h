@@ -44,7 +44,7 @@ class BenchScene {
 
  private:
   Scene scene_;
-  std::vector<Light> ownRangeLights_;
+  std::vector<SceneLight> ownRangeLights_;
   std::optional<ImportedFrame> imported_;
   std::map<RasterBackend, std::unique_ptr<SceneRasterizer>> rasterizers_;
 };

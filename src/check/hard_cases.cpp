@@ -16,8 +16,8 @@ namespace {
 
 const glm::dvec3 kEye(0.0, 2.0, 4.0), kTarget(0.0, 1.0, -6.0);
 
-Camera roomCamera(float znear = 0.1f, float zfar = 100.0f) {
-  return Camera::lookAt(kEye, kTarget, {0.0, 1.0, 0.0}, 1.0f, znear, zfar);
+SceneCamera roomCamera(float znear = 0.1f, float zfar = 100.0f) {
+  return SceneCamera::lookAt(kEye, kTarget, {0.0, 1.0, 0.0}, 1.0f, znear, zfar);
 }
 
 Scene room(const std::string& name) {
@@ -73,13 +73,13 @@ struct Placer {
 };
 
 // World position of a point given in the room camera's view space.
-glm::vec3 fromView(const Camera& camera, glm::dvec3 view) {
+glm::vec3 fromView(const SceneCamera& camera, glm::dvec3 view) {
   return glm::vec3(glm::inverse(camera.viewFromWorld) * glm::dvec4(view, 1.0));
 }
 
 // The point of the plane (point `o`, normal `n`) that pixel (x, y)'s centre sees, for the room
 // camera at width x height; the view-ray parameter through kernels/shading.h's pixel centres.
-glm::dvec3 pixelOnPlane(const Camera& camera, int width, int height, double x, double y,
+glm::dvec3 pixelOnPlane(const SceneCamera& camera, int width, int height, double x, double y,
                         glm::dvec3 o, glm::dvec3 n) {
   double tanY = std::tan(0.5 * double(camera.yfov)), tanX = tanY * double(width) / double(height);
   glm::dvec3 dirView((2.0 * (x + 0.5) / width - 1.0) * tanX,
@@ -99,14 +99,14 @@ HardCaseFrame lightsBehindCamera() {
     const float range = i % 4 ? p.in(6.0f, 25.0f) : p.in(0.5f, 3.0f);
     const glm::vec3 color = p.color();
     const glm::vec3 at = p.in({-6, 0.5f, 4.2f}, {6, 4, 12});
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
 
 HardCaseFrame lightsStraddlingNearPlane() {
   Scene s = room("lights-straddling-near-plane");
-  Camera c = roomCamera();
+  SceneCamera c = roomCamera();
   Placer p(12);
   // View-space depths around the near plane (w = 0.1): on it, on the eye, just either side.
   const double depths[] = {0.1, 0.0, 0.0999, 0.1001, -0.05, 0.05, 0.3, -0.3};
@@ -116,7 +116,7 @@ HardCaseFrame lightsStraddlingNearPlane() {
     const float x = p.in(-0.4f, 0.4f);
     const float range = p.logIn(0.05f, 12.0f);
     const glm::vec3 color = p.color();
-    s.lights.push_back(Light::point(fromView(c, glm::dvec3(x, y, -w)), color, range));
+    s.lights.push_back(SceneLight::point(fromView(c, glm::dvec3(x, y, -w)), color, range));
   }
   return frameOf(std::move(s));
 }
@@ -129,7 +129,7 @@ HardCaseFrame lightsAroundCamera() {
     const float range = p.in(1.0f, 9.0f);
     const glm::vec3 color = p.color();
     const float distance = p.in(0.3f, 3.0f);
-    s.lights.push_back(Light::point(glm::vec3(kEye) + distance * dir, color, range));
+    s.lights.push_back(SceneLight::point(glm::vec3(kEye) + distance * dir, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -138,7 +138,7 @@ HardCaseFrame lightsAroundCamera() {
 // hair above them, with ranges from 1e-6 to 1e-2.
 HardCaseFrame rangesTiny() {
   Scene s = room("ranges-tiny");
-  Camera c = roomCamera();
+  SceneCamera c = roomCamera();
   Placer p(14);
   for (int i = 0; i < 200; ++i) {
     double x = std::floor(p.in(0.0f, 64.0f)), y = std::floor(p.in(30.0f, 48.0f));
@@ -146,7 +146,7 @@ HardCaseFrame rangesTiny() {
     at.y += i % 2 ? 0.0 : 1e-6 * double(i % 7);
     const float range = p.logIn(1e-6f, 1e-2f);
     const glm::vec3 color = p.color();
-    s.lights.push_back(Light::point(glm::vec3(at), color, range));
+    s.lights.push_back(SceneLight::point(glm::vec3(at), color, range));
   }
   return frameOf(std::move(s));
 }
@@ -158,7 +158,7 @@ HardCaseFrame rangesHuge() {
     const float range = p.logIn(1e3f, 1e6f);
     const glm::vec3 color = 0.05f * p.color();
     const glm::vec3 at = p.in({-30, -5, -60}, {30, 20, 30});
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -170,7 +170,7 @@ HardCaseFrame rangesMixed() {
     const float range = p.logIn(1e-6f, 1e6f);
     const glm::vec3 color = 0.1f * p.color();
     const glm::vec3 at = p.in({-8, 0, -14}, {8, 5, 6});
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -188,7 +188,7 @@ HardCaseFrame lightsOnSurfaces() {
     }
     const float range = p.in(1.0f, 6.0f);
     const glm::vec3 color = p.color();
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -199,7 +199,7 @@ HardCaseFrame lightsAtVertices() {
   for (size_t i = 0; i < s.vertices.size(); i += 7) {
     const float range = p.in(0.5f, 5.0f);
     const glm::vec3 color = p.color();
-    s.lights.push_back(Light::point(s.vertices[i].position, color, range));
+    s.lights.push_back(SceneLight::point(s.vertices[i].position, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -223,7 +223,7 @@ HardCaseFrame lightsInSurfacePlanes() {
     }
     const float range = p.in(3.0f, 12.0f);
     const glm::vec3 color = p.color();
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -233,13 +233,13 @@ HardCaseFrame lightsInSurfacePlanes() {
 HardCaseFrame grazingView() {
   Scene s = room("grazing-view");
   s.cameraPath = {
-      Camera::lookAt({0.0, 0.01, 1.9}, {0.0, 0.01, -100.0}, {0, 1, 0}, 1.0f, 0.005f, 100.0f)};
+      SceneCamera::lookAt({0.0, 0.01, 1.9}, {0.0, 0.01, -100.0}, {0, 1, 0}, 1.0f, 0.005f, 100.0f)};
   Placer p(20);
   for (int i = 0; i < 40; ++i) {
     const float range = p.in(1.0f, 10.0f);
     const glm::vec3 color = p.color();
     const glm::vec3 at = p.in({-8, 0.01f, -20}, {8, 2, 2});
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -253,7 +253,7 @@ HardCaseFrame backFacingNormals() {
     const float range = p.in(1.0f, 8.0f);
     const glm::vec3 color = p.color();
     const glm::vec3 at = {p.in(-5.0f, -1.0f), p.in(0.2f, 3.0f), z};
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -263,7 +263,7 @@ HardCaseFrame backFacingNormals() {
 // half vector is shaded; behind the floor and wall N.l < 0.
 HardCaseFrame lightOppositeView() {
   Scene s = room("light-opposite-view");
-  Camera c = roomCamera();
+  SceneCamera c = roomCamera();
   Placer p(22);
   for (int i = 0; i < 40; ++i) {
     double x = std::floor(p.in(0.0f, 64.0f)), y = std::floor(p.in(0.0f, 48.0f));
@@ -275,7 +275,7 @@ HardCaseFrame lightOppositeView() {
     const float range = p.in(2.0f, 8.0f);
     const glm::vec3 color = p.color();
     const float behind = p.in(0.01f, 2.0f);
-    s.lights.push_back(Light::point(glm::vec3(at + double(behind) * away), color, range));
+    s.lights.push_back(SceneLight::point(glm::vec3(at + double(behind) * away), color, range));
   }
   return frameOf(std::move(s));
 }
@@ -291,7 +291,7 @@ HardCaseFrame farFromOrigin(const std::string& name, double offset) {
     const float range = p.in(2.0f, 10.0f);
     const glm::vec3 color = p.color();
     const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
-    atOrigin.lights.push_back(Light::point(at, color, range));
+    atOrigin.lights.push_back(SceneLight::point(at, color, range));
   }
   for (auto& v : atOrigin.vertices) v.position = snap(v.position);
   for (auto& l : atOrigin.lights) l.position = snap(l.position);
@@ -299,7 +299,8 @@ HardCaseFrame farFromOrigin(const std::string& name, double offset) {
   const glm::dvec3 shift(offset, offset, -offset);
   for (auto& v : moved.vertices) v.position = glm::vec3(glm::dvec3(v.position) + shift);
   for (auto& l : moved.lights) l.position = glm::vec3(glm::dvec3(l.position) + shift);
-  moved.cameraPath = {Camera::lookAt(kEye + shift, kTarget + shift, {0, 1, 0}, 1.0f, 0.1f, 100.0f)};
+  moved.cameraPath = {
+      SceneCamera::lookAt(kEye + shift, kTarget + shift, {0, 1, 0}, 1.0f, 0.1f, 100.0f)};
   HardCaseFrame f = frameOf(std::move(moved));
   f.referenceScene = std::move(atOrigin);
   return f;
@@ -313,7 +314,7 @@ HardCaseFrame nearFar(const std::string& name, float znear, float zfar) {
     const float range = p.in(1.0f, 10.0f);
     const glm::vec3 color = p.color();
     const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -325,7 +326,7 @@ HardCaseFrame litRoom(const std::string& name, int width, int height) {
     const float range = p.in(1.0f, 10.0f);
     const glm::vec3 color = p.color();
     const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s), width, height);
 }
@@ -340,7 +341,7 @@ HardCaseFrame hundredThousandLights() {
     const float range = p.logIn(0.02f, 0.5f);
     const glm::vec3 color = 0.05f * p.color();
     const glm::vec3 at = p.in({-8, 0, -14}, {8, 5, 4});
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s), 48, 32);
 }
@@ -353,7 +354,7 @@ HardCaseFrame tenThousandLightsInOneTile() {
   for (int i = 0; i < 10000; ++i) {
     const glm::vec3 color = 1e-3f * p.color();
     const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
-    s.lights.push_back(Light::point(at, color, 1000.0f));
+    s.lights.push_back(SceneLight::point(at, color, 1000.0f));
   }
   HardCaseFrame f = frameOf(std::move(s), 16, 16);
   f.config.presizeLists = false;
@@ -376,7 +377,7 @@ HardCaseFrame fp16Extremes() {
     const float range = p.in(1.0f, 10.0f);
     const glm::vec3 color = p.color();
     const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -395,7 +396,7 @@ HardCaseFrame extremeValues(const std::string& name, float color, float material
     const float range = p.in(1.0f, 10.0f);
     const glm::vec3 lightColor = color * p.color();
     const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
-    s.lights.push_back(Light::point(at, lightColor, range));
+    s.lights.push_back(SceneLight::point(at, lightColor, range));
   }
   return frameOf(std::move(s));
 }
@@ -405,7 +406,7 @@ HardCaseFrame extremeValues(const std::string& name, float color, float material
 // floor's plane (the cone's edge grazing the floor).
 HardCaseFrame spotLights() {
   Scene s = room("spot-lights");
-  Camera c = roomCamera();
+  SceneCamera c = roomCamera();
   Placer p(30);
   const glm::vec3 eye(kEye), ahead = glm::normalize(glm::vec3(kTarget - kEye));
   const glm::vec3 side = glm::normalize(glm::cross(ahead, glm::vec3(0, 1, 0)));
@@ -413,7 +414,7 @@ HardCaseFrame spotLights() {
   auto spot = [&](glm::vec3 at, glm::vec3 axis, float outerDeg, float range) {
     float outer = outerDeg * kDeg;
     s.lights.push_back(
-        Light::spot(at, glm::normalize(axis), p.color(), range, 0.7f * outer, outer));
+        SceneLight::spot(at, glm::normalize(axis), p.color(), range, 0.7f * outer, outer));
   };
   spot(eye + glm::vec3(0, 1, 0), -ahead - glm::vec3(0, 0.5f, 0), 40, 12);  // the eye inside
   spot(eye - 3.0f * ahead, ahead, 20, 20);                                 // behind, past the eye
@@ -436,15 +437,17 @@ HardCaseFrame spotLights() {
 HardCaseFrame directionalLights() {
   Scene s = room("directional-lights");
   Placer p(31);
-  s.lights.push_back(Light::directional(glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f)), p.color()));
+  s.lights.push_back(
+      SceneLight::directional(glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f)), p.color()));
   for (float lift : {0.0f, 1e-6f, -1e-6f})
-    s.lights.push_back(Light::directional(glm::normalize(glm::vec3(1.0f, lift, -0.5f)), p.color()));
-  s.lights.push_back(Light::directional({0.0f, 1.0f, 0.0f}, p.color()));
+    s.lights.push_back(
+        SceneLight::directional(glm::normalize(glm::vec3(1.0f, lift, -0.5f)), p.color()));
+  s.lights.push_back(SceneLight::directional({0.0f, 1.0f, 0.0f}, p.color()));
   for (int i = 0; i < 20; ++i) {
     const float range = p.in(1.0f, 10.0f);
     const glm::vec3 color = p.color();
     const glm::vec3 at = p.in({-8, 0.2f, -14}, {8, 5, 4});
-    s.lights.push_back(Light::point(at, color, range));
+    s.lights.push_back(SceneLight::point(at, color, range));
   }
   return frameOf(std::move(s));
 }
@@ -469,7 +472,7 @@ HardCaseFrame metallicRoughness() {
   s.materials = ends;  // the floor and wall get ends 0, the box and sphere 1-3 by triangle
   for (size_t t = 0; t < s.triangleMaterial.size(); ++t)
     s.triangleMaterial[t] = uint32_t(t < 4 ? 0 : 1 + t % 3);
-  Camera c = roomCamera();
+  SceneCamera c = roomCamera();
   Placer p(32);
   for (int i = 0; i < 48; ++i) {
     double x = std::floor(p.in(0.0f, 64.0f)), y = std::floor(p.in(30.0f, 48.0f));
@@ -488,7 +491,7 @@ HardCaseFrame metallicRoughness() {
     }
     const float range = p.in(3.0f, 10.0f);
     const glm::vec3 color = p.color();
-    s.lights.push_back(Light::point(glm::vec3(where), color, range));
+    s.lights.push_back(SceneLight::point(glm::vec3(where), color, range));
   }
   return frameOf(std::move(s));
 }

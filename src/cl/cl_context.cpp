@@ -96,6 +96,21 @@ std::string inlineIncludes(const std::string& dir, const std::string& source,
   return out.str();
 }
 
+DeviceInfo describe(const cl::Platform& p, const cl::Device& d, int index) {
+  DeviceInfo info;
+  info.index = index;
+  info.platform = trim(p.getInfo<CL_PLATFORM_NAME>());
+  info.name = trim(d.getInfo<CL_DEVICE_NAME>());
+  info.type = typeName(d.getInfo<CL_DEVICE_TYPE>());
+  info.computeUnits = int(d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
+  info.globalMemBytes = size_t(d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>());
+  info.localMemBytes = size_t(d.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>());
+  info.maxWorkGroupSize = d.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+  info.maxWorkItemSizes = d.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
+  info.device = d;
+  return info;
+}
+
 }  // namespace
 
 std::vector<DeviceInfo> listDevices() {
@@ -113,20 +128,7 @@ std::vector<DeviceInfo> listDevices() {
     } catch (const cl::Error&) {
       continue;
     }
-    for (auto& d : devices) {
-      DeviceInfo info;
-      info.index = int(out.size());
-      info.platform = trim(p.getInfo<CL_PLATFORM_NAME>());
-      info.name = trim(d.getInfo<CL_DEVICE_NAME>());
-      info.type = typeName(d.getInfo<CL_DEVICE_TYPE>());
-      info.computeUnits = int(d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
-      info.globalMemBytes = size_t(d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>());
-      info.localMemBytes = size_t(d.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>());
-      info.maxWorkGroupSize = d.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
-      info.maxWorkItemSizes = d.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
-      info.device = d;
-      out.push_back(info);
-    }
+    for (auto& d : devices) out.push_back(describe(p, d, int(out.size())));
   }
   return out;
 }
@@ -140,6 +142,32 @@ ClContext::ClContext(const std::string& spec) {
   info_ = choose(listDevices(), s);
   context_ = cl::Context(info_.device);
   queue_ = cl::CommandQueue(context_, info_.device, CL_QUEUE_PROFILING_ENABLE);
+}
+
+ClContext::ClContext(cl_context context, cl_device_id device, cl_command_queue queue) {
+  if (!context || !device || !queue)
+    throw Error("Device::fromOpenCL needs a context, a device and a command queue (one is null)");
+  cl_command_queue_properties properties = 0;
+  cl_device_id queueDevice = nullptr;
+  cl_context queueContext = nullptr;
+  if (clGetCommandQueueInfo(queue, CL_QUEUE_PROPERTIES, sizeof properties, &properties, nullptr) !=
+          CL_SUCCESS ||
+      clGetCommandQueueInfo(queue, CL_QUEUE_DEVICE, sizeof queueDevice, &queueDevice, nullptr) !=
+          CL_SUCCESS ||
+      clGetCommandQueueInfo(queue, CL_QUEUE_CONTEXT, sizeof queueContext, &queueContext, nullptr) !=
+          CL_SUCCESS)
+    throw Error("Device::fromOpenCL: the command queue is not a valid OpenCL queue");
+  if (!(properties & CL_QUEUE_PROFILING_ENABLE))
+    throw Error(
+        "Device::fromOpenCL: the command queue was created without "
+        "CL_QUEUE_PROFILING_ENABLE; tileshade times kernels from its events");
+  if (queueDevice != device || queueContext != context)
+    throw Error("Device::fromOpenCL: the command queue belongs to another device or context");
+  // retainObject = true: the caller keeps its own references.
+  context_ = cl::Context(context, true);
+  queue_ = cl::CommandQueue(queue, true);
+  const cl::Device d(device, true);
+  info_ = describe(cl::Platform(d.getInfo<CL_DEVICE_PLATFORM>(), true), d, -1);
 }
 
 cl::Program ClContext::build(const std::string& file, const std::string& options) {

@@ -34,6 +34,10 @@ class ClContext {
   // or a case-insensitive substring of "platform device". Throws ts::Error when nothing matches.
   // $TILESHADE_DEVICE is used when spec is empty.
   explicit ClContext(const std::string& spec = "");
+  // The caller's own objects (an engine's context, device and queue; each retained). The queue
+  // must profile (CL_QUEUE_PROFILING_ENABLE): frame times come from its events. Throws ts::Error
+  // otherwise, or when the device is not the queue's.
+  ClContext(cl_context context, cl_device_id device, cl_command_queue queue);
 
   const DeviceInfo& info() const { return info_; }
   std::string deviceName() const { return info_.platform + " / " + info_.name; }

@@ -8,7 +8,7 @@
 
 namespace ts {
 
-CameraIntrinsics CameraIntrinsics::from(const Camera& camera, int width, int height) {
+CameraIntrinsics CameraIntrinsics::from(const SceneCamera& camera, int width, int height) {
   if (width < 1 || height < 1)
     throw Error("image size must be at least 1x1, got " + std::to_string(width) + "x" +
                 std::to_string(height));

@@ -21,7 +21,7 @@ struct CameraIntrinsics {
   float znear = 0.1f;
   float zfar = 1000.0f;
 
-  static CameraIntrinsics from(const Camera& camera, int width, int height);
+  static CameraIntrinsics from(const SceneCamera& camera, int width, int height);
   // The camera uniform of the kernels: (tan x, tan y, width, height).
   glm::vec4 kernelCamera() const { return {tanHalfFovX, tanHalfFovY, float(width), float(height)}; }
   // OpenGL-style projection consistent with the above (for the rasterizer).

@@ -401,15 +401,15 @@ namespace {
 
 // One light as lights.json holds it: the kernels' view-space values (ViewLights).
 struct LightRecord {
-  LightType type = LightType::Point;
+  SceneLightType type = SceneLightType::Point;
   glm::vec3 position{0.0f}, color{0.0f}, direction{0.0f};  // direction: where the light travels
   float range = 0.0f;
   float cosOuter = -1.0f;  // spot: ViewLights::spot.w
   float coneScale = 1.0f;  // spot: ViewLights::color.w
 };
 
-constexpr int kPoint = 1 << int(LightType::Point), kSpot = 1 << int(LightType::Spot),
-              kDirectional = 1 << int(LightType::Directional);
+constexpr int kPoint = 1 << int(SceneLightType::Point), kSpot = 1 << int(SceneLightType::Spot),
+              kDirectional = 1 << int(SceneLightType::Directional);
 
 // The light fields: which types have them, how they are written and read.
 struct LightField {
@@ -471,7 +471,7 @@ void readCone(LightRecord& l, const JsonFields& f) {
   inner = std::clamp(inner, 0.0, kHalfPi);
   outer = std::clamp(outer, 0.0, kHalfPi);
   const ViewLights v = toViewSpace(
-      {Light::spot(l.position, l.direction, l.color, l.range, float(inner), float(outer))},
+      {SceneLight::spot(l.position, l.direction, l.color, l.range, float(inner), float(outer))},
       glm::mat4(1.0f));
   l.cosOuter = v.spot[0].w;
   l.coneScale = v.color[0].w;
@@ -484,7 +484,7 @@ nlohmann::json lightsJson(const ViewLights& lights, glm::vec3 ambient) {
   for (size_t i = 0; i < lights.size(); ++i) {
     LightRecord l;
     const glm::vec4 s = lights.spot[i];
-    l.type = lights.isSpot(i) ? LightType::Spot : LightType::Point;
+    l.type = lights.isSpot(i) ? SceneLightType::Spot : SceneLightType::Point;
     l.position = glm::vec3(lights.positionRange[i]);
     l.range = lights.positionRange[i].w;
     l.color = glm::vec3(lights.color[i]);
@@ -495,7 +495,7 @@ nlohmann::json lightsJson(const ViewLights& lights, glm::vec3 ambient) {
   }
   for (size_t i = 0; i < lights.directionalCount(); ++i) {
     LightRecord l;
-    l.type = LightType::Directional;
+    l.type = SceneLightType::Directional;
     l.direction = -glm::vec3(lights.directionalDir[i]);  // exact: ViewLights holds "towards"
     l.color = glm::vec3(lights.directionalColor[i]);
     records.push_back(l);
@@ -532,9 +532,9 @@ LightsFile parseLightsFile(const std::string& text, const std::string& path) {
     if (!lj.is_object()) throw Error(path + ": " + where + " must be an object");
     const JsonFields type{path, lj, where + ": "};
     LightRecord l;
-    l.type = type.oneOf<LightType>("type", {{"point", LightType::Point},
-                                            {"spot", LightType::Spot},
-                                            {"directional", LightType::Directional}});
+    l.type = type.oneOf<SceneLightType>("type", {{"point", SceneLightType::Point},
+                                                 {"spot", SceneLightType::Spot},
+                                                 {"directional", SceneLightType::Directional}});
     const JsonFields f{path, lj, where + " (" + toString(l.type) + "): "};
     std::set<std::string> known = {"type"};
     for (const auto& field : lightFields()) {
@@ -542,18 +542,18 @@ LightsFile parseLightsFile(const std::string& text, const std::string& path) {
       known.insert(field.key);
       if (field.read) field.read(l, f);
     }
-    if (l.type == LightType::Spot) {
+    if (l.type == SceneLightType::Spot) {
       known.insert({"inner_cone_angle", "outer_cone_angle"});
       readCone(l, f);
     }
     f.onlyKeys(known);
-    if (l.type == LightType::Directional) {
+    if (l.type == SceneLightType::Directional) {
       out.lights.directionalDir.emplace_back(-l.direction, 0.0f);
       out.lights.directionalColor.emplace_back(l.color, 0.0f);
       continue;
     }
     out.lights.positionRange.emplace_back(l.position, l.range);
-    if (l.type == LightType::Spot) {
+    if (l.type == SceneLightType::Spot) {
       out.lights.color.emplace_back(l.color, l.coneScale);
       out.lights.spot.emplace_back(l.direction, l.cosOuter);
     } else {

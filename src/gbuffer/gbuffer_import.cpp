@@ -8,6 +8,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "gbuffer/gbuffer_checks.h"
 #include "gbuffer/image_io.h"
 #include "scene/shading_range.h"
 #include "util/error.h"
@@ -15,17 +16,6 @@
 
 namespace ts {
 namespace {
-
-// Values in messages to full precision: 1.0000001 must not read as 1.
-std::string fullPrecision(double v) {
-  std::ostringstream s;
-  s << std::setprecision(9) << v;
-  return s.str();
-}
-
-std::string pixelText(int x, int y) {
-  return "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
-}
 
 // Linear view depth from the depth channel's value; 0 for "no geometry" (a hardware depth at
 // the far plane), possibly negative or infinite (the caller decides what is background).
@@ -51,13 +41,8 @@ double linearDepth(const GBufferDescriptor& d, double v) {
   return n * f / (f - v * (f - n));
 }
 
-// Geometry nearer than the near plane cannot come from a camera with that near plane, and the
-// culling clips light volumes there: every technique but brute would drop the lights that reach
-// it. Within float rounding of the plane (kNearPlaneTolerance) a surface is on it.
-constexpr double kNearPlaneTolerance = 1e-5;
-
 void checkInFrontOfNearPlane(const GBufferDescriptor& d, float depth, int x, int y) {
-  if (!d.znear || double(depth) >= double(*d.znear) * (1.0 - kNearPlaneTolerance)) return;
+  if (!d.znear || !inFrontOfNearPlane(depth, *d.znear)) return;
   const bool fromHardware =
       d.depthEncoding == DepthEncoding::Hardware && float(d.hardwareNear) == *d.znear;
   throw Error(d.imagePath + ": depth " + fullPrecision(depth) + " at " + pixelText(x, y) +
@@ -65,19 +50,6 @@ void checkInFrontOfNearPlane(const GBufferDescriptor& d, float depth, int x, int
               (fromHardware ? " \"depth\": \"near\"" : " \"camera\": \"znear\"") +
               "); nothing nearer than the near plane is drawn, and the culling would drop lights "
               "there: fix it, or leave \"znear\" out to take the nearest surface's depth");
-}
-
-// The kernels renormalise the normal, but the layouts store it as given: fp16 turns x1e6 into inf
-// and x1e-40 into 0. Lengths in [0.5, 2] hold every layout's normals (packed dumps store octahedral
-// vectors, length >= 1/sqrt(3)) and renormalise safely; anything else is a renderer's mistake.
-constexpr float kNormalLengthMin = 0.5f, kNormalLengthMax = 2.0f;
-
-void checkNormal(const GBufferDescriptor& d, glm::vec3 n, int x, int y) {
-  const double length = glm::length(glm::dvec3(n));
-  if (length >= kNormalLengthMin && length <= kNormalLengthMax) return;
-  throw Error(d.imagePath + ": the normal (\"normal\") at " + pixelText(x, y) + " is " +
-              (length == 0.0 ? std::string("zero") : "of length " + fullPrecision(length)) +
-              ", not a unit vector (lengths 0.5 to 2 are accepted and renormalised)");
 }
 
 // What the image held when no pixel turned out to be geometry.
@@ -201,24 +173,21 @@ ImportedGBuffer readGBufferFiles(const std::string& dirOrFile) {
         for (size_t c = 0; c < s.channels.size(); ++c) {
           const std::string& name = image.channels[size_t(s.channels[c])];
           float v = px[s.channels[c]];
-          if (!std::isfinite(v))
-            throw Error(d.imagePath + ": channel '" + name + "' (\"" + s.field->key + "\") is " +
-                        (std::isnan(v) ? "NaN" : "infinite") + " at " + pixelText(x, y));
+          const std::string what = "channel '" + name + "' (\"" + s.field->key + "\")";
+          checkFiniteValue(d.imagePath, what, v, x, y);
           const bool normal = s.field->plane == GBufferPlane::Normal;
           if (normal && d.normalUnorm && !(v >= 0.0f && v <= 1.0f))
             throw Error(d.imagePath + ": channel '" + name +
                         "' (\"normal\", \"normal_encoding\": "
                         "\"unorm\") is " +
                         fullPrecision(v) + " at " + pixelText(x, y) + ", outside [0, 1]");
-          if (!normal && !(v >= 0.0f))
-            throw Error(d.imagePath + ": channel '" + name + "' (\"" + s.field->key + "\") is " +
-                        fullPrecision(v) + " at " + pixelText(x, y) + ", below 0");
+          if (!normal) checkNotNegative(d.imagePath, what, v, x, y);
           if (normal && d.normalUnorm) v = 2.0f * v - 1.0f;
           (*planes[int(s.field->plane)])[i][s.field->first + int(c)] = v;
         }
       for (int p = 0; p < 4; ++p)
         (*planes[p])[i] = fixedComponents(GBufferPlane(p), d.model, (*planes[p])[i]);
-      checkNormal(d, glm::vec3(g.normal[i]), x, y);
+      checkNormalLength(d.imagePath, glm::vec3(g.normal[i]), x, y);
       range.addSurface(glm::vec3(g.diffuse[i]),
                        d.model == ShadingModel::BlinnPhong ? glm::vec3(g.specular[i])
                                                            : glm::vec3(0.0f),  // ks.R: roughness

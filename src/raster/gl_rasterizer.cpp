@@ -271,7 +271,7 @@ struct GlRasterizer::State {
     }
   }
 
-  void draw(const Camera& camera, const CameraIntrinsics& in, const RasterOptions& options) {
+  void draw(const SceneCamera& camera, const CameraIntrinsics& in, const RasterOptions& options) {
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     GLenum buffers[kTargets];
     for (int t = 0; t < kTargets; ++t) buffers[t] = GLenum(GL_COLOR_ATTACHMENT0 + t);
@@ -359,7 +359,7 @@ GlRasterizer::GlRasterizer(const Scene& scene) : state_(std::make_unique<State>(
     state_->upload();
     // A first small frame: drivers compile shader variants on first use (llvmpipe's JIT takes
     // ~100 ms), which belongs to setup, not to the first frame's time.
-    Camera warmup;
+    SceneCamera warmup;
     rasterize(warmup, 8, 8, RasterOptions{});
   } catch (...) {
     state_.reset();
@@ -372,7 +372,7 @@ GlRasterizer::~GlRasterizer() = default;
 
 std::string GlRasterizer::renderer() const { return EglContext::shared().renderer(); }
 
-GBuffer GlRasterizer::rasterize(const Camera& camera, int width, int height,
+GBuffer GlRasterizer::rasterize(const SceneCamera& camera, int width, int height,
                                 const RasterOptions& options) {
   if (options.fragmentCounts)
     throw Error("fragment counts (overdraw) come from the software rasterizer only");

@@ -30,7 +30,8 @@ class GlRasterizer {
   // ones throw ts::Error naming the limit). RasterOptions::threads is ignored (the driver's
   // own); fragmentCounts is refused (ts::Error): overdraw counts come from the software
   // rasterizer only.
-  GBuffer rasterize(const Camera& camera, int width, int height, const RasterOptions& options = {});
+  GBuffer rasterize(const SceneCamera& camera, int width, int height,
+                    const RasterOptions& options = {});
 
   std::string renderer() const;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   double setupMs() const { return setupMs_; }  // context (first use) + upload + shader build

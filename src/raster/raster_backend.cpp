@@ -13,7 +13,7 @@ namespace ts {
 // and is never made.
 class GlRasterizer {
  public:
-  GBuffer rasterize(const Camera&, int, int, const RasterOptions&) { return {}; }
+  GBuffer rasterize(const SceneCamera&, int, int, const RasterOptions&) { return {}; }
   std::string renderer() const { return {}; }
 };
 #endif
@@ -53,7 +53,7 @@ SceneRasterizer::SceneRasterizer(SceneRasterizer&&) noexcept = default;
 // frame at most where a sliver of geometry is in view.
 constexpr size_t kCoverageSlack = 4;
 
-GBuffer SceneRasterizer::rasterize(const Camera& camera, int width, int height,
+GBuffer SceneRasterizer::rasterize(const SceneCamera& camera, int width, int height,
                                    const RasterOptions& options) {
   if (!gl_) return ts::rasterize(scene_, camera, width, height, options);
   GBuffer g = gl_->rasterize(camera, width, height, options);

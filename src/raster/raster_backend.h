@@ -29,7 +29,7 @@ class SceneRasterizer {
   SceneRasterizer& operator=(SceneRasterizer&&) = delete;
 
   // ts::rasterize or GlRasterizer::rasterize.
-  GBuffer rasterize(const Camera& camera, int width, int height, const RasterOptions& options);
+  GBuffer rasterize(const SceneCamera& camera, int width, int height, const RasterOptions& options);
 
   const Scene& scene() const { return scene_; }
   RasterBackend backend() const { return backend_; }

@@ -204,7 +204,7 @@ inline double evaluate(const TriangleSetup& t, const SubFallback& fb, double px,
 
 class Rasterizer {
  public:
-  Rasterizer(const Scene& scene, const Camera& camera, int width, int height,
+  Rasterizer(const Scene& scene, const SceneCamera& camera, int width, int height,
              const RasterOptions& options)
       : scene_(scene), camera_(camera), options_(options) {
     if (width > kMaxImageSize || height > kMaxImageSize)
@@ -604,7 +604,7 @@ class Rasterizer {
   }
 
   const Scene& scene_;
-  const Camera& camera_;
+  const SceneCamera& camera_;
   RasterOptions options_;
   Frame frame_{};
   int workers_ = 1;
@@ -615,7 +615,7 @@ class Rasterizer {
 
 }  // namespace
 
-GBuffer rasterize(const Scene& scene, const Camera& camera, int width, int height,
+GBuffer rasterize(const Scene& scene, const SceneCamera& camera, int width, int height,
                   const RasterOptions& options) {
   return Rasterizer(scene, camera, width, height, options).run();
 }

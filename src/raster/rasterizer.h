@@ -18,7 +18,7 @@ struct RasterOptions {
 // Renders the scene from `camera` into a G-buffer of width x height (1 to 65536 per side; throws
 // ts::Error otherwise, or for a scene with out-of-range vertex/material/texture indices).
 // Design notes (fill rule, clipping, precision, threading): src/raster/rasterizer.cpp.
-GBuffer rasterize(const Scene& scene, const Camera& camera, int width, int height,
+GBuffer rasterize(const Scene& scene, const SceneCamera& camera, int width, int height,
                   const RasterOptions& options = {});
 
 }  // namespace ts

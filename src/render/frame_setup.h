@@ -14,7 +14,7 @@ namespace ts {
 
 struct PreparedFrame {
   int frame = 0;
-  Camera camera;
+  SceneCamera camera;
   CameraIntrinsics intrinsics;
   GBuffer gbuffer;         // full precision, as rasterized
   EncodedGBuffer encoded;  // what the kernels read

@@ -9,32 +9,32 @@
 
 namespace ts {
 
-RenderInput loadRenderInput(const RenderOptions& o) {
+RenderInput loadImportedInput(const std::string& path, std::optional<GBufferFormat> format,
+                              const std::string& features) {
   RenderInput input;
-  if (!o.gbufferIn.empty()) {
-    const auto t0 = std::chrono::steady_clock::now();
-    std::optional<GBufferFormat> format;
-    if (!o.keepInputLayout) format = o.format;
-    ImportedFrame imported = importGBuffer(o.gbufferIn, format);
-    input.frame = std::move(imported.frame);
-    input.frame.rasterMs =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    input.sceneName = imported.descriptor.scene.empty()
-                          ? std::filesystem::path(imported.descriptor.path).parent_path().string()
-                          : imported.descriptor.scene;
-    input.raster = "import";
-    input.rasterDetail = imported.descriptor.path;
-    input.frame.features = chooseFeatures(o.features, input.frame.features);
-    input.lightSummary =
-        std::to_string(input.frame.lights.size() + input.frame.lights.directionalCount()) +
-        " lights";
-    return input;
-  }
+  const auto t0 = std::chrono::steady_clock::now();
+  ImportedFrame imported = importGBuffer(path, format);
+  input.frame = std::move(imported.frame);
+  input.frame.rasterMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  input.sceneName = imported.descriptor.scene.empty()
+                        ? std::filesystem::path(imported.descriptor.path).parent_path().string()
+                        : imported.descriptor.scene;
+  input.raster = "import";
+  input.rasterDetail = imported.descriptor.path;
+  input.frame.features = chooseFeatures(features, input.frame.features);
+  input.lightSummary =
+      std::to_string(input.frame.lights.size() + input.frame.lights.directionalCount()) + " lights";
+  return input;
+}
+
+RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
+  RenderInput input;
   Scene scene = loadScene(o.scene, o.sceneOptions());
   if (o.lightThreshold > 0.0f) applyThresholdRanges(scene.lights, o.lightThreshold);
   const SceneFeatures features = resolveFeatures(scene, o.shadingModel, o.features);
   SceneRasterizer rasterizer(scene, o.raster);
-  input.frame = prepareFrame(rasterizer, o.frame, o.width, o.height, o.format, features);
+  input.frame = prepareFrame(rasterizer, frame, o.width, o.height, o.format, features);
   input.lightSummary = describeLights(scene.lights);
   input.sceneName = scene.name;
   input.triangles = scene.triangleCount();

@@ -1,10 +1,12 @@
 #pragma once
-// Where `render` gets its frame: a scene rasterized by the software or the OpenGL rasterizer
-// (--raster), or a G-buffer imported from files (--gbuffer-in).
+// Where a frame comes from: a scene rasterized by the software or the OpenGL rasterizer
+// (--raster), or a G-buffer imported from files (--gbuffer-in). The API's Frame::fromScene and
+// Frame::fromFiles (src/api/) are these.
+#include <optional>
 #include <string>
 
 #include "render/frame_setup.h"
-#include "render/render_job.h"
+#include "render/pipeline_options.h"
 
 namespace ts {
 
@@ -18,9 +20,13 @@ struct RenderInput {
   std::string lightSummary;    // "924 lights" or "12 lights: 6 point, 5 spot, 1 directional"
 };
 
-// The frame's features are the scene's (--shading-model, --features; resolveFeatures) or, for an
-// imported G-buffer, those of its files. Throws ts::Error for a bad scene, rasterizer or
-// G-buffer file (one line).
-RenderInput loadRenderInput(const RenderOptions& options);
+// Frame `frame` of the scene `o` describes, rasterized; its features are the scene's
+// (--shading-model, --features; resolveFeatures). Throws ts::Error for a bad scene or rasterizer.
+RenderInput loadSceneInput(const PipelineOptions& o, int frame);
+// The G-buffer files at `path` (importGBuffer) encoded in `format` (default: the files' own
+// layout); its features those of its files, overridden by `features` (chooseFeatures). Throws
+// ts::Error for a bad G-buffer file (one line).
+RenderInput loadImportedInput(const std::string& path, std::optional<GBufferFormat> format,
+                              const std::string& features);
 
 }  // namespace ts

@@ -103,13 +103,13 @@ void arcade(MeshBuilder& mb, const Materials& M, float zc, float yBase, float pe
   mb.box({-kHalfX, ys + ro, zc - hz}, {kHalfX, bandTop, zc + hz}, M.stone);
 }
 
-std::vector<Light> makeLights(const std::string& set, uint32_t seed, int count) {
+std::vector<SceneLight> makeLights(const std::string& set, uint32_t seed, int count) {
   SceneRandom rnd(seed * 747796405u + 2891336453u);
-  std::vector<Light> lights;
+  std::vector<SceneLight> lights;
   lights.reserve(size_t(count));
   for (int k = 0; k < count; ++k) {
     bool big = set == "big" || (set == "mixed" && k % kMixedBigEvery == 0);
-    Light l;
+    SceneLight l;
     if (big) {
       // Anywhere in the courtyard or over the aisles, 1.5..10 m up. (A braced list's elements are
       // evaluated in order, unlike a call's arguments.)
@@ -142,11 +142,11 @@ std::vector<Light> makeLights(const std::string& set, uint32_t seed, int count) 
   return lights;
 }
 
-std::vector<Camera> cameraPath() {
+std::vector<SceneCamera> cameraPath() {
   // 240 frames walking an ellipse (11 x 4 m) round the courtyard, eye height 1.7..4.5 m, looking
   // across the courtyard ~125° ahead on a smaller ellipse (views along the arcades and to the
   // ends). The path closes: frame 240 would equal frame 0.
-  std::vector<Camera> path;
+  std::vector<SceneCamera> path;
   const int frames = 240;
   const float yfov = 60.0f * kPi / 180.0f;
   for (int k = 0; k < frames; ++k) {
@@ -155,7 +155,7 @@ std::vector<Camera> cameraPath() {
                   4.0f * std::sin(a)};
     float b = a + 2.2f;
     glm::vec3 target{9.0f * std::cos(b), 3.0f + 1.5f * std::sin(3.0f * a), 3.0f * std::sin(b)};
-    path.push_back(Camera::lookAt(eye, target, {0.0f, 1.0f, 0.0f}, yfov, 0.1f, 80.0f));
+    path.push_back(SceneCamera::lookAt(eye, target, {0.0f, 1.0f, 0.0f}, yfov, 0.1f, 80.0f));
   }
   return path;
 }

@@ -219,18 +219,18 @@ Layout makeLayout(SceneRandom& rnd) {
   return L;
 }
 
-std::vector<Light> manyLights(const Layout& L, uint32_t seed, int count) {
+std::vector<SceneLight> manyLights(const Layout& L, uint32_t seed, int count) {
   // Light k lies on path k % 11, at the (k / 11)-th of that path's evenly spaced slots, with a
   // random sideways offset (±3) and height (1..6) and a random saturated colour.
   SceneRandom rnd(seed * 747796405u + 2891336453u);
-  std::vector<Light> lights;
+  std::vector<SceneLight> lights;
   lights.reserve(size_t(count));
   for (int k = 0; k < count; ++k) {
     int path = k % kRobots, slot = k / kRobots;
     int onPath = count / kRobots + (path < count % kRobots ? 1 : 0);
     float t = (float(slot) + 0.5f) / float(onPath);
     float z = kPathZ0 + (kPathZ1 - kPathZ0) * t;
-    Light l;
+    SceneLight l;
     float offset = rnd.uniform(-3.0f, 3.0f);
     l.position = {L.paths[path].x(z) + offset, rnd.uniform(1.0f, 6.0f), z};
     const float saturation = rnd.uniform(0.3f, 0.9f);  // first: g++'s old order (SceneRandom)
@@ -242,16 +242,16 @@ std::vector<Light> manyLights(const Layout& L, uint32_t seed, int count) {
   return lights;
 }
 
-std::vector<Light> fewLights(const Layout& L, uint32_t seed, int count) {
+std::vector<SceneLight> fewLights(const Layout& L, uint32_t seed, int count) {
   // Light k hangs above robot k % 11, 2.5 above its head (2 more per extra round), slightly to one
   // side; warm-to-cool whites.
   SceneRandom rnd(seed * 747796405u + 1013904223u);
-  std::vector<Light> lights;
+  std::vector<SceneLight> lights;
   lights.reserve(size_t(count));
   for (int k = 0; k < count; ++k) {
     const Robot& r = L.robots[k % kRobots];
     float a = rnd.uniform(0.0f, 2.0f * kPi);
-    Light l;
+    SceneLight l;
     l.position =
         r.position + glm::vec3(1.2f * std::cos(a), r.height + 2.5f + 2.0f * float(k / kRobots),
                                1.2f * std::sin(a));
@@ -264,10 +264,10 @@ std::vector<Light> fewLights(const Layout& L, uint32_t seed, int count) {
   return lights;
 }
 
-std::vector<Camera> cameraPath() {
+std::vector<SceneCamera> cameraPath() {
   // 240 frames flying down the street (+Z to -Z), weaving sideways, from pedestrian height
   // (1.7) up to rooftop-ish views (~14) and back twice; always looking down the street.
-  std::vector<Camera> path;
+  std::vector<SceneCamera> path;
   const int frames = 240;
   const float yfov = 60.0f * kPi / 180.0f;
   for (int k = 0; k < frames; ++k) {
@@ -277,7 +277,7 @@ std::vector<Camera> cameraPath() {
     float y = 1.7f + 12.3f * (0.5f - 0.5f * std::cos(2.0f * kPi * 2.0f * t));
     glm::vec3 eye{x, y, z};
     glm::vec3 target{0.4f * x + 3.0f * std::sin(2.0f * kPi * t), 0.35f * y + 0.6f, z - 35.0f};
-    path.push_back(Camera::lookAt(eye, target, {0.0f, 1.0f, 0.0f}, yfov, 0.2f, 450.0f));
+    path.push_back(SceneCamera::lookAt(eye, target, {0.0f, 1.0f, 0.0f}, yfov, 0.2f, 450.0f));
   }
   return path;
 }

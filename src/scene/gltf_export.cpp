@@ -279,7 +279,7 @@ void exportGltf(const Scene& scene, const std::string& path) {
 
   // Camera frame 0 as a perspective camera node (rotation + translation of the inverse view).
   if (!scene.cameraPath.empty()) {
-    const Camera& c = scene.cameraPath[0];
+    const SceneCamera& c = scene.cameraPath[0];
     tinygltf::Camera cam;
     cam.type = "perspective";
     cam.name = "frame0";
@@ -302,7 +302,7 @@ void exportGltf(const Scene& scene, const std::string& path) {
   // each on its own node: translated to the position (point, spot), rotated so that its -Z is
   // the light's direction (spot, directional).
   for (size_t i = 0; i < scene.lights.size(); ++i) {
-    const Light& l = scene.lights[i];
+    const SceneLight& l = scene.lights[i];
     float peak = std::max({l.color.x, l.color.y, l.color.z});
     tinygltf::Light light;
     light.type = toString(l.type);
@@ -310,7 +310,7 @@ void exportGltf(const Scene& scene, const std::string& path) {
     glm::vec3 color = peak > 0.0f ? l.color / peak : glm::vec3(1.0f);
     light.color = {color.x, color.y, color.z};
     if (l.hasRange()) light.range = l.range;
-    if (l.type == LightType::Spot) {
+    if (l.type == SceneLightType::Spot) {
       // A float pi/2 is above pi/2, which strict loaders refuse: written as pi/2 itself.
       light.spot.innerConeAngle = std::min(double(l.innerConeAngle), kHalfPi);
       light.spot.outerConeAngle = std::min(double(l.outerConeAngle), kHalfPi);
@@ -319,7 +319,7 @@ void exportGltf(const Scene& scene, const std::string& path) {
     tinygltf::Node node;
     node.name = "light" + std::to_string(i);
     if (l.hasRange()) node.translation = {l.position.x, l.position.y, l.position.z};
-    if (l.type != LightType::Point) {
+    if (l.type != SceneLightType::Point) {
       glm::quat q = glm::rotation(glm::vec3(0.0f, 0.0f, -1.0f), glm::normalize(l.direction));
       node.rotation = {q.x, q.y, q.z, q.w};
     }

@@ -550,7 +550,7 @@ class GltfLoader {
   size_t degenerateNormals_ = 0;  // zero-length normals replaced by +Y
   int otherLights_ = 0, orthographic_ = 0, extraCameras_ = 0;
   bool haveCamera_ = false;
-  Camera camera_;
+  SceneCamera camera_;
   std::set<int> visiting_;
 };
 
@@ -786,7 +786,7 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
   float range =
       light.range > 0.0 ? float(light.range) : rangeFromThreshold(color, gltf::kLightThreshold);
   if (light.type == "point") {
-    scene_.lights.push_back(Light::point(position, color, range));
+    scene_.lights.push_back(SceneLight::point(position, color, range));
     return;
   }
   if (light.type != "spot" && light.type != "directional") {
@@ -799,7 +799,7 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
                "its -Z axis (no direction)");
   const glm::vec3 direction(axis / axisLength);
   if (light.type == "directional") {
-    scene_.lights.push_back(Light::directional(direction, color));
+    scene_.lights.push_back(SceneLight::directional(direction, color));
     return;
   }
   // A float of pi/2 (what float-based exporters, tileshade's too, write) is taken as pi/2.
@@ -814,7 +814,7 @@ void GltfLoader::addLight(const tinygltf::Light& light, const glm::dmat4& world,
   inner = std::clamp(inner, 0.0, kHalfPi);
   outer = std::clamp(outer, 0.0, kHalfPi);
   scene_.lights.push_back(
-      Light::spot(position, direction, color, range, float(inner), float(outer)));
+      SceneLight::spot(position, direction, color, range, float(inner), float(outer)));
 }
 
 // Every UV set the material's textures name must be an attribute of the primitive: without it
@@ -1076,10 +1076,10 @@ void GltfLoader::buildCameraPath() {
     float znear = std::max(0.5f * (distance - depth), 0.002f * distance);
     float zfar = 1.5f * (distance + radius);
     scene_.cameraPath.push_back(
-        Camera::lookAt(c + distance * back, c, {0.0f, 1.0f, 0.0f}, yfov, znear, zfar));
+        SceneCamera::lookAt(c + distance * back, c, {0.0f, 1.0f, 0.0f}, yfov, znear, zfar));
   }
   // Geometry spread over more than float's range (vertices near +-3e38) cannot be framed.
-  for (const Camera& cam : scene_.cameraPath)
+  for (const SceneCamera& cam : scene_.cameraPath)
     if (!isFinite(glm::mat4(cam.viewFromWorld)) || !(cam.znear > 0.0f) || !(cam.zfar > cam.znear) ||
         !std::isfinite(cam.zfar))
       read_.fail("the scene's extent (bounds " + shortText(b.min.x) + ".." + shortText(b.max.x) +

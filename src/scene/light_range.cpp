@@ -17,7 +17,7 @@ float rangeFromThreshold(glm::vec3 color, float threshold) {
   return float(std::clamp(r, double(TS_DMIN), double(std::numeric_limits<float>::max())));
 }
 
-void applyThresholdRanges(std::vector<Light>& lights, float threshold) {
+void applyThresholdRanges(std::vector<SceneLight>& lights, float threshold) {
   for (auto& l : lights)
     if (l.hasRange()) l.range = rangeFromThreshold(l.color, threshold);
 }

@@ -15,6 +15,6 @@ float rangeFromThreshold(glm::vec3 color, float threshold);
 
 // Replaces the range of every light that has one (point, spot) with
 // rangeFromThreshold(color, threshold).
-void applyThresholdRanges(std::vector<Light>& lights, float threshold);
+void applyThresholdRanges(std::vector<SceneLight>& lights, float threshold);
 
 }  // namespace ts

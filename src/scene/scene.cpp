@@ -68,18 +68,18 @@ std::string toString(ShadingModel model) { return shadingModelNames().name(model
 
 ShadingModel parseShadingModel(const std::string& s) { return shadingModelNames().parse(s); }
 
-std::string toString(LightType type) {
+std::string toString(SceneLightType type) {
   switch (type) {
-    case LightType::Point: return "point";
-    case LightType::Spot: return "spot";
-    case LightType::Directional: return "directional";
+    case SceneLightType::Point: return "point";
+    case SceneLightType::Spot: return "spot";
+    case SceneLightType::Directional: return "directional";
   }
   return "?";
 }
 
-std::string describeLights(const std::vector<Light>& lights) {
+std::string describeLights(const std::vector<SceneLight>& lights) {
   size_t count[3] = {0, 0, 0};
-  for (const Light& l : lights) ++count[int(l.type)];
+  for (const SceneLight& l : lights) ++count[int(l.type)];
   std::string s = std::to_string(lights.size()) + " lights";
   if (count[0] == lights.size()) return s;
   const char* names[3] = {"point", "spot", "directional"};
@@ -89,36 +89,36 @@ std::string describeLights(const std::vector<Light>& lights) {
   return s + ": " + parts;
 }
 
-Light Light::point(glm::dvec3 position, glm::vec3 color, float range) {
-  Light l;
+SceneLight SceneLight::point(glm::dvec3 position, glm::vec3 color, float range) {
+  SceneLight l;
   l.position = position;
   l.color = color;
   l.range = range;
   return l;
 }
 
-Light Light::spot(glm::dvec3 position, glm::vec3 direction, glm::vec3 color, float range,
-                  float innerConeAngle, float outerConeAngle) {
-  Light l = point(position, color, range);
-  l.type = LightType::Spot;
+SceneLight SceneLight::spot(glm::dvec3 position, glm::vec3 direction, glm::vec3 color, float range,
+                            float innerConeAngle, float outerConeAngle) {
+  SceneLight l = point(position, color, range);
+  l.type = SceneLightType::Spot;
   l.direction = direction;
   l.innerConeAngle = innerConeAngle;
   l.outerConeAngle = outerConeAngle;
   return l;
 }
 
-Light Light::directional(glm::vec3 direction, glm::vec3 color) {
-  Light l;
-  l.type = LightType::Directional;
+SceneLight SceneLight::directional(glm::vec3 direction, glm::vec3 color) {
+  SceneLight l;
+  l.type = SceneLightType::Directional;
   l.direction = direction;
   l.color = color;
   l.range = 0.0f;
   return l;
 }
 
-Camera Camera::lookAt(glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up, float yfov, float znear,
-                      float zfar) {
-  Camera c;
+SceneCamera SceneCamera::lookAt(glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up, float yfov,
+                                float znear, float zfar) {
+  SceneCamera c;
   c.viewFromWorld = glm::lookAt(eye, target, up);
   c.yfov = yfov;
   c.znear = znear;
@@ -132,7 +132,7 @@ Bounds Scene::bounds() const {
   return b;
 }
 
-const Camera& Scene::camera(int frame) const {
+const SceneCamera& Scene::camera(int frame) const {
   if (cameraPath.empty()) throw Error("scene '" + name + "' has no camera");
   if (frame < 0) throw Error("frame must be >= 0, got " + std::to_string(frame));
   return cameraPath[size_t(frame) % cameraPath.size()];

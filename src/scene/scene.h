@@ -66,15 +66,15 @@ struct Vertex {
 };
 
 // glTF KHR_lights_punctual's three light types.
-enum class LightType { Point = 0, Spot = 1, Directional = 2 };
-std::string toString(LightType type);  // "point" | "spot" | "directional"
+enum class SceneLightType { Point = 0, Spot = 1, Directional = 2 };
+std::string toString(SceneLightType type);  // "point" | "spot" | "directional"
 
 // A light; colour includes intensity. Point and spot lights have a position and a finite range;
 // a spot light shines along `direction` within `outerConeAngle` of it, fading between the inner
 // and the outer cone (glTF's smooth angular falloff, docs/shading.md); a directional light (a sun)
 // lights every surface from `direction`'s opposite, with no position and no range.
-struct Light {
-  LightType type = LightType::Point;
+struct SceneLight {
+  SceneLightType type = SceneLightType::Point;
   glm::dvec3 position{0.0};                // world space (point, spot); double until the view
                                            // transform, as the camera (docs/hard-cases.md)
   glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world space, unit, where the light travels (spot,
@@ -85,29 +85,29 @@ struct Light {
                                          // of pi/2 is 4.4e-8 above it: taken as pi/2)
   float outerConeAngle = 0.7853981634f;  // spot, radians (glTF's default pi/4)
 
-  static Light point(glm::dvec3 position, glm::vec3 color, float range);
-  static Light spot(glm::dvec3 position, glm::vec3 direction, glm::vec3 color, float range,
-                    float innerConeAngle, float outerConeAngle);
-  static Light directional(glm::vec3 direction, glm::vec3 color);
-  bool hasRange() const { return type != LightType::Directional; }
+  static SceneLight point(glm::dvec3 position, glm::vec3 color, float range);
+  static SceneLight spot(glm::dvec3 position, glm::vec3 direction, glm::vec3 color, float range,
+                         float innerConeAngle, float outerConeAngle);
+  static SceneLight directional(glm::vec3 direction, glm::vec3 color);
+  bool hasRange() const { return type != SceneLightType::Directional; }
 };
 
 // "924 lights", or with several types "12 lights: 6 point, 5 spot, 1 directional".
-std::string describeLights(const std::vector<Light>& lights);
+std::string describeLights(const std::vector<SceneLight>& lights);
 
 // A pinhole camera. Aspect ratio comes from the image being rendered, not from the camera.
 // The view transform is double: far from the origin (1e5..1e6 units) a float matrix's rounding
 // (its translation -R*eye, and R's entries times the eye's distance) moves view-space positions by
 // more than the scene's own float quantisation; in double, a scene far from the origin renders as
 // the same scene at the origin, up to that quantisation (docs/hard-cases.md).
-struct Camera {
+struct SceneCamera {
   glm::dmat4 viewFromWorld{1.0};  // camera at the origin looking down -Z, +Y up
   float yfov = 1.0f;              // vertical field of view, radians
   float znear = 0.1f;
   float zfar = 1000.0f;
 
-  static Camera lookAt(glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up, float yfov, float znear,
-                       float zfar);
+  static SceneCamera lookAt(glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up, float yfov,
+                            float znear, float zfar);
 };
 
 struct Bounds {
@@ -128,13 +128,13 @@ struct Scene {
   std::vector<uint32_t> triangleMaterial;  // one per triangle, index into materials
   std::vector<Material> materials;
   std::vector<Texture> textures;
-  std::vector<Light> lights;       // every type; see Light
-  std::vector<Camera> cameraPath;  // frame k uses cameraPath[k % size]
-  glm::vec3 ambient{0.02f};        // global ambient term a
+  std::vector<SceneLight> lights;       // every type; see Light
+  std::vector<SceneCamera> cameraPath;  // frame k uses cameraPath[k % size]
+  glm::vec3 ambient{0.02f};             // global ambient term a
 
   size_t triangleCount() const { return indices.size() / 3; }
   Bounds bounds() const;
-  const Camera& camera(int frame) const;
+  const SceneCamera& camera(int frame) const;
 };
 
 }  // namespace ts

@@ -104,10 +104,10 @@ SceneFeatures analyzeScene(const Scene& scene, ShadingModel model) {
     f.emissive |= nonZero(m.emissive);
     f.textures |= nonZero(m.emissive) && m.emissiveTexture >= 0;
   }
-  for (const Light& l : scene.lights) {
-    f.point |= l.type == LightType::Point;
-    f.spot |= l.type == LightType::Spot;
-    f.directional |= l.type == LightType::Directional;
+  for (const SceneLight& l : scene.lights) {
+    f.point |= l.type == SceneLightType::Point;
+    f.spot |= l.type == SceneLightType::Spot;
+    f.directional |= l.type == SceneLightType::Directional;
   }
   return f;
 }

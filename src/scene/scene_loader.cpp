@@ -46,13 +46,13 @@ void makeSpots(Scene& scene, uint32_t seed) {
   SceneRandom rnd(seed * 2246822519u + 3266489917u);
   constexpr float kDeg = kPi / 180.0f;
   int k = 0;
-  for (Light& l : scene.lights) {
-    if (l.type != LightType::Point || k++ % 2 == 0) continue;
+  for (SceneLight& l : scene.lights) {
+    if (l.type != SceneLightType::Point || k++ % 2 == 0) continue;
     float tilt = rnd.uniform(0.0f, 30.0f) * kDeg, azimuth = rnd.uniform(0.0f, 360.0f) * kDeg;
     glm::vec3 dir(std::sin(tilt) * std::cos(azimuth), -std::cos(tilt),
                   std::sin(tilt) * std::sin(azimuth));
     float outer = rnd.uniform(25.0f, 50.0f) * kDeg;
-    l = Light::spot(l.position, glm::normalize(dir), l.color, l.range, 0.6f * outer, outer);
+    l = SceneLight::spot(l.position, glm::normalize(dir), l.color, l.range, 0.6f * outer, outer);
   }
 }
 
@@ -81,8 +81,8 @@ void applyVariants(Scene& scene, const std::string& variants, uint32_t seed) {
       makeSpots(scene, seed);
     } else if (v == "sun") {
       // Low in the sky, warm; about as bright as the brighter lit pixels of the built-ins.
-      scene.lights.push_back(Light::directional(glm::normalize(glm::vec3(0.45f, -0.6f, 0.35f)),
-                                                glm::vec3(0.32f, 0.29f, 0.24f)));
+      scene.lights.push_back(SceneLight::directional(glm::normalize(glm::vec3(0.45f, -0.6f, 0.35f)),
+                                                     glm::vec3(0.32f, 0.29f, 0.24f)));
     } else {
       throw Error("unknown scene variant '" + shortText(v) +
                   "' (known: " + joined(builtinVariants()) + ")");

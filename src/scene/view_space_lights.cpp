@@ -2,16 +2,16 @@
 
 namespace ts {
 
-ViewLights toViewSpace(const std::vector<Light>& lights, const glm::dmat4& viewFromWorld) {
+ViewLights toViewSpace(const std::vector<SceneLight>& lights, const glm::dmat4& viewFromWorld) {
   ViewLights out;
   const glm::mat3 rotation{glm::dmat3(viewFromWorld)};
   for (const auto& l : lights) {
-    if (l.type == LightType::Directional) {
+    if (l.type == SceneLightType::Directional) {
       out.addDirectional(-(rotation * l.direction), l.color);
       continue;
     }
     glm::vec3 p = glm::vec3(viewFromWorld * glm::dvec4(l.position, 1.0));
-    if (l.type == LightType::Spot)
+    if (l.type == SceneLightType::Spot)
       out.addSpot(p, l.range, l.color, rotation * l.direction, l.innerConeAngle, l.outerConeAngle);
     else out.addPoint(p, l.range, l.color);
   }

@@ -11,6 +11,6 @@ namespace ts {
 
 // In double (Camera): a light far from the origin keeps its position relative to the camera.
 // (Here, not beside ViewLights: it reads the scene's lights, and scene sits above shading.)
-ViewLights toViewSpace(const std::vector<Light>& lights, const glm::dmat4& viewFromWorld);
+ViewLights toViewSpace(const std::vector<SceneLight>& lights, const glm::dmat4& viewFromWorld);
 
 }  // namespace ts

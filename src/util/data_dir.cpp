@@ -1,7 +1,6 @@
 #include "util/data_dir.h"
 
 #include <dlfcn.h>
-#include <link.h>
 
 #include <cstdlib>
 #include <system_error>
@@ -25,32 +24,20 @@ bool inBuildFolder(const fs::path& executable) {
   return false;
 }
 
-// The folder the install tree's share/ sits beside: the file's own (<prefix>/bin,
-// <prefix>/lib), or for a Python module in <prefix>/lib/python3*/{dist,site}-packages,
-// <prefix>/lib.
-fs::path installBase(const fs::path& file) {
-  const fs::path dir = file.parent_path();
-  const std::string folder = dir.filename().string();
-  if ((folder == "dist-packages" || folder == "site-packages") &&
-      dir.parent_path().filename().string().rfind("python3", 0) == 0) {
-    return dir.parent_path().parent_path();
+// Where this code lives: the shared library (libtileshade.so) when it is one, so that an engine's
+// program finds the kernels beside the library's install tree; else the executable.
+fs::path codeLocation(std::error_code& ec) {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&codeLocation), &info) && info.dli_fname) {
+    const std::string name = info.dli_fname;
+    const size_t so = name.rfind(".so");
+    if (so != std::string::npos && (so + 3 == name.size() || name[so + 3] == '.')) {
+      fs::path library = fs::canonical(name, ec);
+      if (!ec) return library;
+    }
   }
-  return dir;
-}
-
-// The shared object holding this function, absolute; empty when it is the executable itself (the
-// dynamic linker's entry for the main program has no name) or unknown.
-fs::path sharedObjectPath() {
-  Dl_info info;
-  link_map* map = nullptr;
-  if (dladdr1(reinterpret_cast<void*>(&sharedObjectPath), &info, reinterpret_cast<void**>(&map),
-              RTLD_DL_LINKMAP) == 0 ||
-      map == nullptr || map->l_name == nullptr || map->l_name[0] == '\0') {
-    return {};
-  }
-  std::error_code ec;
-  const fs::path path = fs::absolute(map->l_name, ec);
-  return ec ? fs::path() : path;
+  ec.clear();
+  return fs::read_symlink("/proc/self/exe", ec);
 }
 
 }  // namespace
@@ -61,7 +48,7 @@ std::string resolveDataDir(const std::string& override, const fs::path& executab
   // No /proc (the executable unknown): the source tree, as before there was an install tree.
   if (executable.empty()) return sourceDir;
   const fs::path installed =
-      (installBase(executable) / ".." / "share" / "tileshade" / name).lexically_normal();
+      (executable.parent_path() / ".." / "share" / "tileshade" / name).lexically_normal();
   if (isDirectory(installed)) return installed.string();
   if (inBuildFolder(executable) && isDirectory(sourceDir)) return sourceDir;
   // Neither: the install path, so that the "cannot read" error names where it was looked for.
@@ -70,13 +57,9 @@ std::string resolveDataDir(const std::string& override, const fs::path& executab
 
 std::string dataDir(const char* envVar, const std::string& name, const std::string& sourceDir) {
   const char* env = std::getenv(envVar);
-  fs::path code = sharedObjectPath();
-  if (code.empty()) {
-    std::error_code ec;
-    code = fs::read_symlink("/proc/self/exe", ec);
-    if (ec) code.clear();
-  }
-  return resolveDataDir(env ? env : "", code, name, sourceDir);
+  std::error_code ec;
+  const fs::path executable = codeLocation(ec);
+  return resolveDataDir(env ? env : "", ec ? fs::path() : executable, name, sourceDir);
 }
 
 }  // namespace ts

@@ -28,8 +28,8 @@ struct DVec {
   double x, y, z;
 };
 
-constexpr ts::LightType kPoint = ts::LightType::Point, kSpot = ts::LightType::Spot,
-                        kDirectional = ts::LightType::Directional;
+constexpr ts::SceneLightType kPoint = ts::SceneLightType::Point, kSpot = ts::SceneLightType::Spot,
+                             kDirectional = ts::SceneLightType::Directional;
 
 struct LightPin {
   size_t index;
@@ -40,7 +40,7 @@ struct LightPin {
   Vec direction{0.0f, 0.0f, -1.0f};
   float innerConeAngle = 0.0f;
   float outerConeAngle = 0.7853981634f;
-  ts::LightType type = kPoint;
+  ts::SceneLightType type = kPoint;
 };
 
 struct CasePin {
@@ -51,13 +51,13 @@ struct CasePin {
 };
 
 // FNV-1a over every light's type, position, direction, colour, range and cone angles, in order.
-uint64_t digestOf(const std::vector<ts::Light>& lights) {
+uint64_t digestOf(const std::vector<ts::SceneLight>& lights) {
   uint64_t h = 14695981039346656037ull;
   auto add = [&](const void* p, size_t n) {
     const unsigned char* b = static_cast<const unsigned char*>(p);
     for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
   };
-  for (const ts::Light& l : lights) {
+  for (const ts::SceneLight& l : lights) {
     const int32_t type = int32_t(l.type);
     add(&type, sizeof type);
     for (int k = 0; k < 3; ++k) add(&l.position[k], sizeof(double));
@@ -280,11 +280,11 @@ TEST(HardCasePins, LightsAsGccBuiltThem) {
       if (c.name == pin.name) hc = &c;
     ASSERT_NE(hc, nullptr);
     const ts::HardCaseFrame frame = hc->build();
-    const std::vector<ts::Light>& lights = frame.scene.lights;
+    const std::vector<ts::SceneLight>& lights = frame.scene.lights;
     ASSERT_EQ(lights.size(), pin.lights);
     for (const LightPin& p : pin.pins) {
       SCOPED_TRACE("light " + std::to_string(p.index));
-      const ts::Light& l = lights[p.index];
+      const ts::SceneLight& l = lights[p.index];
       EXPECT_EQ(l.type, p.type);
       expectExactly(p.position, l.position, "position");
       expectExactly(p.color, l.color, "colour");

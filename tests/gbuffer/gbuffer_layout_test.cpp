@@ -57,7 +57,7 @@ GBuffer sampleGBuffer() {
 }
 
 ts::CameraIntrinsics intrinsics(int w, int h) {
-  ts::Camera cam;
+  ts::SceneCamera cam;
   cam.yfov = 1.1f;
   return ts::CameraIntrinsics::from(cam, w, h);
 }
@@ -185,7 +185,7 @@ TEST(GBufferLayout, Fp16StoresRoundToNearestEvenHalves) {
 
 TEST(GBufferLayout, DecodedPositionsReconstructTheRasterizedPlane) {
   const int W = 72, H = 40;
-  ts::Camera cam;
+  ts::SceneCamera cam;
   cam.viewFromWorld = glm::mat4(1.0f);
   cam.yfov = 1.0f;
   cam.znear = 0.1f;

@@ -101,7 +101,7 @@ TEST(MetallicRoughnessDecode, KernelEqualsTheHostForEveryStoredValue) {
   for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16, GBufferFormat::PACKED}) {
     SCOPED_TRACE(toString(format));
     const EncodedGBuffer e = metallicRoughness(format);
-    Camera camera;
+    SceneCamera camera;
     const CameraIntrinsics intrinsics = CameraIntrinsics::from(camera, kW, kH);
     ViewLights lights;
     DeviceFrame frame =

@@ -66,7 +66,7 @@ struct TriangleBound {
   double uvScale = 0.0;       // largest |uv| component
 };
 
-TriangleBound boundOf(const Scene& scene, const Camera& camera, const CameraIntrinsics& in,
+TriangleBound boundOf(const Scene& scene, const SceneCamera& camera, const CameraIntrinsics& in,
                       uint32_t t) {
   TriangleBound b;
   const glm::dmat4 view(camera.viewFromWorld);
@@ -193,8 +193,8 @@ struct FrameFigures {
   double worstDepthRatio = 0, worstNormalRatio = 0, worstMaterialRatio = 0;  // error / tolerance
 };
 
-FrameFigures compareFrame(const Scene& scene, GlRasterizer& gl, const Camera& camera, int width,
-                          int height, ShadingModel model, const std::string& label) {
+FrameFigures compareFrame(const Scene& scene, GlRasterizer& gl, const SceneCamera& camera,
+                          int width, int height, ShadingModel model, const std::string& label) {
   RasterOptions o;
   o.model = model;
   o.triangleIds = true;
@@ -277,8 +277,8 @@ FrameFigures compareFrame(const Scene& scene, GlRasterizer& gl, const Camera& ca
 
 // ---- Hand-made scenes --------------------------------------------------------------------------
 
-Camera lookingDownZ() {
-  Camera c;
+SceneCamera lookingDownZ() {
+  SceneCamera c;
   c.yfov = 1.5707963f;
   c.znear = 0.1f;
   c.zfar = 100.0f;
@@ -338,7 +338,7 @@ void addTriangle(Scene& s, glm::vec3 a, glm::vec3 b, glm::vec3 c, uint32_t mater
 TEST(GlRaster, FillRuleMatchesSoftwareOnEdgesThroughPixelCentres) {
   REQUIRE_GL();
   const int W = 48, H = 40;
-  const Camera cam = lookingDownZ();
+  const SceneCamera cam = lookingDownZ();
   const CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   Scene s;
   s.name = "fill rule";
@@ -380,7 +380,7 @@ TEST(GlRaster, FillRuleMatchesSoftwareOnEdgesThroughPixelCentres) {
 TEST(GlRaster, FacingNormalsAndMaterialTermsMatchSoftware) {
   REQUIRE_GL();
   const int W = 64, H = 48;
-  const Camera cam = lookingDownZ();
+  const SceneCamera cam = lookingDownZ();
   const CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   Scene s;
   s.name = "facing";
@@ -438,7 +438,7 @@ TEST(GlRaster, FacingNormalsAndMaterialTermsMatchSoftware) {
 TEST(GlRaster, TextureWrapModesMatchSoftware) {
   REQUIRE_GL();
   const int W = 96, H = 40;
-  const Camera cam = lookingDownZ();
+  const SceneCamera cam = lookingDownZ();
   const CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   using Wrap = TextureWrap;
   const std::pair<Wrap, Wrap> modes[] = {{Wrap::ClampToEdge, Wrap::MirroredRepeat},
@@ -466,7 +466,7 @@ TEST(GlRaster, TextureWrapModesMatchSoftware) {
 TEST(GlRaster, TheNearestFilterMatchesSoftware) {
   REQUIRE_GL();
   const int W = 72, H = 40;
-  const Camera cam = lookingDownZ();
+  const SceneCamera cam = lookingDownZ();
   const CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   using Wrap = TextureWrap;
   Texture texture = randomTexture(8, 6, 5);
@@ -491,7 +491,7 @@ TEST(GlRaster, OddSizesAndFarPlane) {
   REQUIRE_GL();
   const Scene& scene = test::builtinScene("street", "few");
   GlRasterizer gl(scene);
-  Camera cam = scene.camera(40);
+  SceneCamera cam = scene.camera(40);
   for (auto [w, h] : {std::pair{1, 1}, std::pair{7, 3}, std::pair{3, 97}, std::pair{333, 187}})
     compareFrame(scene, gl, cam, w, h, ShadingModel::BlinnPhong,
                  "street " + std::to_string(w) + "x" + std::to_string(h));
@@ -557,8 +557,8 @@ TEST(GlRaster, RandomCamerasThroughTheNearPlaneMatchSoftware) {
       for (float& v : r) v = u(rng);
       const glm::vec3 eye = b.min + glm::vec3(r[0], 0.02f + 0.4f * r[1], r[2]) * b.extent();
       const glm::vec3 dir(r[3] - 0.5f, 0.4f * (r[4] - 0.5f), r[5] - 0.5f);
-      const Camera cam =
-          Camera::lookAt(eye, eye + dir, {0, 1, 0}, 0.6f + 1.2f * r[6], 0.05f, 500.0f);
+      const SceneCamera cam =
+          SceneCamera::lookAt(eye, eye + dir, {0, 1, 0}, 0.6f + 1.2f * r[6], 0.05f, 500.0f);
       compareFrame(scene, gl, cam, 160, 96, ShadingModel::BlinnPhong,
                    std::string(name) + " random camera " + std::to_string(i));
     }

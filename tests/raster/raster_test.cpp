@@ -17,16 +17,16 @@
 
 namespace {
 
-using ts::Camera;
 using ts::CameraIntrinsics;
 using ts::GBuffer;
 using ts::RasterOptions;
 using ts::Scene;
+using ts::SceneCamera;
 
 constexpr float kYfov = 1.5707963f;  // 90 degrees
 
-Camera identityCamera(float znear = 0.1f, float zfar = 1000.0f) {
-  Camera c;
+SceneCamera identityCamera(float znear = 0.1f, float zfar = 1000.0f) {
+  SceneCamera c;
   c.viewFromWorld = glm::mat4(1.0f);
   c.yfov = kYfov;
   c.znear = znear;
@@ -83,7 +83,7 @@ RasterOptions instrumented(int threads = 2) {
 }
 
 TEST(RasterCamera, IntrinsicsAndProjectionAgreeWithTheDefinitions) {
-  Camera cam = identityCamera(0.25f, 300.0f);
+  SceneCamera cam = identityCamera(0.25f, 300.0f);
   cam.yfov = 0.9f;
   CameraIntrinsics in = CameraIntrinsics::from(cam, 160, 90);
   EXPECT_FLOAT_EQ(in.tanHalfFovY, std::tan(0.45f));
@@ -104,7 +104,7 @@ TEST(RasterCamera, IntrinsicsAndProjectionAgreeWithTheDefinitions) {
 
 TEST(RasterFillRule, RectangleOnPixelCentresIncludesTopLeftExcludesBottomRight) {
   const int W = 64, H = 48;
-  Camera cam = identityCamera();
+  SceneCamera cam = identityCamera();
   CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   Scene s;
   uint32_t m = addMaterial(s, glm::vec3(1.0f));
@@ -130,7 +130,7 @@ TEST(RasterFillRule, RectangleOnPixelCentresIncludesTopLeftExcludesBottomRight) 
 
 TEST(RasterFillRule, SharedEdgesThroughPixelCentresCoverEachPixelOnce) {
   const int W = 64, H = 64;
-  Camera cam = identityCamera();
+  SceneCamera cam = identityCamera();
   CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   Scene s;
   uint32_t red = addMaterial(s, {1, 0, 0}), green = addMaterial(s, {0, 1, 0});
@@ -167,7 +167,7 @@ TEST(RasterFillRule, SharedEdgesThroughPixelCentresCoverEachPixelOnce) {
 
 TEST(RasterFillRule, FullScreenQuadAndRandomMeshCoverEveryPixelExactlyOnce) {
   for (auto [W, H] : {std::pair{97, 61}, std::pair{64, 64}, std::pair{130, 70}}) {
-    Camera cam = identityCamera();
+    SceneCamera cam = identityCamera();
     CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
     // Quad exactly on the screen corners, split along the diagonal.
     Scene quad;
@@ -212,7 +212,7 @@ TEST(RasterFillRule, FullScreenQuadAndRandomMeshCoverEveryPixelExactlyOnce) {
 
 TEST(RasterDepth, FrontoParallelPlaneHasItsDistanceEverywhere) {
   const int W = 80, H = 50;
-  Camera cam = identityCamera();
+  SceneCamera cam = identityCamera();
   CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   Scene s;
   uint32_t m = addMaterial(s, glm::vec3(1.0f));
@@ -228,7 +228,7 @@ TEST(RasterDepth, FrontoParallelPlaneHasItsDistanceEverywhere) {
 
 TEST(RasterDepth, TiltedPlaneDepthIsTheRayPlaneIntersection) {
   const int W = 96, H = 64;
-  Camera cam = identityCamera();
+  SceneCamera cam = identityCamera();
   CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   // Plane through (0, 0, -10) with normal n, tilted so depth varies >10x over the screen (every
   // pixel ray still meets it in front of the camera).
@@ -259,7 +259,7 @@ TEST(RasterDepth, TiltedPlaneDepthIsTheRayPlaneIntersection) {
 
 TEST(RasterDepth, NearerTriangleWinsInEitherOrderAndTiesGoToTheLowerIndex) {
   const int W = 40, H = 40;
-  Camera cam = identityCamera();
+  SceneCamera cam = identityCamera();
   CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   for (int order = 0; order < 2; ++order) {
     Scene s;
@@ -296,7 +296,7 @@ TEST(RasterDepth, NearerTriangleWinsInEitherOrderAndTiesGoToTheLowerIndex) {
 
 TEST(RasterInterpolation, UvOnASlantedQuadIsPerspectiveCorrect) {
   const int W = 64, H = 64;
-  Camera cam = identityCamera();
+  SceneCamera cam = identityCamera();
   CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   Scene s;
   // Texture whose red channel is u exactly (bilinear between texel centres (i + 0.5) / N).
@@ -346,7 +346,7 @@ TEST(RasterClipping, TriangleCrossingTheNearPlaneRendersItsVisiblePart) {
   const int W = 64, H = 48;
   const float znear = 0.5f;
   const double floorY = -0.3;  // low enough that the clipped edge (depth znear) is on screen
-  Camera cam = identityCamera(znear, 100.0f);
+  SceneCamera cam = identityCamera(znear, 100.0f);
   CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   Scene s;
   uint32_t m = addMaterial(s, glm::vec3(1.0f));
@@ -397,7 +397,7 @@ TEST(RasterClipping, TriangleCrossingTheNearPlaneRendersItsVisiblePart) {
 }
 
 TEST(RasterClipping, TriangleBehindTheCameraOrBeyondFarRendersNothing) {
-  Camera cam = identityCamera(0.1f, 50.0f);
+  SceneCamera cam = identityCamera(0.1f, 50.0f);
   Scene s;
   uint32_t m = addMaterial(s, glm::vec3(1.0f));
   addTriangle(s, {-5, -5, 1}, {5, -5, 1}, {0, 5, 0.05f}, m);              // behind the eye
@@ -423,7 +423,7 @@ TEST(RasterClipping, TriangleBehindTheCameraOrBeyondFarRendersNothing) {
 
 TEST(RasterClipping, HugeTriangleCoveringTheScreenIsExact) {
   const int W = 101, H = 77;
-  Camera cam = identityCamera(0.01f, 1e9f);
+  SceneCamera cam = identityCamera(0.01f, 1e9f);
   CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   Scene s;
   uint32_t m = addMaterial(s, glm::vec3(1.0f));
@@ -444,7 +444,7 @@ TEST(RasterClipping, HugeTriangleCoveringTheScreenIsExact) {
 
 TEST(RasterShading, MaterialsNormalsAndDoubleSidedBackFaces) {
   const int W = 32, H = 32;
-  Camera cam = identityCamera();
+  SceneCamera cam = identityCamera();
   CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   Scene s;
   ts::Material single;
@@ -481,7 +481,7 @@ TEST(RasterShading, MaterialsNormalsAndDoubleSidedBackFaces) {
                 {{0, 10, 0}, {0, 0.5f, 1}, {}}};
   r.indices = {0, 1, 2};
   r.triangleMaterial = {m};
-  Camera turned = Camera::lookAt({3, 0, 4}, {0, 0, 0}, {0, 1, 0}, kYfov, 0.1f, 100.0f);
+  SceneCamera turned = SceneCamera::lookAt({3, 0, 4}, {0, 0, 0}, {0, 1, 0}, kYfov, 0.1f, 100.0f);
   GBuffer gr = ts::rasterize(r, turned, 33, 33);  // odd: the centre pixel is on the optical axis
   size_t centre = size_t(16) * 33 + 16;
   ASSERT_GT(gr.depth[centre], 0.0f);
@@ -551,7 +551,7 @@ void expectIdentical(const GBuffer& a, const GBuffer& b) {
 
 TEST(RasterThreads, OutputIsIdenticalForAnyThreadCount) {
   Scene s = randomScene(3000, 11);  // >= 1024 triangles: setup is split across the threads too
-  Camera cam = identityCamera(0.1f, 25.0f);
+  SceneCamera cam = identityCamera(0.1f, 25.0f);
   for (auto [W, H] : {std::pair{97, 61}, std::pair{200, 150}}) {
     GBuffer one = ts::rasterize(s, cam, W, H, instrumented(1));
     EXPECT_GT(one.geometryPixels(), size_t(W * H / 2));
@@ -565,7 +565,7 @@ TEST(RasterThreads, OutputIsIdenticalForAnyThreadCount) {
 }
 
 TEST(RasterResolution, OddSizesAndTinyImagesWork) {
-  Camera cam = identityCamera();
+  SceneCamera cam = identityCamera();
   for (auto [W, H] : {std::pair{97, 61}, std::pair{1, 1}, std::pair{65, 1}, std::pair{1, 129}}) {
     CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
     Scene s;

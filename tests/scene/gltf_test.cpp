@@ -134,8 +134,8 @@ TEST(GltfLoad, NodeHierarchyLightsAndCamera) {
 
   // Point lights: colour x intensity; range from the file or from the 5/256 threshold.
   ASSERT_EQ(s.lights.size(), 3u);
-  EXPECT_EQ(s.lights[0].type, ts::LightType::Point);
-  EXPECT_EQ(s.lights[1].type, ts::LightType::Point);
+  EXPECT_EQ(s.lights[0].type, ts::SceneLightType::Point);
+  EXPECT_EQ(s.lights[1].type, ts::SceneLightType::Point);
   expectVec(s.lights[0].position, {1, 4, 3});
   expectVec(s.lights[0].color, {4, 2, 1});
   EXPECT_FLOAT_EQ(s.lights[0].range, 5.0f);
@@ -144,7 +144,7 @@ TEST(GltfLoad, NodeHierarchyLightsAndCamera) {
   EXPECT_NEAR(s.lights[1].range, 10.0f, 1e-4f);  // sqrt(1.953125 / (5/256))
 
   // The spot light: its cone angles, colour x intensity, range from the threshold; no warning.
-  EXPECT_EQ(s.lights[2].type, ts::LightType::Spot);
+  EXPECT_EQ(s.lights[2].type, ts::SceneLightType::Spot);
   EXPECT_FLOAT_EQ(s.lights[2].innerConeAngle, 0.1f);
   EXPECT_FLOAT_EQ(s.lights[2].outerConeAngle, 0.5f);
   expectVec(s.lights[2].color, glm::vec3(3.0f));
@@ -153,7 +153,7 @@ TEST(GltfLoad, NodeHierarchyLightsAndCamera) {
 
   // Frame 0 is the file's camera; then an orbit of >= 120 frames.
   ASSERT_GE(s.cameraPath.size(), 121u);
-  const ts::Camera& c = s.cameraPath[0];
+  const ts::SceneCamera& c = s.cameraPath[0];
   expectVec(glm::vec3(glm::inverse(c.viewFromWorld)[3]), {0, 1, 10});
   expectVec(glm::vec3(c.viewFromWorld * glm::vec4(0, 1, 0, 1)), {0, 0, -10});
   EXPECT_FLOAT_EQ(c.yfov, 0.8f);
@@ -378,22 +378,22 @@ void expectRoundTrip(const Scene& original, const Scene& loaded) {
   }
   ASSERT_EQ(loaded.lights.size(), original.lights.size());
   for (size_t i = 0; i < original.lights.size(); ++i) {
-    const ts::Light &a = original.lights[i], &b = loaded.lights[i];
+    const ts::SceneLight &a = original.lights[i], &b = loaded.lights[i];
     EXPECT_EQ(b.type, a.type) << "light " << i;
     expectVec(b.color, a.color, 1e-5f);
     if (a.hasRange()) {
       expectVec(b.position, a.position, 1e-5f);
       EXPECT_EQ(b.range, a.range);
     }
-    if (a.type != ts::LightType::Point) expectVec(b.direction, a.direction, 1e-6f);
-    if (a.type == ts::LightType::Spot) {
+    if (a.type != ts::SceneLightType::Point) expectVec(b.direction, a.direction, 1e-6f);
+    if (a.type == ts::SceneLightType::Spot) {
       EXPECT_FLOAT_EQ(b.innerConeAngle, a.innerConeAngle) << "light " << i;
       EXPECT_FLOAT_EQ(b.outerConeAngle, a.outerConeAngle) << "light " << i;
     }
   }
   expectVec(loaded.ambient, original.ambient, 1e-7f);
   ASSERT_FALSE(loaded.cameraPath.empty());
-  const ts::Camera &c0 = original.cameraPath[0], &c1 = loaded.cameraPath[0];
+  const ts::SceneCamera &c0 = original.cameraPath[0], &c1 = loaded.cameraPath[0];
   for (int col = 0; col < 4; ++col)
     for (int row = 0; row < 4; ++row)
       EXPECT_NEAR(c1.viewFromWorld[col][row], c0.viewFromWorld[col][row],
@@ -451,10 +451,11 @@ TEST(GltfExport, SpotDirectionalAndMetallicRoughnessRoundTrip) {
   o.lightSet = "few";
   o.variant = "spot,sun,metallic-roughness";
   Scene s = ts::loadScene("builtin:street", o);
-  s.lights.push_back(ts::Light::spot({1, 5, 2}, {0, 0, 1}, {3, 2, 1}, 7.0f, 0.0f, 1.5707963f));
-  s.lights.push_back(ts::Light::directional(glm::normalize(glm::vec3(0, -1, -1e-3f)), {1, 1, 1}));
+  s.lights.push_back(ts::SceneLight::spot({1, 5, 2}, {0, 0, 1}, {3, 2, 1}, 7.0f, 0.0f, 1.5707963f));
+  s.lights.push_back(
+      ts::SceneLight::directional(glm::normalize(glm::vec3(0, -1, -1e-3f)), {1, 1, 1}));
   size_t spots = 0;
-  for (const auto& l : s.lights) spots += l.type == ts::LightType::Spot;
+  for (const auto& l : s.lights) spots += l.type == ts::SceneLightType::Spot;
   ASSERT_GE(spots, 5u);
   for (const char* name : {"typed.gltf", "typed.glb"}) {
     ts::exportGltf(s, dir.file(name));
@@ -492,7 +493,7 @@ TEST(GltfExport, TexturesRoundTripAsSrgbPng) {
   s.indices = {0, 1, 2, 0, 2, 3};
   s.triangleMaterial = {0, 0};
   s.cameraPath.push_back(
-      ts::Camera::lookAt({0.5f, 0.5f, 3}, {0.5f, 0.5f, 0}, {0, 1, 0}, 1.0f, 0.1f, 10.0f));
+      ts::SceneCamera::lookAt({0.5f, 0.5f, 3}, {0.5f, 0.5f, 0}, {0, 1, 0}, 1.0f, 0.1f, 10.0f));
   TempDir dir;
   for (const char* name : {"tex.gltf", "tex.glb"}) {
     SCOPED_TRACE(name);
@@ -539,7 +540,7 @@ TEST(GltfExport, TextureWrapModesRoundTrip) {
   s.indices = {0, 1, 2};
   s.triangleMaterial = {0};
   s.cameraPath.push_back(
-      ts::Camera::lookAt({0.3, 0.3, 3}, {0.3, 0.3, 0}, {0, 1, 0}, 1.0f, 0.1f, 10.0f));
+      ts::SceneCamera::lookAt({0.3, 0.3, 3}, {0.3, 0.3, 0}, {0, 1, 0}, 1.0f, 0.1f, 10.0f));
   TempDir dir;
   ts::exportGltf(s, dir.file("wrap.gltf"));
   Scene l = ts::loadGltf(dir.file("wrap.gltf"));
@@ -614,7 +615,7 @@ TEST(GltfReal, DungeonTexturesLightsAndWarnings) {
   ASSERT_EQ(s.lights.size(), 4u);
   int points = 0, directionals = 0;
   for (const auto& l : s.lights) {
-    if (l.type == ts::LightType::Directional) {
+    if (l.type == ts::SceneLightType::Directional) {
       ++directionals;
       EXPECT_NEAR(glm::length(l.direction), 1.0f, 1e-5f);
       continue;
@@ -642,7 +643,7 @@ TEST(GltfReal, TwoCylinderEngineGlb) {
   // Every orbit frame (the last 240; frame 0 is the file's own camera when it has one) has the
   // whole model between its near and far planes.
   for (size_t k = s.cameraPath.size() - 240; k < s.cameraPath.size(); ++k) {
-    const ts::Camera& c = s.cameraPath[k];
+    const ts::SceneCamera& c = s.cameraPath[k];
     glm::vec3 v = glm::vec3(c.viewFromWorld * glm::vec4(b.center(), 1.0f));
     EXPECT_LT(-v.z + 0.5f * glm::length(b.extent()), c.zfar);
     EXPECT_GT(-v.z - 0.5f * glm::length(b.extent()), c.znear);

@@ -24,7 +24,7 @@ using test::renderAndCheck;
 using test::tiledTechnique;
 
 // Third-party glTF content: loads, rasterizes, shades within tolerance of the reference.
-void checkRealScene(const std::string& path, const std::vector<Light>& extraLights) {
+void checkRealScene(const std::string& path, const std::vector<SceneLight>& extraLights) {
   Scene scene = loadGltf(path);
   ASSERT_GT(scene.triangleCount(), 1000u);
   for (const auto& l : extraLights) scene.lights.push_back(l);
@@ -38,18 +38,19 @@ void checkRealScene(const std::string& path, const std::vector<Light>& extraLigh
 }
 
 // Lights scattered through a scene's bounds, sized to it (Sponza and the engine have none).
-std::vector<Light> scatteredLights(const Scene& scene, int n) {
+std::vector<SceneLight> scatteredLights(const Scene& scene, int n) {
   Bounds b = scene.bounds();
   float size = glm::length(b.extent());
   std::mt19937 rng(2);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::vector<Light> lights;
+  std::vector<SceneLight> lights;
   auto draw = [&] { return u(rng); };
   for (int i = 0; i < n; ++i) {
     const auto c = test::drawnLastFirst<3>(draw);  // the colour first, as g++ drew the arguments
     const auto p = test::drawnLastFirst<3>(draw);
-    lights.push_back(Light::point(b.min + glm::vec3(p[0], p[1], p[2]) * b.extent(),
-                                  glm::vec3(c[0], c[1], c[2]) * size * size * 0.01f, 0.25f * size));
+    lights.push_back(SceneLight::point(b.min + glm::vec3(p[0], p[1], p[2]) * b.extent(),
+                                       glm::vec3(c[0], c[1], c[2]) * size * size * 0.01f,
+                                       0.25f * size));
   }
   return lights;
 }

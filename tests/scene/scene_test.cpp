@@ -56,7 +56,7 @@ void expectWellFormed(const Scene& s) {
   EXPECT_LE(s.ambient.x, 0.05f);
 }
 
-glm::vec3 eyeOf(const ts::Camera& c) { return glm::vec3(glm::inverse(c.viewFromWorld)[3]); }
+glm::vec3 eyeOf(const ts::SceneCamera& c) { return glm::vec3(glm::inverse(c.viewFromWorld)[3]); }
 
 template <typename T>
 bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {

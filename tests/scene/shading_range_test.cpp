@@ -18,7 +18,7 @@ namespace {
 Scene litQuad(glm::vec3 color, glm::vec3 diffuse) {
   Scene s = makeBuiltinScene("atrium", "small", 1);
   for (auto& m : s.materials) m.diffuse = diffuse;
-  s.lights = {Light::point({0, 1, 0}, color, 5.0f)};
+  s.lights = {SceneLight::point({0, 1, 0}, color, 5.0f)};
   return s;
 }
 

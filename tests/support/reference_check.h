@@ -102,7 +102,7 @@ inline Scene atriumLatticeLights(int count) {
   scene.lights.clear();
   for (int i = 0; i < count; ++i) {
     glm::vec3 t(float(i % 7) / 6.0f, float(i % 5) / 4.0f, float(i % 11) / 10.0f);
-    scene.lights.push_back(Light::point(b.min + t * b.extent(), glm::vec3(0.05f), 1000.0f));
+    scene.lights.push_back(SceneLight::point(b.min + t * b.extent(), glm::vec3(0.05f), 1000.0f));
   }
   return scene;
 }
@@ -117,8 +117,8 @@ inline PreparedFrame hugeLightsFrame(int count = 300) {
   scene.lights.clear();
   for (int i = 0; i < count; ++i) {
     const auto p = drawnLastFirst<3>([&] { return u(rng); });
-    scene.lights.push_back(
-        Light::point(b.min + glm::vec3(p[0], p[1], p[2]) * b.extent(), glm::vec3(0.05f), 1000.0f));
+    scene.lights.push_back(SceneLight::point(b.min + glm::vec3(p[0], p[1], p[2]) * b.extent(),
+                                             glm::vec3(0.05f), 1000.0f));
   }
   return prepareFrame(scene, 0, 96, 64, GBufferFormat::FP32);
 }
@@ -143,7 +143,8 @@ inline std::vector<LabelledFrame> randomCameraFrames(uint32_t seed, int cameras 
       glm::vec3 eye = b.min + glm::vec3(e[0], 0.05f + 0.4f * e[1], e[2]) * b.extent();
       const auto d = drawnLastFirst<3>(draw);
       glm::vec3 dir(d[0] - 0.5f, 0.3f * (d[1] - 0.5f), d[2] - 0.5f);
-      scene.cameraPath = {Camera::lookAt(eye, eye + dir, {0, 1, 0}, 1.0f + u(rng), 0.1f, 500.0f)};
+      scene.cameraPath = {
+          SceneCamera::lookAt(eye, eye + dir, {0, 1, 0}, 1.0f + u(rng), 0.1f, 500.0f)};
       frames.push_back({std::string(name) + " camera " + std::to_string(i),
                         prepareFrame(scene, 0, 160, 96, GBufferFormat::FP32)});
     }

@@ -187,7 +187,7 @@ TEST(AccuracyKnobs, PackedDecodeMatchesTheHostForEveryCode) {
       std::memcpy(&e.emissive[i * 8 + size_t(c) * 2], &h, 2);
     }
   }
-  Camera cam;
+  SceneCamera cam;
   cam.yfov = 0.9f;
   const CameraIntrinsics in = CameraIntrinsics::from(cam, W, H);
   ViewLights lights;

@@ -207,7 +207,7 @@ TEST(ClusteredCulling, NoLightsAndNoGeometry) {
   Bounds b = sky.bounds();
   glm::vec3 eye(0.0f, b.max.y + 10.0f, 0.0f);
   sky.cameraPath = {
-      Camera::lookAt(eye, eye + glm::vec3(0, 1, 0.01f), {0, 0, 1}, 1.0f, 0.1f, 500.0f)};
+      SceneCamera::lookAt(eye, eye + glm::vec3(0, 1, 0.01f), {0, 0, 1}, 1.0f, 0.1f, 500.0f)};
   PreparedFrame empty = prepareFrame(sky, 0, 64, 40, GBufferFormat::FP32);
   ASSERT_EQ(empty.gbuffer.geometryPixels(), 0u);
   Checked e = renderAndCheck(empty, technique("clustered", GBufferFormat::FP32, 16, 16));

@@ -21,7 +21,7 @@
 #include "bench/bench_stats.h"
 #include "gbuffer/gbuffer_layout.h"
 #include "raster/raster_backend.h"
-#include "render/render_job.h"
+#include "cli/render_job.h"
 #include "scene/scene.h"
 #include "techniques/technique_knobs.h"
 #include "test_support.h"

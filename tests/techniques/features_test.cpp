@@ -172,12 +172,12 @@ TEST(SpotCulling, ConesAroundTheCameraMissNothing) {
       const auto d = test::drawnLastFirst<3>(draw);
       glm::vec3 fwd = glm::normalize(glm::vec3(d[0] - 0.5f, 0.2f * (d[1] - 0.5f), d[2] - 0.5f));
       glm::vec3 side = glm::normalize(glm::cross(fwd, glm::vec3(0, 1, 0)));
-      scene.cameraPath = {Camera::lookAt(eye, eye + fwd, {0, 1, 0}, 1.0f, 0.1f, 500.0f)};
+      scene.cameraPath = {SceneCamera::lookAt(eye, eye + fwd, {0, 1, 0}, 1.0f, 0.1f, 500.0f)};
       scene.lights.clear();
       float range = 0.15f * glm::length(b.extent());
       auto spot = [&](glm::vec3 p, glm::vec3 axis, float outerDeg) {
         float outer = glm::radians(outerDeg);
-        scene.lights.push_back(Light::spot(
+        scene.lights.push_back(SceneLight::spot(
             p, glm::normalize(axis), glm::vec3(range * range * 0.02f), range, 0.5f * outer, outer));
       };
       spot(eye + glm::vec3(0, 0.5f, 0), -fwd + glm::vec3(0, -0.3f, 0), 40);  // camera inside
@@ -264,12 +264,13 @@ TEST(RealContentInItsOwnModel, EveryTechniqueMatchesTheReference) {
         glm::vec3 at = b.min + glm::vec3(p[0], p[1], p[2]) * b.extent();
         const auto k = test::drawnLastFirst<3>(draw);
         glm::vec3 c = glm::vec3(k[0], k[1], k[2]) * size * size * 0.01f;
-        if (i % 2) scene.lights.push_back(Light::point(at, c, 0.3f * size));
+        if (i % 2) scene.lights.push_back(SceneLight::point(at, c, 0.3f * size));
         else
-          scene.lights.push_back(Light::spot(at, glm::vec3(0, -1, 0), c, 0.4f * size, 0.3f, 0.6f));
+          scene.lights.push_back(
+              SceneLight::spot(at, glm::vec3(0, -1, 0), c, 0.4f * size, 0.3f, 0.6f));
       }
       scene.lights.push_back(
-          Light::directional(glm::normalize(glm::vec3(0.2f, -1, 0.3f)), glm::vec3(0.3f)));
+          SceneLight::directional(glm::normalize(glm::vec3(0.2f, -1, 0.3f)), glm::vec3(0.3f)));
     }
     SceneFeatures need = analyzeScene(scene, nativeShadingModel(scene));
     ASSERT_EQ(need.model, ShadingModel::MetallicRoughness) << r.path;

@@ -1,0 +1,52 @@
+#pragma once
+// What stands behind the public handles of tileshade.h: a Device is a ClContext, a Frame a
+// PreparedFrame on that device (plus its cached references). Only the API's own files and the
+// command-line code above it (src/cli/) include this; engines see tileshade.h alone.
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "reference/reference.h"
+#include "render/frame_setup.h"
+#include "techniques/device_frame.h"
+#include "tileshade/tileshade.h"
+
+namespace ts {
+
+struct Device::Impl {
+  explicit Impl(const std::string& spec) : cl(spec) {}
+  Impl(cl_context context, cl_device_id device, cl_command_queue queue)
+      : cl(context, device, queue), own(true) {}
+  ClContext cl;
+  bool own = false;  // the caller's context (Device::fromOpenCL): cl_mem frames allowed
+};
+
+// The double-precision references of a frame (render --check's three; docs/accuracy.md).
+struct FrameReferences {
+  ReferenceImage reference;    // windowed model, positions from depth in double
+  ReferenceImage shadingOnly;  // the same with the kernels' float positions
+  ReferenceImage physical;     // physical model from the fp32 planes
+};
+
+struct Frame::Impl {
+  std::shared_ptr<Device::Impl> device;
+  PreparedFrame prepared;  // host copy; for device planes, only depth until readHostPlanes()
+  DeviceFrame onDevice;    // points into `prepared` (an Impl never moves: it is shared)
+  FrameInfo info;
+  std::optional<DeviceGBuffer> devicePlanes;  // Frame::fromDevice: the caller's buffers
+  bool hostPlanesComplete = true;
+  std::optional<FrameReferences> references;  // computed at the first check
+
+  // Frame::fromDevice: reads the caller's planes back (for the reference and for dump).
+  void readHostPlanes();
+  // Computed at the first call (seconds to minutes for big frames), then cached.
+  const FrameReferences& ensureReferences();
+};
+
+// The frame's references (computed now if no check asked for them yet): the command's heatmap.
+const FrameReferences& frameReferences(const Frame& frame);
+// `render --gbuffer-in --features`: the features an imported frame's kernels model, instead of
+// its files' own (chooseFeatures). Throws ts::Error on a bad spec.
+void overrideFrameFeatures(Frame& frame, const std::string& features);
+
+}  // namespace ts

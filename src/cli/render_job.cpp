@@ -1,0 +1,286 @@
+#include "cli/render_job.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "api/api_internal.h"
+#include "gbuffer/image_io.h"
+#include "reference/error_metrics.h"
+#include "render/stats.h"
+#include "techniques/technique.h"
+#include "tileshade/tileshade.h"
+#include "util/error.h"
+#include "util/file_write.h"
+#include "util/option_values.h"
+
+namespace fs = std::filesystem;
+
+namespace ts {
+namespace {
+
+std::vector<std::string> expandTechniques(const std::vector<std::string>& names) {
+  std::vector<std::string> out;
+  for (const auto& n : names) {
+    if (n == "all") {
+      for (const auto& t : techniqueNames()) out.push_back(t);
+    } else {
+      out.push_back(n);
+    }
+  }
+  if (out.empty()) throw Error("no technique given");
+  return out;
+}
+
+}  // namespace
+
+void validateRenderOptions(const RenderOptions& o) {
+  checkInteger("--light-count", o.lightCount, -1, kMaxLightCount);
+  checkNumber("--light-range", o.lightRange, NumberRule::AtLeastZero);
+  checkNumber("--light-threshold", o.lightThreshold, NumberRule::AtLeastZero);
+  checkInteger("--width", o.width, 1, kMaxImageSide);
+  checkInteger("--height", o.height, 1, kMaxImageSide);
+  checkInteger("--frame", o.frame, 0, INT32_MAX);
+  checkInteger("--tile", o.tileWidth, 1, kMaxTileSide);
+  checkInteger("--tile", o.tileHeight, 1, kMaxTileSide);
+  checkInteger("--slices", o.clusterSlices, 1, kMaxClusterSlices);
+  checkNumber("--exposure", o.exposure, NumberRule::AboveZero);
+  if (o.heatmap && !o.check) throw Error("--heatmap needs --check (it maps the error)");
+  if (o.shadingModel != "auto") parseShadingModel(o.shadingModel);
+  for (const auto& t : expandTechniques(o.techniques)) findTechnique(t);
+}
+
+namespace {
+
+std::string kernelSummary(const ShadeResult& r) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(3);
+  for (size_t i = 0; i < r.kernels.size(); ++i)
+    s << (i ? " " : "") << r.kernels[i].name << "=" << r.kernels[i].ms;
+  return s.str();
+}
+
+// The frame `render` shades: its scene rasterized, or its --gbuffer-in files.
+Frame loadFrame(Device& device, const RenderOptions& o) {
+  if (!o.gbufferIn.empty()) {
+    Frame frame =
+        Frame::fromFiles(device, o.gbufferIn, o.keepInputLayout ? "" : toString(o.format));
+    overrideFrameFeatures(frame, o.features);
+    return frame;
+  }
+  SceneRequest r;
+  r.scene = o.scene;
+  r.lights = o.lightSet;
+  r.lightCount = o.lightCount;
+  r.lightRange = o.lightRange;
+  r.lightThreshold = o.lightThreshold;
+  r.variant = o.variant;
+  r.shadingModel = o.shadingModel;
+  r.features = o.features;
+  r.seed = o.seed;
+  r.width = o.width;
+  r.height = o.height;
+  r.frame = o.frame;
+  r.layout = toString(o.format);
+  r.raster = toString(o.raster);
+  return Frame::fromScene(device, r);
+}
+
+Settings settingsOf(const RenderOptions& o, const std::string& technique) {
+  Settings s;
+  s.technique = technique;
+  s.tileWidth = o.tileWidth;
+  s.tileHeight = o.tileHeight;
+  s.slices = o.clusterSlices;
+  s.culling = toString(o.culling);
+  s.spotCulling = toString(o.spotCulling);
+  s.depthSplit = o.depthSplit;
+  s.math = toString(o.math);
+  s.lanes = lanesName(o.lanes);
+  return s;
+}
+
+ErrorStats errorStats(const ErrorReport& e) {
+  ErrorStats s;
+  s.maxAbs = e.maxAbs;
+  s.rmse = e.rmse;
+  s.psnr = e.psnr;
+  s.maxRelPeak = e.maxRelPeak;
+  s.p50 = e.p50;
+  s.p99 = e.p99;
+  s.p999 = e.p999;
+  s.tolerance = e.tolerance;
+  s.pixelsAboveTolerance = e.pixelsAboveTolerance;
+  s.nonfinitePixels = e.nonfinitePixels;
+  s.peak = e.peak;
+  return s;
+}
+
+// stats.json's record of one technique (techniqueJson reads a FrameResult).
+FrameResult frameResultOf(const ShadeResult& r, std::vector<glm::vec4> image) {
+  FrameResult f;
+  f.image = std::move(image);
+  for (const auto& k : r.kernels) f.kernels.push_back({k.name, k.ms, k.launches});
+  f.totalMs = r.totalMs;
+  f.counters.lightingComputations = r.counters.lightingComputations;
+  f.counters.evaluations = r.counters.evaluations;
+  f.counters.gbufferBytesRead = r.counters.gbufferBytesRead;
+  f.counters.listMin = r.counters.listMin;
+  f.counters.listMean = r.counters.listMean;
+  f.counters.listMax = r.counters.listMax;
+  f.counters.notes = r.counters.notes;
+  return f;
+}
+
+}  // namespace
+
+void runRender(const RenderOptions& options) {
+  // Every option is checked before any work, so a bad one never follows written images.
+  validateRenderOptions(options);
+  const std::vector<std::string> techniques = expandTechniques(options.techniques);
+  Device device(options.device);  // a bad --device fails before the scene is loaded
+  Frame frame = loadFrame(device, options);
+  const FrameInfo& info = frame.info();
+  const RenderOptions& o = options;
+  const int width = info.width, height = info.height;  // an imported G-buffer decides the size
+
+  // Every technique is created (its configuration checked, its kernels built) before the first
+  // one renders: one that refuses the configuration (e.g. slices beyond the device's local
+  // memory) fails before any file is written.
+  std::vector<Renderer> renderers;
+  for (const auto& name : techniques) {
+    renderers.emplace_back(device, settingsOf(o, name));
+    renderers.back().prepare(frame);
+  }
+
+  std::error_code ec;
+  fs::create_directories(o.outDir, ec);
+  if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
+
+  // Three references (FrameReferences; docs/accuracy.md), computed once for every technique.
+  const FrameReferences* references = o.check ? &frameReferences(frame) : nullptr;
+
+  std::cout << "tileshade: " << info.sceneName << " (" << info.triangles << " triangles, "
+            << info.lightSummary << "), frame " << info.frame << ", " << width << "x" << height
+            << ", G-buffer " << info.layout << " (" << info.bytesPerPixel << " B/pixel), tile "
+            << o.tileWidth << "x" << o.tileHeight << "\n"
+            << "features: " << info.features << "\n"
+            << "raster: " << info.sourceDetail << ", " << std::fixed << std::setprecision(1)
+            << info.rasterMs << " ms (setup " << info.rasterSetupMs << " ms)\n"
+            << std::defaultfloat << "device: " << device.name() << "\n";
+  if (references)
+    std::cout << "reference: " << references->reference.contributing
+              << " contributing light evaluations (the ideal), peak " << references->reference.peak
+              << "\n";
+
+  nlohmann::json results = nlohmann::json::array();
+  std::string kernelOptions;
+  std::ostringstream table;
+  table << std::left << std::setw(18) << "technique" << std::right << std::setw(6) << "lanes"
+        << std::setw(10) << "total ms" << std::setw(16) << "lighting comp." << std::setw(15)
+        << "evaluations" << std::setw(13) << "max err/peak" << std::setw(13) << "shading err"
+        << std::setw(8) << "missed" << std::setw(12) << "G-buf MB"
+        << "  per-kernel ms\n";
+  for (size_t t = 0; t < techniques.size(); ++t) {
+    const std::string& name = techniques[t];
+    ShadeOptions shadeOptions;
+    shadeOptions.check = o.check;
+    const ShadeResult r = renderers[t].shade(frame, shadeOptions);
+    kernelOptions = r.kernelOptions;
+    std::vector<glm::vec4> image(size_t(width) * size_t(height));
+    for (size_t i = 0; i < image.size(); ++i)
+      image[i] = {r.rgba[4 * i], r.rgba[4 * i + 1], r.rgba[4 * i + 2], r.rgba[4 * i + 3]};
+
+    std::string dir = techniques.size() == 1 ? o.outDir : o.outDir + "/" + name;
+    fs::create_directories(dir, ec);
+    if (ec) throw Error("cannot create output folder " + dir + ": " + ec.message());
+    writeExrRgb(dir + "/image.exr", width, height, image);
+    writePngToneMapped(dir + "/image.png", width, height, image, o.exposure);
+
+    std::optional<ErrorStats> error, errorShading, errorPhysical;
+    std::optional<uint64_t> missed;
+    if (r.check) {
+      error = errorStats(r.check->error);
+      errorShading = errorStats(r.check->shadingError);
+      errorPhysical = errorStats(r.check->physicalError);
+      if (r.check->missedCounted) missed = r.check->missed;
+      if (o.heatmap) {
+        const ReferenceImage& reference = references->reference;
+        writeHeatMapPng(dir + "/error.png", width, height, errorMap(image, reference),
+                        float(1e-7 * reference.peak), float(1e-2 * reference.peak));
+      }
+    }
+    results.push_back(techniqueJson(name, frameResultOf(r, std::move(image)), error, missed));
+    results.back()["lanes"] = r.lanes;
+    if (errorShading) results.back()["error_shading"] = errorJson(*errorShading);
+    if (errorPhysical) results.back()["error_vs_physical"] = errorJson(*errorPhysical);
+
+    auto relPeak = [](const std::optional<ErrorStats>& e) {
+      std::ostringstream text;
+      if (e) text << std::scientific << std::setprecision(2) << e->maxRelPeak;
+      else text << "-";
+      return text.str();
+    };
+    table << std::left << std::setw(18) << name << std::right << std::setw(6) << r.lanes
+          << std::fixed << std::setprecision(3) << std::setw(10) << r.totalMs << std::setw(16)
+          << r.counters.lightingComputations << std::setw(15) << r.counters.evaluations
+          << std::setw(13) << relPeak(error) << std::setw(13) << relPeak(errorShading)
+          << std::setw(8) << (missed ? std::to_string(*missed) : std::string("-")) << std::setw(12)
+          << std::setprecision(1) << double(r.counters.gbufferBytesRead) / 1e6 << "  "
+          << kernelSummary(r) << "\n";
+    for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
+    if (r.nonfinitePixels)
+      table << "    note: " << r.nonfinitePixels
+            << " pixel(s) NaN or inf (nonfinite_pixels in stats.json)\n";
+  }
+  std::cout << table.str();
+
+  nlohmann::json stats = {
+      {"device", device.name()},
+      {"device_type", device.type()},
+      {"scene", info.sceneName},
+      {"scene_spec", o.gbufferIn.empty() ? o.scene : "gbuffer-in:" + o.gbufferIn},
+      {"light_set", o.lightSet},
+      {"lights", info.lights},
+      {"directional_lights", info.directionalLights},
+      {"triangles", info.triangles},
+      {"frame", info.frame},
+      {"width", width},
+      {"height", height},
+      {"gbuffer", info.layout},
+      {"gbuffer_bytes_per_pixel", info.bytesPerPixel},
+      {"shading_model", info.shadingModel},
+      {"features", info.features},
+      {"kernel_options", kernelOptions},
+      {"variant", o.variant},
+      {"geometry_pixels", info.geometryPixels},
+      {"tile", {o.tileWidth, o.tileHeight}},
+      {"culling", toString(o.culling)},
+      {"spot_culling", toString(o.spotCulling)},
+      {"depth_split", o.depthSplit},
+      {"slices", o.clusterSlices},
+      {"math", toString(o.math)},
+      {"lanes_requested", lanesName(o.lanes)},
+      {"light_threshold", o.lightThreshold},
+      {"raster", info.source},
+      {"raster_renderer", info.sourceDetail},
+      {"raster_ms", info.rasterMs},
+      {"raster_setup_ms", info.rasterSetupMs},
+      {"compile_ms", device.compileMs()},
+      {"techniques", results},
+  };
+  if (references)
+    stats["reference"] = {{"contributing", references->reference.contributing},
+                          {"peak", references->reference.peak}};
+  writeFile(o.outDir + "/stats.json", stats.dump(2) + "\n");
+  if (o.dump) frame.dump(o.outDir);
+  std::cout << "wrote " << o.outDir << "/\n";
+}
+
+}  // namespace ts
