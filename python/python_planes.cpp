@@ -231,6 +231,10 @@ ts::Lights lightsFrom(py::handle lights, py::handle ambient) {
 ts::Frame frameFromNumpy(ts::Device& device, const NumpyPlanes& planes, const ts::Camera& camera,
                          const ts::Lights& lights, const std::string& layout,
                          const std::string& shadingModel) {
+  if (layout != "fp32" && layout != "fp16" && layout != "packed") {
+    // Before the planes' dtypes, which depend on it.
+    throw py::value_error(kFunction + "layout: '" + layout + "' is none of fp32, fp16, packed");
+  }
   const auto [width, height] = depthSize(planes.depth);
   ts::HostGBuffer g;
   g.width = width;

@@ -65,6 +65,8 @@ py::object checkDict(const std::optional<ts::CheckReport>& check) {
   d["physical_error"] = errorDict(check->physicalError);
   d["missed"] = check->missed;
   d["contributing"] = check->contributing;
+  d["missed_counted"] = check->missedCounted;
+  d["reference_peak"] = check->referencePeak;
   return std::move(d);
 }
 

@@ -215,7 +215,8 @@ PYBIND11_MODULE(tileshade, m) {
       .def("dump", &ts::Frame::dump, "dir"_a, "What `render --dump` writes, into dir.");
 
   py::class_<ts::ShadeResult>(m, "Result", "One shaded frame: image, kernel times, counters.")
-      .def_property_readonly("image", &imageView, "HxWx4 float32, linear RGB + alpha 1 (no copy)")
+      .def_property_readonly("image", &imageView,
+                             "HxWx4 float32, linear RGB + an unused alpha (no copy)")
       .def_readonly("technique", &ts::ShadeResult::technique)
       .def_readonly("width", &ts::ShadeResult::width)
       .def_readonly("height", &ts::ShadeResult::height)
@@ -268,7 +269,7 @@ PYBIND11_MODULE(tileshade, m) {
         stats["frame"] = frameInfoDict(frame.info());
         stats["device"] = dev.name();
         stats["settings"] = settingsDict(settings);
-        // RGB: a view of the result's RGBA image (alpha is always 1).
+        // RGB: a view of the result's RGBA image (its alpha is unused).
         py::object rgb = imageView(result)[py::make_tuple(py::ellipsis(), py::slice(0, 3, 1))];
         return py::make_tuple(rgb, stats);
       },

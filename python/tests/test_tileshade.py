@@ -60,7 +60,7 @@ def test_render_returns_an_image_and_stats():
     assert stats["technique"] == "tiled"
     assert stats["settings"]["tile"] == (8, 8)
     assert stats["frame"]["width"] == W and stats["frame"]["height"] == H
-    assert stats["frame"]["lights"] == 30
+    assert stats["frame"]["light_summary"].startswith("30 lights")
     assert stats["kernels"] and all(k["ms"] >= 0.0 for k in stats["kernels"])
     assert stats["total_ms"] == pytest.approx(sum(k["ms"] for k in stats["kernels"]))
     assert stats["counters"]["lighting_computations"] > 0
@@ -76,7 +76,6 @@ def test_two_techniques_agree_and_miss_nothing(device, street):
         assert result.check["missed"] == 0
         assert result.check["contributing"] > 0
         assert result.check["error"]["pixels_above_tolerance"] == 0
-        assert (result.image[..., 3] == 1.0).all()
     peak = float(np.abs(tiled.image[..., :3]).max())
     assert peak > 0.0
     diff = float(np.abs(tiled.image - clustered.image).max())

@@ -22,8 +22,8 @@ std::vector<std::map<std::string, std::string>> runBench(const BenchRequest& req
   o.command = "ts::runBench";
   const BenchRunResult r = runBench(o);
   if (!r.failures.empty())
-    throw Error(std::to_string(r.failures.size()) + " configuration(s) failed, the first: " +
-                r.failures.front());
+    throw Error(std::to_string(r.failures.size()) +
+                " configuration(s) failed, the first: " + r.failures.front());
   std::vector<std::string> header;
   std::vector<std::map<std::string, std::string>> rows;
   const std::string csv = request.outDir + "/bench.csv";

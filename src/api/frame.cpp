@@ -66,8 +66,8 @@ void checkCamera(const Camera& c, int width, int height) {
     throw Error("camera: tanHalfFovX and tanHalfFovY must be finite and > 0, got " +
                 fullPrecision(c.tanHalfFovX) + " and " + fullPrecision(c.tanHalfFovY));
   if (!(std::isfinite(c.znear) && std::isfinite(c.zfar) && c.znear > 0.0f && c.zfar > c.znear))
-    throw Error("camera: must have 0 < znear < zfar (finite), got znear " +
-                fullPrecision(c.znear) + ", zfar " + fullPrecision(c.zfar));
+    throw Error("camera: must have 0 < znear < zfar (finite), got znear " + fullPrecision(c.znear) +
+                ", zfar " + fullPrecision(c.zfar));
   for (float v : c.viewFromWorld)
     if (!std::isfinite(v)) throw Error("camera: viewFromWorld holds a value that is not finite");
 }
@@ -94,8 +94,7 @@ ViewLights viewLights(const Lights& lights, const Camera& camera, ShadingRangeTe
     const char* type = l.type == LightType::Point  ? "point"
                        : l.type == LightType::Spot ? "spot"
                                                    : "directional";
-    if (l.type != LightType::Point && l.type != LightType::Spot &&
-        l.type != LightType::Directional)
+    if (l.type != LightType::Point && l.type != LightType::Spot && l.type != LightType::Directional)
       throw Error("light " + std::to_string(i) + ": unknown type " + std::to_string(int(l.type)));
     const std::string where = "light " + std::to_string(i) + " (" + type + "): ";
     for (float c : l.color)
@@ -123,7 +122,8 @@ ViewLights viewLights(const Lights& lights, const Camera& camera, ShadingRangeTe
       const double inner = l.innerConeAngle, outer = l.outerConeAngle;
       if (!(withinFloatRounding(inner, 0.0, kHalfPi) && withinFloatRounding(outer, 0.0, kHalfPi) &&
             inner < outer))
-        throw Error(where + "must satisfy 0 <= innerConeAngle < outerConeAngle <= pi/2, got inner " +
+        throw Error(where +
+                    "must satisfy 0 <= innerConeAngle < outerConeAngle <= pi/2, got inner " +
                     fullPrecision(inner) + ", outer " + fullPrecision(outer));
       s.innerConeAngle = float(std::clamp(inner, 0.0, kHalfPi));
       s.outerConeAngle = float(std::clamp(outer, 0.0, kHalfPi));
@@ -200,9 +200,9 @@ GBuffer decodePlanes(const EncodedGBuffer& e) {
 
 // The checks, features and bookkeeping shared by fromHost and fromDevice, once `encoded` holds at
 // least depth; `values` = whether every plane is on the host to check.
-std::shared_ptr<Frame::Impl> assemble(Device& device, EncodedGBuffer encoded,
-                                      const Camera& camera, const Lights& lights,
-                                      const std::string& source, bool values) {
+std::shared_ptr<Frame::Impl> assemble(Device& device, EncodedGBuffer encoded, const Camera& camera,
+                                      const Lights& lights, const std::string& source,
+                                      bool values) {
   checkCamera(camera, encoded.width, encoded.height);
   auto impl = std::make_shared<Frame::Impl>();
   impl->device = device.impl();
@@ -300,7 +300,9 @@ Frame Frame::fromHost(Device& device, const HostGBuffer& planes, const Camera& c
                                   planes.specular != nullptr, planes.emissive != nullptr);
   if (!planes.depth || !planes.normal || !planes.diffuse)
     throw Error(std::string("host G-buffer: the ") +
-                (!planes.depth ? "depth" : !planes.normal ? "normal" : "diffuse") +
+                (!planes.depth    ? "depth"
+                 : !planes.normal ? "normal"
+                                  : "diffuse") +
                 " plane is null (depth, normal and diffuse are required)");
   const size_t n = checkedPixels(e.width, e.height);
   const std::array<size_t, 5> bytes = planeBytes(e);
@@ -312,8 +314,9 @@ Frame Frame::fromHost(Device& device, const HostGBuffer& planes, const Camera& c
       const auto* b = static_cast<const uint8_t*>(sources[p]);
       targets[p]->assign(b, b + n * bytes[size_t(p) + 1]);
     }
-  auto impl = outOfMemoryAs("taking a " + sizeText(e.width, e.height) + " host G-buffer",
-                            [&] { return assemble(device, std::move(e), camera, lights, "host", true); });
+  auto impl = outOfMemoryAs("taking a " + sizeText(e.width, e.height) + " host G-buffer", [&] {
+    return assemble(device, std::move(e), camera, lights, "host", true);
+  });
   impl->onDevice = impl->prepared.upload(device.impl()->cl);
   return Frame(impl);
 }
@@ -338,13 +341,16 @@ cl_context memContext(cl_mem buffer) {
 Frame Frame::fromDevice(Device& device, const DeviceGBuffer& planes, const Camera& camera,
                         const Lights& lights) {
   if (!device.impl()->own)
-    throw Error("Frame::fromDevice needs a Device made by Device::fromOpenCL (the buffers' "
-                "context)");
+    throw Error(
+        "Frame::fromDevice needs a Device made by Device::fromOpenCL (the buffers' "
+        "context)");
   EncodedGBuffer e = planesLayout(planes.width, planes.height, planes.layout, planes.shadingModel,
                                   planes.specular != nullptr, planes.emissive != nullptr);
   if (!planes.depth || !planes.normal || !planes.diffuse)
     throw Error(std::string("device G-buffer: the ") +
-                (!planes.depth ? "depth" : !planes.normal ? "normal" : "diffuse") +
+                (!planes.depth    ? "depth"
+                 : !planes.normal ? "normal"
+                                  : "diffuse") +
                 " buffer is null (depth, normal and diffuse are required)");
   const size_t n = checkedPixels(e.width, e.height);
   const std::array<size_t, 5> bytes = planeBytes(e);
@@ -416,10 +422,11 @@ const FrameReferences& Frame::Impl::ensureReferences() {
                     sizeText(p.intrinsics.width, p.intrinsics.height) + " frame",
                 [&] {
                   FrameReferences r;
-                  r.reference = shadeReference(p.encoded, p.intrinsics, p.lights, p.ambient, model, 0,
-                                               nullptr);
-                  r.shadingOnly = shadeReference(p.encoded, p.intrinsics, p.lights, p.ambient,
-                                                 model, 0, nullptr, ReferencePositions::KernelFloat);
+                  r.reference = shadeReference(p.encoded, p.intrinsics, p.lights, p.ambient, model,
+                                               0, nullptr);
+                  r.shadingOnly =
+                      shadeReference(p.encoded, p.intrinsics, p.lights, p.ambient, model, 0,
+                                     nullptr, ReferencePositions::KernelFloat);
                   const EncodedGBuffer fp32 = p.encoded.format == GBufferFormat::FP32
                                                   ? p.encoded
                                                   : encode(p.gbuffer, GBufferFormat::FP32);
