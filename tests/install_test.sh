@@ -8,6 +8,9 @@
 #     dpkg-deb -x into a scratch root and run from there.
 #  3. with CI=true only (CI runs as root on a throwaway machine): apt-get install of the .deb,
 #     /usr/bin/tileshade render and check, apt-get remove. Never outside CI.
+# In 1 and 2 (and 3), examples/shade_gbuffer is configured with find_package(tileshade) against
+# the installed tree (-DCMAKE_PREFIX_PATH, a copy of the example away from the checkout), built
+# and run: the API's library, headers and CMake package as an engine sees them.
 # Exits 77 (skipped) without cmake, cpack, dpkg-deb or dpkg-shlibdeps (dpkg-dev).
 set -euo pipefail
 build=$(cd "$1" && pwd)
@@ -23,6 +26,22 @@ device=${TILESHADE_DEVICE:-cpu}
 with_oiio=$(sed -n 's/^TILESHADE_WITH_OIIO:BOOL=//p' "$build/CMakeCache.txt")
 with_gl=$(sed -n 's/^TILESHADE_WITH_GL:BOOL=//p' "$build/CMakeCache.txt")
 fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# examples/shade_gbuffer built against the installed package at prefix $1 (a copy of the example
+# away from the source tree), run: it shades its own G-buffer and checks it.
+build_example() {
+  local prefix=$1 work=$2
+  mkdir -p "$work"
+  cp -r "$(dirname "$0")/../examples/shade_gbuffer" "$work/src"
+  "$cmake" -S "$work/src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release \
+    ${prefix:+-DCMAKE_PREFIX_PATH="$prefix"} >"$work/configure.log" 2>&1 ||
+    { cat "$work/configure.log"; fail "the example did not configure against $prefix"; }
+  "$cmake" --build "$work/build" >"$work/build.log" 2>&1 ||
+    { cat "$work/build.log"; fail "the example did not build against $prefix"; }
+  "$work/build/shade_gbuffer" "$device" >"$work/run.log" 2>&1 ||
+    { cat "$work/run.log"; fail "the example built against $prefix failed"; }
+  grep -qx "ok" "$work/run.log" || { cat "$work/run.log"; fail "the example printed no ok"; }
+}
 
 # render + check from one installed binary, its output kept for the failure message.
 run_installed() {
@@ -53,9 +72,15 @@ done
 if [ "$with_gl" = ON ]; then
   [ -f "$scratch/prefix/share/tileshade/shaders/gbuffer.vert" ] || fail "shaders not installed"
 fi
-[ ! -e "$scratch/prefix/include" ] || fail "headers installed (not before the API is designed)"
+for f in include/tileshade/tileshade.h include/tileshade/error.h include/tileshade/version.h \
+         lib/cmake/tileshade/tileshadeConfig.cmake lib/cmake/tileshade/tileshadeConfigVersion.cmake \
+         lib/cmake/tileshade/tileshadeTargets.cmake; do
+  [ -f "$scratch/prefix/$f" ] || fail "not installed: $f"
+done
+ls "$scratch"/prefix/lib/libtileshade.so.* >/dev/null 2>&1 || fail "not installed: lib/libtileshade.so"
 mv "$scratch/prefix" "$scratch/moved"
 run_installed "$scratch/moved/bin/tileshade" "$scratch/prefix-out"
+build_example "$scratch/moved" "$scratch/example-prefix"
 
 # The binary alone, away from any share/ and any build folder: one error line naming the
 # install path it looked in, not a silent fallback to the source tree.
@@ -90,14 +115,17 @@ for dep in "${wanted[@]}"; do
 done
 files=$(dpkg-deb -c "$deb" | awk '{print $6}')
 for f in ./usr/bin/tileshade ./usr/share/tileshade/kernels/shading.h \
-         ./usr/share/doc/tileshade/copyright ./usr/share/doc/tileshade/LICENSE; do
+         ./usr/share/doc/tileshade/copyright ./usr/share/doc/tileshade/LICENSE \
+         ./usr/include/tileshade/tileshade.h ./usr/lib/cmake/tileshade/tileshadeConfig.cmake; do
   grep -qx "$f" <<<"$files" || fail "not in the package: $f"
 done
-if grep -v -e '^\./usr/$' -e '^\./usr/bin/' -e '^\./usr/share/' -e '^\./$' <<<"$files" | grep -q .; then
-  fail "files outside /usr/bin and /usr/share: $(grep -v -e '^\./usr/' <<<"$files")"
+if grep -v -e '^\./usr/$' -e '^\./usr/bin/' -e '^\./usr/share/' -e '^\./usr/include/' \
+     -e '^\./usr/lib/' -e '^\./$' <<<"$files" | grep -q .; then
+  fail "files outside /usr/{bin,share,include,lib}: $(grep -v -e '^\./usr/' <<<"$files")"
 fi
 dpkg-deb -x "$deb" "$scratch/root"
 run_installed "$scratch/root/usr/bin/tileshade" "$scratch/root-out"
+build_example "$scratch/root/usr" "$scratch/example-deb"
 dpkg-deb -f "$deb" Package Version Architecture Depends
 
 if [ "${CI:-}" = true ]; then
@@ -106,6 +134,7 @@ if [ "${CI:-}" = true ]; then
   status=0
   (run_installed /usr/bin/tileshade "$scratch/system-out") || status=$?  # removed either way
   ( cd / && tileshade --version )
+  (build_example "" "$scratch/example-system") || status=$?  # /usr: found without a prefix path
   apt-get remove -y tileshade >/dev/null 2>&1 || fail "apt-get remove"
   [ "$status" = 0 ] || fail "the installed package did not run"
 fi

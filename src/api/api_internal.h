@@ -10,8 +10,20 @@
 #include "render/frame_setup.h"
 #include "techniques/device_frame.h"
 #include "tileshade/tileshade.h"
+#include "util/error.h"
 
 namespace ts {
+
+// tileshade.h promises ts::Error for every failure: an OpenCL error inside the API becomes one,
+// with the OpenCL C++ bindings' text and the error code.
+template <typename F>
+auto openclErrorsAsTs(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const cl::Error& e) {
+    throw Error(std::string("OpenCL error: ") + e.what() + " (" + std::to_string(e.err()) + ")");
+  }
+}
 
 struct Device::Impl {
   explicit Impl(const std::string& spec) : cl(spec) {}

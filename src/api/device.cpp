@@ -19,10 +19,11 @@ std::vector<DeviceDescription> listDeviceDescriptions() {
   return out;
 }
 
-Device::Device(const std::string& spec) : impl_(std::make_shared<Impl>(spec)) {}
+Device::Device(const std::string& spec)
+    : impl_(openclErrorsAsTs([&] { return std::make_shared<Impl>(spec); })) {}
 
 Device Device::fromOpenCL(cl_context context, cl_device_id device, cl_command_queue queue) {
-  return Device(std::make_shared<Impl>(context, device, queue));
+  return Device(openclErrorsAsTs([&] { return std::make_shared<Impl>(context, device, queue); }));
 }
 
 std::string Device::name() const { return impl_->cl.deviceName(); }

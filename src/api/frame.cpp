@@ -50,9 +50,8 @@ FrameInfo describeFrame(const RenderInput& input) {
 std::shared_ptr<Frame::Impl> uploaded(Device& device, RenderInput input) {
   auto impl = std::make_shared<Frame::Impl>();
   impl->device = device.impl();
+  impl->info = describeFrame(input);  // before the frame moves out of `input`
   impl->prepared = std::move(input.frame);
-  impl->info = describeFrame(input);
-  impl->info.lightSummary = input.lightSummary;
   impl->onDevice = impl->prepared.upload(device.impl()->cl);
   return impl;
 }
@@ -258,67 +257,73 @@ size_t checkedPixels(int width, int height) { return size_t(width) * size_t(heig
 const FrameInfo& Frame::info() const { return impl_->info; }
 
 Frame Frame::fromScene(Device& device, const SceneRequest& r) {
-  checkInteger("--light-count", r.lightCount, -1, kMaxLightCount);
-  checkNumber("--light-range", r.lightRange, NumberRule::AtLeastZero);
-  checkNumber("--light-threshold", r.lightThreshold, NumberRule::AtLeastZero);
-  checkInteger("--width", r.width, 1, kMaxImageSide);
-  checkInteger("--height", r.height, 1, kMaxImageSide);
-  checkInteger("--frame", r.frame, 0, INT32_MAX);
-  if (r.shadingModel != "auto") parseShadingModel(r.shadingModel);
-  PipelineOptions o;
-  o.scene = r.scene;
-  o.lightSet = r.lights;
-  o.lightCount = r.lightCount;
-  o.lightRange = r.lightRange;
-  o.lightThreshold = r.lightThreshold;
-  o.variant = r.variant;
-  o.shadingModel = r.shadingModel;
-  o.features = r.features;
-  o.seed = r.seed;
-  o.width = r.width;
-  o.height = r.height;
-  o.format = gbufferFormatNames().parseOption("--gbuffer", r.layout);
-  o.raster = rasterBackendNames().parseOption("--raster", r.raster);
-  RenderInput input = outOfMemoryAs("loading and rasterizing " + r.scene,
-                                    [&] { return loadSceneInput(o, r.frame); });
-  return Frame(uploaded(device, std::move(input)));
+  return openclErrorsAsTs([&] {
+    checkInteger("--light-count", r.lightCount, -1, kMaxLightCount);
+    checkNumber("--light-range", r.lightRange, NumberRule::AtLeastZero);
+    checkNumber("--light-threshold", r.lightThreshold, NumberRule::AtLeastZero);
+    checkInteger("--width", r.width, 1, kMaxImageSide);
+    checkInteger("--height", r.height, 1, kMaxImageSide);
+    checkInteger("--frame", r.frame, 0, INT32_MAX);
+    if (r.shadingModel != "auto") parseShadingModel(r.shadingModel);
+    PipelineOptions o;
+    o.scene = r.scene;
+    o.lightSet = r.lights;
+    o.lightCount = r.lightCount;
+    o.lightRange = r.lightRange;
+    o.lightThreshold = r.lightThreshold;
+    o.variant = r.variant;
+    o.shadingModel = r.shadingModel;
+    o.features = r.features;
+    o.seed = r.seed;
+    o.width = r.width;
+    o.height = r.height;
+    o.format = gbufferFormatNames().parseOption("--gbuffer", r.layout);
+    o.raster = rasterBackendNames().parseOption("--raster", r.raster);
+    RenderInput input = outOfMemoryAs("loading and rasterizing " + r.scene,
+                                      [&] { return loadSceneInput(o, r.frame); });
+    return Frame(uploaded(device, std::move(input)));
+  });
 }
 
 Frame Frame::fromFiles(Device& device, const std::string& dirOrDescriptor,
                        const std::string& layout) {
-  std::optional<GBufferFormat> format;
-  if (!layout.empty()) format = gbufferFormatNames().parseOption("--gbuffer", layout);
-  RenderInput input = outOfMemoryAs("loading and rasterizing " + dirOrDescriptor, [&] {
-    return loadImportedInput(dirOrDescriptor, format, "auto");
+  return openclErrorsAsTs([&] {
+    std::optional<GBufferFormat> format;
+    if (!layout.empty()) format = gbufferFormatNames().parseOption("--gbuffer", layout);
+    RenderInput input = outOfMemoryAs("loading and rasterizing " + dirOrDescriptor, [&] {
+      return loadImportedInput(dirOrDescriptor, format, "auto");
+    });
+    return Frame(uploaded(device, std::move(input)));
   });
-  return Frame(uploaded(device, std::move(input)));
 }
 
 Frame Frame::fromHost(Device& device, const HostGBuffer& planes, const Camera& camera,
                       const Lights& lights) {
-  EncodedGBuffer e = planesLayout(planes.width, planes.height, planes.layout, planes.shadingModel,
-                                  planes.specular != nullptr, planes.emissive != nullptr);
-  if (!planes.depth || !planes.normal || !planes.diffuse)
-    throw Error(std::string("host G-buffer: the ") +
-                (!planes.depth    ? "depth"
-                 : !planes.normal ? "normal"
-                                  : "diffuse") +
-                " plane is null (depth, normal and diffuse are required)");
-  const size_t n = checkedPixels(e.width, e.height);
-  const std::array<size_t, 5> bytes = planeBytes(e);
-  e.depth.assign(planes.depth, planes.depth + n);
-  const void* sources[] = {planes.normal, planes.diffuse, planes.specular, planes.emissive};
-  std::vector<uint8_t>* targets[] = {&e.normal, &e.diffuse, &e.specular, &e.emissive};
-  for (int p = 0; p < 4; ++p)
-    if (bytes[size_t(p) + 1] && sources[p]) {
-      const auto* b = static_cast<const uint8_t*>(sources[p]);
-      targets[p]->assign(b, b + n * bytes[size_t(p) + 1]);
-    }
-  auto impl = outOfMemoryAs("taking a " + sizeText(e.width, e.height) + " host G-buffer", [&] {
-    return assemble(device, std::move(e), camera, lights, "host", true);
+  return openclErrorsAsTs([&] {
+    EncodedGBuffer e = planesLayout(planes.width, planes.height, planes.layout, planes.shadingModel,
+                                    planes.specular != nullptr, planes.emissive != nullptr);
+    if (!planes.depth || !planes.normal || !planes.diffuse)
+      throw Error(std::string("host G-buffer: the ") +
+                  (!planes.depth    ? "depth"
+                   : !planes.normal ? "normal"
+                                    : "diffuse") +
+                  " plane is null (depth, normal and diffuse are required)");
+    const size_t n = checkedPixels(e.width, e.height);
+    const std::array<size_t, 5> bytes = planeBytes(e);
+    e.depth.assign(planes.depth, planes.depth + n);
+    const void* sources[] = {planes.normal, planes.diffuse, planes.specular, planes.emissive};
+    std::vector<uint8_t>* targets[] = {&e.normal, &e.diffuse, &e.specular, &e.emissive};
+    for (int p = 0; p < 4; ++p)
+      if (bytes[size_t(p) + 1] && sources[p]) {
+        const auto* b = static_cast<const uint8_t*>(sources[p]);
+        targets[p]->assign(b, b + n * bytes[size_t(p) + 1]);
+      }
+    auto impl = outOfMemoryAs("taking a " + sizeText(e.width, e.height) + " host G-buffer", [&] {
+      return assemble(device, std::move(e), camera, lights, "host", true);
+    });
+    impl->onDevice = impl->prepared.upload(device.impl()->cl);
+    return Frame(impl);
   });
-  impl->onDevice = impl->prepared.upload(device.impl()->cl);
-  return Frame(impl);
 }
 
 namespace {
@@ -340,58 +345,60 @@ cl_context memContext(cl_mem buffer) {
 
 Frame Frame::fromDevice(Device& device, const DeviceGBuffer& planes, const Camera& camera,
                         const Lights& lights) {
-  if (!device.impl()->own)
-    throw Error(
-        "Frame::fromDevice needs a Device made by Device::fromOpenCL (the buffers' "
-        "context)");
-  EncodedGBuffer e = planesLayout(planes.width, planes.height, planes.layout, planes.shadingModel,
-                                  planes.specular != nullptr, planes.emissive != nullptr);
-  if (!planes.depth || !planes.normal || !planes.diffuse)
-    throw Error(std::string("device G-buffer: the ") +
-                (!planes.depth    ? "depth"
-                 : !planes.normal ? "normal"
-                                  : "diffuse") +
-                " buffer is null (depth, normal and diffuse are required)");
-  const size_t n = checkedPixels(e.width, e.height);
-  const std::array<size_t, 5> bytes = planeBytes(e);
-  const cl_mem buffers[] = {planes.depth, planes.normal, planes.diffuse, planes.specular,
-                            planes.emissive};
-  static const char* const kNames[] = {"depth", "normal", "diffuse", "specular", "emissive"};
-  ClContext& cl = device.impl()->cl;
-  for (int p = 0; p < 5; ++p) {
-    if (!buffers[p] || !bytes[size_t(p)]) continue;
-    const size_t want = n * bytes[size_t(p)], have = memSize(buffers[p]);
-    if (have < want)
-      throw Error(std::string("device G-buffer: the ") + kNames[p] + " buffer holds " +
-                  std::to_string(have) + " bytes, a " + sizeText(e.width, e.height) + " " +
-                  planes.layout + " plane needs " + std::to_string(want));
-    if (memContext(buffers[p]) != cl.context()())
-      throw Error(std::string("device G-buffer: the ") + kNames[p] +
-                  " buffer belongs to another OpenCL context than the Device's");
-  }
-  // The techniques' counters read the depth on the host (which pixels are geometry): 4 bytes a
-  // pixel come back; the other planes stay where they are until a reference needs them.
-  e.depth.resize(n);
-  cl.queue().enqueueReadBuffer(cl::Buffer(planes.depth, true), CL_TRUE, 0, n * sizeof(float),
-                               e.depth.data());
-  for (size_t i = 0; i < n; ++i)
-    if (!std::isfinite(e.depth[i]) || e.depth[i] < 0.0f)
-      throw Error("device G-buffer: depth " + fullPrecision(e.depth[i]) + " at " +
-                  pixelText(int(i % size_t(e.width)), int(i / size_t(e.width))) +
-                  " is not a linear view depth (finite, >= 0)");
-  auto impl = assemble(device, std::move(e), camera, lights, "device", false);
-  impl->devicePlanes = planes;
-  impl->hostPlanesComplete = false;
-  // The caller's buffers as the frame's planes; the lights are uploaded as any frame's.
-  DeviceFrame& d = impl->onDevice;
-  d = DeviceFrame::upload(cl, EncodedGBuffer{}, impl->prepared.intrinsics, impl->prepared.lights,
-                          impl->prepared.ambient);
-  d.gbuffer = &impl->prepared.encoded;
-  d.lights = &impl->prepared.lights;
-  cl::Buffer* targets[] = {&d.depth, &d.normal, &d.diffuse, &d.specular, &d.emissive};
-  for (int p = 0; p < 5; ++p)
-    if (buffers[p] && bytes[size_t(p)]) *targets[p] = cl::Buffer(buffers[p], true);
-  return Frame(impl);
+  return openclErrorsAsTs([&] {
+    if (!device.impl()->own)
+      throw Error(
+          "Frame::fromDevice needs a Device made by Device::fromOpenCL (the buffers' "
+          "context)");
+    EncodedGBuffer e = planesLayout(planes.width, planes.height, planes.layout, planes.shadingModel,
+                                    planes.specular != nullptr, planes.emissive != nullptr);
+    if (!planes.depth || !planes.normal || !planes.diffuse)
+      throw Error(std::string("device G-buffer: the ") +
+                  (!planes.depth    ? "depth"
+                   : !planes.normal ? "normal"
+                                    : "diffuse") +
+                  " buffer is null (depth, normal and diffuse are required)");
+    const size_t n = checkedPixels(e.width, e.height);
+    const std::array<size_t, 5> bytes = planeBytes(e);
+    const cl_mem buffers[] = {planes.depth, planes.normal, planes.diffuse, planes.specular,
+                              planes.emissive};
+    static const char* const kNames[] = {"depth", "normal", "diffuse", "specular", "emissive"};
+    ClContext& cl = device.impl()->cl;
+    for (int p = 0; p < 5; ++p) {
+      if (!buffers[p] || !bytes[size_t(p)]) continue;
+      const size_t want = n * bytes[size_t(p)], have = memSize(buffers[p]);
+      if (have < want)
+        throw Error(std::string("device G-buffer: the ") + kNames[p] + " buffer holds " +
+                    std::to_string(have) + " bytes, a " + sizeText(e.width, e.height) + " " +
+                    planes.layout + " plane needs " + std::to_string(want));
+      if (memContext(buffers[p]) != cl.context()())
+        throw Error(std::string("device G-buffer: the ") + kNames[p] +
+                    " buffer belongs to another OpenCL context than the Device's");
+    }
+    // The techniques' counters read the depth on the host (which pixels are geometry): 4 bytes a
+    // pixel come back; the other planes stay where they are until a reference needs them.
+    e.depth.resize(n);
+    cl.queue().enqueueReadBuffer(cl::Buffer(planes.depth, true), CL_TRUE, 0, n * sizeof(float),
+                                 e.depth.data());
+    for (size_t i = 0; i < n; ++i)
+      if (!std::isfinite(e.depth[i]) || e.depth[i] < 0.0f)
+        throw Error("device G-buffer: depth " + fullPrecision(e.depth[i]) + " at " +
+                    pixelText(int(i % size_t(e.width)), int(i / size_t(e.width))) +
+                    " is not a linear view depth (finite, >= 0)");
+    auto impl = assemble(device, std::move(e), camera, lights, "device", false);
+    impl->devicePlanes = planes;
+    impl->hostPlanesComplete = false;
+    // The caller's buffers as the frame's planes; the lights are uploaded as any frame's.
+    DeviceFrame& d = impl->onDevice;
+    d = DeviceFrame::upload(cl, EncodedGBuffer{}, impl->prepared.intrinsics, impl->prepared.lights,
+                            impl->prepared.ambient);
+    d.gbuffer = &impl->prepared.encoded;
+    d.lights = &impl->prepared.lights;
+    cl::Buffer* targets[] = {&d.depth, &d.normal, &d.diffuse, &d.specular, &d.emissive};
+    for (int p = 0; p < 5; ++p)
+      if (buffers[p] && bytes[size_t(p)]) *targets[p] = cl::Buffer(buffers[p], true);
+    return Frame(impl);
+  });
 }
 
 void Frame::Impl::readHostPlanes() {
@@ -449,9 +456,11 @@ void overrideFrameFeatures(Frame& frame, const std::string& features) {
 }
 
 void Frame::dump(const std::string& dir) const {
-  impl_->readHostPlanes();
-  writeGBufferDump(impl_->device->cl, impl_->onDevice, impl_->prepared, impl_->info.sceneName,
-                   impl_->info.source, dir);
+  openclErrorsAsTs([&] {
+    impl_->readHostPlanes();
+    writeGBufferDump(impl_->device->cl, impl_->onDevice, impl_->prepared, impl_->info.sceneName,
+                     impl_->info.source, dir);
+  });
 }
 
 }  // namespace ts

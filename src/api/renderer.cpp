@@ -80,56 +80,60 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 const Settings& Renderer::settings() const { return impl_->settings; }
 
-void Renderer::prepare(const Frame& frame) { impl_->techniqueFor(frame); }
+void Renderer::prepare(const Frame& frame) {
+  openclErrorsAsTs([&] { impl_->techniqueFor(frame); });
+}
 
 ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
-  Technique& technique = impl_->techniqueFor(frame);
-  Frame::Impl& f = *frame.impl();
-  // A device frame's planes are the caller's: a check reads them back first (the counters
-  // already have the depth).
-  FrameRequest request;
-  request.wantAssignment = options.check;
-  FrameResult r = technique.render(f.onDevice, request);
+  return openclErrorsAsTs([&] {
+    Technique& technique = impl_->techniqueFor(frame);
+    Frame::Impl& f = *frame.impl();
+    // A device frame's planes are the caller's: a check reads them back first (the counters
+    // already have the depth).
+    FrameRequest request;
+    request.wantAssignment = options.check;
+    FrameResult r = technique.render(f.onDevice, request);
 
-  ShadeResult out;
-  out.technique = impl_->settings.technique;
-  out.width = f.onDevice.width();
-  out.height = f.onDevice.height();
-  out.rgba.resize(r.image.size() * 4);
-  for (size_t i = 0; i < r.image.size(); ++i)
-    for (int c = 0; c < 4; ++c) out.rgba[4 * i + size_t(c)] = r.image[i][c];
-  for (const KernelTime& k : r.kernels) out.kernels.push_back({k.name, k.ms, k.launches});
-  out.totalMs = r.totalMs;
-  out.lanes = technique.lanes();
-  const WorkCounters& c = r.counters;
-  out.counters.lightingComputations = c.lightingComputations;
-  out.counters.evaluations = c.evaluations;
-  out.counters.gbufferBytesRead = c.gbufferBytesRead;
-  out.counters.listMin = c.listMin;
-  out.counters.listMax = c.listMax;
-  out.counters.listMean = c.listMean;
-  out.counters.notes = c.notes;
-  out.nonfinitePixels = countNonFinitePixels(r.image);
-  const TechniqueConfig config = impl_->configFor(frame);
-  out.kernelOptions = config.kernelOptions();
-  if (options.check) {
-    const FrameReferences& refs = f.ensureReferences();
-    CheckReport check;
-    check.error = compared(r.image, refs.reference);
-    check.shadingError = compared(r.image, refs.shadingOnly);
-    check.physicalError = compared(r.image, refs.physical);
-    check.contributing = refs.reference.contributing;
-    check.referencePeak = refs.reference.peak;
-    if (r.assignment) {
-      const PreparedFrame& p = f.prepared;
-      check.missed = countMissedContributions(*r.assignment, p.encoded, p.intrinsics, p.lights,
-                                              int(config.rangeModel));
-    } else {
-      check.missedCounted = false;
+    ShadeResult out;
+    out.technique = impl_->settings.technique;
+    out.width = f.onDevice.width();
+    out.height = f.onDevice.height();
+    out.rgba.resize(r.image.size() * 4);
+    for (size_t i = 0; i < r.image.size(); ++i)
+      for (int c = 0; c < 4; ++c) out.rgba[4 * i + size_t(c)] = r.image[i][c];
+    for (const KernelTime& k : r.kernels) out.kernels.push_back({k.name, k.ms, k.launches});
+    out.totalMs = r.totalMs;
+    out.lanes = technique.lanes();
+    const WorkCounters& c = r.counters;
+    out.counters.lightingComputations = c.lightingComputations;
+    out.counters.evaluations = c.evaluations;
+    out.counters.gbufferBytesRead = c.gbufferBytesRead;
+    out.counters.listMin = c.listMin;
+    out.counters.listMax = c.listMax;
+    out.counters.listMean = c.listMean;
+    out.counters.notes = c.notes;
+    out.nonfinitePixels = countNonFinitePixels(r.image);
+    const TechniqueConfig config = impl_->configFor(frame);
+    out.kernelOptions = config.kernelOptions();
+    if (options.check) {
+      const FrameReferences& refs = f.ensureReferences();
+      CheckReport check;
+      check.error = compared(r.image, refs.reference);
+      check.shadingError = compared(r.image, refs.shadingOnly);
+      check.physicalError = compared(r.image, refs.physical);
+      check.contributing = refs.reference.contributing;
+      check.referencePeak = refs.reference.peak;
+      if (r.assignment) {
+        const PreparedFrame& p = f.prepared;
+        check.missed = countMissedContributions(*r.assignment, p.encoded, p.intrinsics, p.lights,
+                                                int(config.rangeModel));
+      } else {
+        check.missedCounted = false;
+      }
+      out.check = check;
     }
-    out.check = check;
-  }
-  return out;
+    return out;
+  });
 }
 
 std::vector<TechniqueDescription> listTechniques() {
