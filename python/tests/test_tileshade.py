@@ -60,7 +60,9 @@ def test_render_returns_an_image_and_stats():
     assert stats["technique"] == "tiled"
     assert stats["settings"]["tile"] == (8, 8)
     assert stats["frame"]["width"] == W and stats["frame"]["height"] == H
+    assert stats["frame"]["lights"] == 30
     assert stats["frame"]["light_summary"].startswith("30 lights")
+    assert 0 < stats["frame"]["geometry_pixels"] <= W * H
     assert stats["kernels"] and all(k["ms"] >= 0.0 for k in stats["kernels"])
     assert stats["total_ms"] == pytest.approx(sum(k["ms"] for k in stats["kernels"]))
     assert stats["counters"]["lighting_computations"] > 0
