@@ -11,7 +11,8 @@ for t in clang-format-14 clang-format; do
 done
 [ -n "$tool" ] || { echo "format_check: clang-format 14 not found: skipped"; exit 77; }
 mapfile -t files < <(git ls-files -- 'src/*.cpp' 'src/*.h' 'tests/*.cpp' 'tests/*.h' \
-                       'include/*.h' 'examples/*.cpp' 'shaders/*.h' 'bench/*.cpp' \
+                       'include/*.h' 'examples/*.cpp' 'shaders/*.h' 'bench/*.cpp' 'python/*.cpp' \
+                       'python/*.h' \
                        ':!tests/data/*')
 if [ "${1:-}" = "--fix" ]; then
   "$tool" -i "${files[@]}"

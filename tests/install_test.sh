@@ -138,4 +138,32 @@ if [ "${CI:-}" = true ]; then
   apt-get remove -y tileshade >/dev/null 2>&1 || fail "apt-get remove"
   [ "$status" = 0 ] || fail "the installed package did not run"
 fi
+# The Python module (python/, docs/python.md), when the build made it: imported from the moved
+# prefix and from the extracted package with only their dist-packages on PYTHONPATH, from a scratch
+# folder (no source tree, no build folder, no TILESHADE_KERNEL_DIR), rendering and checking a frame
+# with the kernels of that install tree; with CI=true also from the apt-installed package.
+python=$(sed -n 's/^Python3_EXECUTABLE:FILEPATH=//p' "$build/CMakeCache.txt")
+if [ -n "$python" ] && compgen -G "$build/python/tileshade*.so" >/dev/null; then
+  echo "== the Python module"
+  import_installed() {  # import_installed DIST_PACKAGES ("": the interpreter's own path)
+    (cd "$scratch" && env -u TILESHADE_KERNEL_DIR PYTHONPATH="$1" "$python" -c '
+import sys, numpy, tileshade
+where, device = sys.argv[1], sys.argv[2]
+assert tileshade.__file__.startswith(where), tileshade.__file__ + " is not under " + where
+image, stats = tileshade.render(width=32, height=18, light_count=10, check=True, device=device)
+assert image.shape == (18, 32, 3) and numpy.isfinite(image).all() and image.max() > 0
+assert stats["check"]["missed"] == 0, stats["check"]
+print("python3 -c \"import tileshade\":", tileshade.__version__, stats["device"], tileshade.__file__)
+' "${1:-/usr/lib/python3/dist-packages}" "$device") || fail "import tileshade from ${1:-the system}"
+  }
+  import_installed "$scratch/moved/lib/python3/dist-packages"
+  import_installed "$scratch/root/usr/lib/python3/dist-packages"
+  if [ "${CI:-}" = true ]; then
+    apt-get install -y "$deb" >"$scratch/apt-python.log" 2>&1 || { cat "$scratch/apt-python.log"; fail "apt-get install"; }
+    status=0
+    (import_installed "") || status=$?
+    apt-get remove -y tileshade >/dev/null 2>&1 || fail "apt-get remove"
+    [ "$status" = 0 ] || fail "the apt-installed module did not run"
+  fi
+fi
 echo "install test passed"

@@ -71,6 +71,21 @@ TEST(DataDir, InstallTreeWinsInsideABuildFolder) {
             (t.root / "build/stage/share/tileshade/shaders").string());
 }
 
+TEST(DataDir, InstallTreeOfTheLibrary) {
+  // libtileshade.so in <prefix>/lib, as the Python module in <prefix>/lib/python3/dist-packages
+  // loads it (its RPATH): the kernels are the library's install tree's, wherever python3 is.
+  ScratchTree t;
+  fs::create_directories(t.root / "prefix/share/tileshade/kernels");
+  EXPECT_EQ(ts::resolveDataDir("", t.root / "prefix/lib/libtileshade.so.0.1", "kernels", "/src"),
+            (t.root / "prefix/share/tileshade/kernels").string());
+  // The library of a build folder (the module in place, build/python/) reads the source tree.
+  touch(t.root / "build/CMakeCache.txt");
+  fs::create_directories(t.root / "src/kernels");
+  EXPECT_EQ(ts::resolveDataDir("", t.root / "build/libtileshade.so.0.1", "kernels",
+                               (t.root / "src/kernels").string()),
+            (t.root / "src/kernels").string());
+}
+
 TEST(DataDir, UnknownExecutableKeepsTheSourceTree) {
   // Never a path relative to the working directory.
   EXPECT_EQ(ts::resolveDataDir("", fs::path(), "kernels", "/src/kernels"), "/src/kernels");
