@@ -1,8 +1,11 @@
 #pragma once
 // Where `render` gets its frame: a scene rasterized by the software or the OpenGL rasterizer
 // (--raster), or a G-buffer imported from files (--gbuffer-in).
+#include <memory>
 #include <string>
 
+#include "raster/forward_scene.h"
+#include "raster/raster_backend.h"
 #include "render/frame_setup.h"
 #include "render/render_job.h"
 
@@ -16,6 +19,12 @@ struct RenderInput {
   std::string rasterDetail;    // "software", "gl: <GL_RENDERER>", or the descriptor's path
   double rasterSetupMs = 0.0;  // one-time cost before the frame (OpenGL context, upload)
   std::string lightSummary;    // "924 lights" or "12 lights: 6 point, 5 spot, 1 directional"
+  // The scene and its rasterizer, kept for the forward techniques, which draw the scene
+  // (DeviceFrame::forward): `forward` is set for a scene rasterized with --raster gl, null for
+  // the software rasterizer and an imported G-buffer (no scene).
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<SceneRasterizer> rasterizer;
+  std::unique_ptr<ForwardScene> forward;
 };
 
 // The frame's features are the scene's (--shading-model, --features; resolveFeatures) or, for an

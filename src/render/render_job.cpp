@@ -1,5 +1,6 @@
 #include "render/render_job.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -36,11 +37,14 @@ namespace {
 // Relative tolerance (of the reference peak) used for the "pixels above tolerance" count.
 constexpr double kReportTolerance = 1e-4;
 
-std::vector<std::string> expandTechniques(const std::vector<std::string>& names) {
+// "all": every technique that can run on the frame; without a scene to draw (withScene false:
+// software raster, imported G-buffer) the G-buffer techniques only.
+std::vector<std::string> expandTechniques(const std::vector<std::string>& names,
+                                          bool withScene = true) {
   std::vector<std::string> out;
   for (const auto& n : names) {
     if (n == "all") {
-      for (const auto& t : techniqueNames()) out.push_back(t);
+      for (const auto& t : withScene ? techniqueNames() : gbufferTechniqueNames()) out.push_back(t);
     } else {
       out.push_back(n);
     }
@@ -105,11 +109,17 @@ std::string kernelSummary(const FrameResult& r) {
 void runRender(const RenderOptions& options) {
   // Every option is checked before any work, so a bad one never follows written images.
   validateRenderOptions(options);
-  std::vector<std::string> techniques = expandTechniques(options.techniques);
   ClContext cl(options.device);  // a bad --device fails before the scene is loaded
   const RenderInput input = outOfMemoryAs(
       "loading and rasterizing " + (options.gbufferIn.empty() ? options.scene : options.gbufferIn),
       [&] { return loadRenderInput(options); });
+  std::vector<std::string> techniques =
+      expandTechniques(options.techniques, input.forward != nullptr);
+  if (!input.forward && std::count(options.techniques.begin(), options.techniques.end(), "all"))
+    for (const auto& t : techniqueNames())
+      if (findTechnique(t).drawsScene)
+        std::cout << "tileshade: --technique all leaves out " << t
+                  << " (it draws the scene: --raster gl)\n";
   const PreparedFrame& prepared = input.frame;
   const SceneFeatures& features = prepared.features;
   RenderOptions o = options;  // an imported G-buffer decides the size and maybe the layout
@@ -118,6 +128,7 @@ void runRender(const RenderOptions& options) {
   o.format = prepared.encoded.format;
 
   DeviceFrame frame = prepared.upload(cl);
+  frame.forward = input.forward.get();
   const TechniqueConfig config = o.techniqueConfig(features);
   // Every technique is created (its configuration checked, its kernels built) before the first
   // one renders: one that refuses the configuration (e.g. slices beyond the device's local
