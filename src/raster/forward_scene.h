@@ -20,7 +20,8 @@ class ForwardScene {
   virtual ~ForwardScene() = default;
   // A depth-only pass of the frame: the linear view depth per pixel (0 = background; the
   // G-buffer's depth plane) for the depth-bounds kernel, and the depth buffer the next
-  // tiledForward(.., depthEqual = true) tests against. ms: its GPU time.
+  // tiledForward(.., depthEqual = true) tests against. ms: its time (wall clock, glFinish on
+  // both sides; see ForwardImage::drawMs).
   virtual std::vector<float> depthPrepass(double& ms) = 0;
   // The scene drawn once, each fragment shading the lights of its tile in `grid` with
   // kernels/shading.h (the terms of `features`, range model `rangeModel`).

@@ -54,7 +54,7 @@ class GlRasterizer {
                             bool depthEqual);
   // A depth-only pass: fills the depth buffer the next tiledForward(.., true) tests against and
   // returns the linear view depth per pixel (0 = background), the G-buffer's depth plane.
-  // ms: the draw's GL timer query.
+  // ms: the draw's wall-clock time (ForwardImage::drawMs).
   std::vector<float> depthPrepass(const Camera& camera, int width, int height, double& ms);
 
   std::string renderer() const;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"

@@ -18,9 +18,10 @@ struct ForwardLightGrid {
 
 // A forward pass's output.
 struct ForwardImage {
-  std::vector<glm::vec4> image;       // rgb, a = 0; row 0 at the top; background 0
-  double drawMs = 0.0;                // the draw, from an OpenGL timer query
-  double uploadMs = 0.0;              // lights and grid into shader storage (host clock)
+  std::vector<glm::vec4> image;  // rgb, a = 0; row 0 at the top; background 0
+  double drawMs = 0.0;           // the draw: host wall clock, glFinish before and after
+  double queryMs = 0.0;   // the same draw by an OpenGL timer query (llvmpipe: submission only)
+  double uploadMs = 0.0;  // lights and grid into shader storage (host clock)
   uint64_t lightingComputations = 0;  // fragment invocations x lights evaluated (an atomic
                                       // counter per tile in the fragment shader)
 };

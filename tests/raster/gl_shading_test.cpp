@@ -76,7 +76,8 @@ struct ShadedFrame {
 void addSpotAndDirectional(PreparedFrame& f) {
   f.lights.addSpot(glm::vec3(0.5f, 0.5f, -1.0f), 40.0f, glm::vec3(3.0f, 2.5f, 2.0f),
                    glm::normalize(glm::vec3(0.1f, -0.2f, -1.0f)), 0.2f, 0.5f);
-  f.lights.addDirectional(glm::normalize(glm::vec3(0.3f, 1.0f, 0.4f)), glm::vec3(0.2f, 0.2f, 0.25f));
+  f.lights.addDirectional(glm::normalize(glm::vec3(0.3f, 1.0f, 0.4f)),
+                          glm::vec3(0.2f, 0.2f, 0.25f));
 }
 
 // The bound: both sides are fp32 sums of the same terms in the same order; the fragment shader's
@@ -119,8 +120,7 @@ TEST(GlShading, FragmentShaderMatchesBruteAndTheReference) {
     const ErrorStats e = compareToReference(gl, ref, test::kFp32RelativeTolerance * ref.peak);
     EXPECT_LE(e.maxRelPeak, test::kFp32RelativeTolerance);
     EXPECT_EQ(e.nonfinitePixels, 0u);
-    const FrameResult brute =
-        test::renderOnly(f, test::cachedTechnique("brute", sf.config), false);
+    const FrameResult brute = test::renderOnly(f, test::cachedTechnique("brute", sf.config), false);
     const double vsBrute = test::relativeDifference(brute.image, gl);
     EXPECT_LE(vsBrute, test::kFp32RelativeTolerance);
     std::cout << "[ GL shade ] " << sf.name << ": " << f.lights.size() << " lights, vs reference "

@@ -85,8 +85,8 @@ void checkForward(const std::string& technique, const std::string& name) {
   EXPECT_TRUE(has("forward"));
   EXPECT_EQ(has("depth_prepass"), technique == "tiled-forward-prez");
   EXPECT_EQ(has("depth_bounds"), technique == "tiled-forward-prez");
-  std::cout << "[ forward ] " << technique << " " << name << ": "
-            << f.lights.size() << " lights, max error " << e.maxRelPeak << " of the peak, "
+  std::cout << "[ forward ] " << technique << " " << name << ": " << f.lights.size()
+            << " lights, max error " << e.maxRelPeak << " of the peak, "
             << r.counters.lightingComputations << " lighting computations\n";
 }
 
