@@ -120,6 +120,11 @@ void runRender(const RenderOptions& options) {
       if (findTechnique(t).drawsScene)
         std::cout << "tileshade: --technique all leaves out " << t
                   << " (it draws the scene: --raster gl)\n";
+  for (const auto& t : techniques)  // before any file is written
+    if (findTechnique(t).drawsScene && !input.forward)
+      throw Error(t +
+                  " draws the scene: it needs a frame rasterized with --raster gl (not the "
+                  "software rasterizer or an imported G-buffer)");
   const PreparedFrame& prepared = input.frame;
   const SceneFeatures& features = prepared.features;
   RenderOptions o = options;  // an imported G-buffer decides the size and maybe the layout

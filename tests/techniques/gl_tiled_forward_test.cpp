@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -132,6 +133,32 @@ TEST(TiledForward, RefusesAFrameWithoutAScene) {
       EXPECT_EQ(what.find('\n'), std::string::npos) << what;
     }
   }
+}
+
+// The command line: without --raster gl a forward technique is refused before any file is
+// written, and `all` says what it leaves out; with it, `all` renders the forward ones too.
+TEST(TiledForward, CommandLineRefusesOrIncludes) {
+  const std::filesystem::path dir = test::freshDir("tiled_forward", "cli");
+  const std::string size = " --width 32 --height 18 --out " + (dir / "out").string();
+  test::CliRun r = test::runTileshade("render --technique tiled tiled-forward" + size);
+  EXPECT_EQ(r.exitCode(), 1) << r.output;
+  EXPECT_NE(r.output.find("tiled-forward draws the scene: it needs a frame rasterized with "
+                          "--raster gl"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+  r = test::runTileshade("render --technique all" + size);
+  EXPECT_EQ(r.exitCode(), 0) << r.output;
+  EXPECT_NE(r.output.find("--technique all leaves out tiled-forward-prez"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "tiled-forward"));
+  REQUIRE_GL();
+  r = test::runTileshade("render --raster gl --technique all --check" + size);
+  EXPECT_EQ(r.exitCode(), 0) << r.output;
+  EXPECT_EQ(r.output.find("leaves out"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "tiled-forward-prez" / "image.png"))
+      << r.output;
+  std::filesystem::remove_all(dir);
 }
 
 // `all` without a scene: the G-buffer techniques, every one but the forward family.
