@@ -88,10 +88,10 @@ tileshade_module(scene DEPS util shading
                  LIBS TinyGLTF::TinyGLTF nlohmann_json::nlohmann_json Threads::Threads
                       ${TILESHADE_OIIO_LIBS})
 tileshade_module(gbuffer DEPS util scene shading LIBS ${TILESHADE_OIIO_LIBS})
-tileshade_module(raster DEPS util gbuffer scene LIBS Threads::Threads ${TILESHADE_GL_LIBS}
+tileshade_module(raster DEPS util cl gbuffer scene shading LIBS Threads::Threads ${TILESHADE_GL_LIBS}
                  EXCLUDE "${TILESHADE_GL_SOURCES}")
 tileshade_module(reference DEPS util gbuffer shading LIBS Threads::Threads)
-tileshade_module(techniques DEPS util cl gbuffer scene shading)
+tileshade_module(techniques DEPS util cl gbuffer raster scene shading)
 tileshade_module(render DEPS util cl gbuffer raster reference scene shading techniques
                  LIBS nlohmann_json::nlohmann_json ${TILESHADE_OIIO_LIBS})
 tileshade_module(bench DEPS util cl gbuffer raster reference render scene shading techniques

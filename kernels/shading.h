@@ -1,6 +1,8 @@
 /*
- * The one shading function of tileshade, shared by every technique's kernels and by the CPU
- * reference. It is written in the common subset of OpenCL C and C++ so the two cannot drift.
+ * The one shading function of tileshade, shared by every technique's kernels, the CPU reference
+ * and the OpenGL forward shaders. It is written in the common subset of OpenCL C, C++ and GLSL
+ * (with the few macros below, which shaders/opencl_as_glsl.h redefines for GLSL) so the three
+ * cannot drift.
  *
  * The includer defines the scalar and vector types first:
  *   TS_REAL          scalar type            (float in kernels; double in the reference)
@@ -39,8 +41,20 @@
 #ifndef TS_REAL
 #error "define TS_REAL, TS_REAL3, TS_REAL4 and TS_MAKE3 before including shading.h"
 #endif
+/* The constructs GLSL spells differently (shaders/opencl_as_glsl.h gives its spellings): a cast,
+ * a struct type, a read-only struct parameter and an output parameter (pointers in C, `in` and
+ * `out` in GLSL) and their dereference and address. */
+#ifndef TS_CAST
+#define TS_CAST(type, x) ((type)(x))
+#define TS_STRUCT_BEGIN(name) typedef struct
+#define TS_STRUCT_END(name) name
+#define TS_IN(type, name) const type *name
+#define TS_OUT(type, name) type *name
+#define TS_DEREF(p) (*(p))
+#define TS_ADDR(x) (&(x))
+#endif
 #ifndef TS_LIT
-#define TS_LIT(x) ((TS_REAL)(x))
+#define TS_LIT(x) TS_CAST(TS_REAL, x)
 #endif
 
 /* dmin: the distance (scene units) below which the inverse-square falloff stops growing, so a
@@ -80,8 +94,10 @@
  * +0.5; image row 0 is the top of the screen. tan_x/tan_y: tangents of the half field of view. */
 static inline TS_REAL3 ts_view_position(int x, int y, TS_REAL depth, TS_REAL tan_x, TS_REAL tan_y,
                                         int width, int height) {
-  TS_REAL ndc_x = (TS_LIT(2.0) * ((TS_REAL)x + TS_LIT(0.5))) / (TS_REAL)width - TS_LIT(1.0);
-  TS_REAL ndc_y = TS_LIT(1.0) - (TS_LIT(2.0) * ((TS_REAL)y + TS_LIT(0.5))) / (TS_REAL)height;
+  TS_REAL ndc_x =
+      (TS_LIT(2.0) * (TS_CAST(TS_REAL, x) + TS_LIT(0.5))) / TS_CAST(TS_REAL, width) - TS_LIT(1.0);
+  TS_REAL ndc_y =
+      TS_LIT(1.0) - (TS_LIT(2.0) * (TS_CAST(TS_REAL, y) + TS_LIT(0.5))) / TS_CAST(TS_REAL, height);
   return TS_MAKE3(ndc_x * tan_x * depth, ndc_y * tan_y * depth, -depth);
 }
 
@@ -92,14 +108,14 @@ static inline TS_REAL3 ts_view_position(int x, int y, TS_REAL depth, TS_REAL tan
  * metallic), kd = (1 - F0) c_diff (the diffuse colour the Fresnel-weighted lights see) and
  * alpha = max(roughness, TS_MIN_ROUGHNESS)^2. */
 static inline void ts_metallic_roughness_terms(TS_REAL3 base, TS_REAL metallic, TS_REAL roughness,
-                                               TS_REAL3 *c_diff, TS_REAL3 *kd, TS_REAL3 *f0,
-                                               TS_REAL *alpha) {
+                                               TS_OUT(TS_REAL3, c_diff), TS_OUT(TS_REAL3, kd),
+                                               TS_OUT(TS_REAL3, f0), TS_OUT(TS_REAL, alpha)) {
   TS_REAL m = clamp(metallic, TS_LIT(0.0), TS_LIT(1.0));
-  *c_diff = base * (TS_LIT(1.0) - m);
-  *f0 = TS_MAKE3(TS_LIT(0.04), TS_LIT(0.04), TS_LIT(0.04)) * (TS_LIT(1.0) - m) + base * m;
-  *kd = (TS_MAKE3(TS_LIT(1.0), TS_LIT(1.0), TS_LIT(1.0)) - *f0) * *c_diff;
+  TS_DEREF(c_diff) = base * (TS_LIT(1.0) - m);
+  TS_DEREF(f0) = TS_MAKE3(TS_LIT(0.04), TS_LIT(0.04), TS_LIT(0.04)) * (TS_LIT(1.0) - m) + base * m;
+  TS_DEREF(kd) = (TS_MAKE3(TS_LIT(1.0), TS_LIT(1.0), TS_LIT(1.0)) - TS_DEREF(f0)) * TS_DEREF(c_diff);
   TS_REAL r = clamp(roughness, TS_LIT(TS_MIN_ROUGHNESS), TS_LIT(1.0));
-  *alpha = r * r;
+  TS_DEREF(alpha) = r * r;
 }
 
 /* The view factor of the separable Smith-GGX visibility (the glTF specification's form), per pixel:
@@ -130,54 +146,54 @@ static inline TS_REAL3 ts_surface_base(TS_REAL3 ke, TS_REAL3 c_diff, TS_REAL3 am
 #define TS_SELECT(c, a, b) ((c) ? (a) : (b))
 
 /* The surface terms the light weights need, one TS_LANE per component. */
-typedef struct {
+TS_STRUCT_BEGIN(ts_shading_point) {
   TS_LANE px, py, pz; /* view-space position P */
   TS_LANE nx, ny, nz; /* unit normal N */
   TS_LANE vx, vy, vz; /* unit view vector V = normalize(-P) (specular only) */
   TS_LANE gloss;      /* Blinn-Phong: shininess s; metallic-roughness: alpha (specular only) */
   TS_LANE view_term;  /* metallic-roughness: ts_smith_view_term (specular only) */
-} ts_shading_point;
+} TS_STRUCT_END(ts_shading_point);
 
 /* The three weights of a light (see the top of this file): contribution = C (wd kd + ws ks + wf). */
-typedef struct {
+TS_STRUCT_BEGIN(ts_light_weights_t) {
   TS_LANE wd, ws, wf;
-} ts_light_weights_t;
+} TS_STRUCT_END(ts_light_weights_t);
 
 /* The weights of a light from unit direction (ux, uy, uz) with `falloff` already known (finite,
  * >= 0). A lane whose direction is NaN (the light on the point) compares false in every select
  * below and gets 0; selects, not max(), because max() is undefined for NaN in OpenCL. */
-static inline ts_light_weights_t ts_brdf_weights(const ts_shading_point *p, TS_LANE ux, TS_LANE uy,
+static inline ts_light_weights_t ts_brdf_weights(TS_IN(ts_shading_point, p), TS_LANE ux, TS_LANE uy,
                                                  TS_LANE uz, TS_LANE falloff, int shading,
                                                  int specular) {
-  const TS_LANE zero = (TS_LANE)TS_LIT(0.0), one = (TS_LANE)TS_LIT(1.0);
+  const TS_LANE zero = TS_CAST(TS_LANE, TS_LIT(0.0)), one = TS_CAST(TS_LANE, TS_LIT(1.0));
   ts_light_weights_t w = {zero, zero, zero};
-  TS_LANE n_dot_l = p->nx * ux + p->ny * uy + p->nz * uz;
+  TS_LANE n_dot_l = TS_DEREF(p).nx * ux + TS_DEREF(p).ny * uy + TS_DEREF(p).nz * uz;
   TS_LANE ndl = TS_SELECT(n_dot_l > zero, n_dot_l, zero);
   TS_LANE lit = falloff * ndl;
   if (!TS_ANY(lit > zero)) return w;
   w.wd = lit;
-  if (!specular) return w;
+  if (specular == 0) return w;
   /* h = (l + V) / |l + V|, as a reciprocal square root; l = -V (no half vector) gives h = 0: no
    * specular term (and no Fresnel weight) for that lane. */
-  TS_LANE hx = ux + p->vx, hy = uy + p->vy, hz = uz + p->vz;
+  TS_LANE hx = ux + TS_DEREF(p).vx, hy = uy + TS_DEREF(p).vy, hz = uz + TS_DEREF(p).vz;
   TS_LANE hlen2 = hx * hx + hy * hy + hz * hz;
   TS_LANE inv_h = TS_SELECT(hlen2 > zero, TS_RSQRT(hlen2), zero);
-  TS_LANE ndh = max((p->nx * hx + p->ny * hy + p->nz * hz) * inv_h, zero);
+  TS_LANE ndh = max((TS_DEREF(p).nx * hx + TS_DEREF(p).ny * hy + TS_DEREF(p).nz * hz) * inv_h, zero);
   if (shading == TS_SHADING_BLINN_PHONG) {
-    w.ws = lit * TS_POW(ndh, p->gloss);
+    w.ws = lit * TS_POW(ndh, TS_DEREF(p).gloss);
     return w;
   }
   /* GGX's pi*D: alpha^2 / ((N.h)^2 (alpha^2 - 1) + 1)^2 with 1 - (N.h)^2 = |N x h|^2, which keeps
    * its precision where N.h -> 1 (the peak, for small alpha) instead of cancelling; 0 for
    * microfacets facing away (N.h <= 0), where the denominator can vanish. */
-  TS_LANE cx = p->ny * hz - p->nz * hy, cy = p->nz * hx - p->nx * hz, cz = p->nx * hy - p->ny * hx;
-  TS_LANE a2 = p->gloss * p->gloss;
+  TS_LANE cx = TS_DEREF(p).ny * hz - TS_DEREF(p).nz * hy, cy = TS_DEREF(p).nz * hx - TS_DEREF(p).nx * hz, cz = TS_DEREF(p).nx * hy - TS_DEREF(p).ny * hx;
+  TS_LANE a2 = TS_DEREF(p).gloss * TS_DEREF(p).gloss;
   TS_LANE den = (cx * cx + cy * cy + cz * cz) * (inv_h * inv_h) + ndh * ndh * a2;
   TS_LANE d_pi = TS_SELECT(ndh > zero, a2 / (den * den), zero);
   /* Separable Smith-GGX visibility with 4 N.l N.v folded in: 1 / (light term * view term). */
   TS_LANE light_term = ndl + TS_SQRT(a2 + (one - a2) * ndl * ndl);
-  TS_LANE s = d_pi / (light_term * p->view_term);
-  TS_LANE vdh = clamp((p->vx * hx + p->vy * hy + p->vz * hz) * inv_h, zero, one);
+  TS_LANE s = d_pi / (light_term * TS_DEREF(p).view_term);
+  TS_LANE vdh = clamp((TS_DEREF(p).vx * hx + TS_DEREF(p).vy * hy + TS_DEREF(p).vz * hz) * inv_h, zero, one);
   TS_LANE f1 = one - vdh, f2 = f1 * f1;
   TS_LANE fc = TS_SELECT(hlen2 > zero, f2 * f2 * f1, zero); /* Schlick: F = F0 + (1 - F0) fc */
   w.wd = lit * (one - fc);
@@ -192,15 +208,15 @@ static inline ts_light_weights_t ts_brdf_weights(const ts_shading_point *p, TS_L
  * cos_outer, fading in with angle_scale = 1/(cos inner - cos outer); a point light has axis 0 and
  * cos_outer -1, which makes the angular term exactly 1. Lanes outside the range or the cone, or
  * with the light exactly on the point (no direction: it lights nothing, instead of NaN), get 0. */
-static inline ts_light_weights_t ts_punctual_weights(const ts_shading_point *p, TS_LANE lx,
+static inline ts_light_weights_t ts_punctual_weights(TS_IN(ts_shading_point, p), TS_LANE lx,
                                                      TS_LANE ly, TS_LANE lz, TS_LANE r,
                                                      TS_LANE inv_r2, TS_LANE ax, TS_LANE ay,
                                                      TS_LANE az, TS_LANE cos_outer,
                                                      TS_LANE angle_scale, int model, int shading,
                                                      int specular, int spot) {
-  const TS_LANE zero = (TS_LANE)TS_LIT(0.0), one = (TS_LANE)TS_LIT(1.0);
+  const TS_LANE zero = TS_CAST(TS_LANE, TS_LIT(0.0)), one = TS_CAST(TS_LANE, TS_LIT(1.0));
   ts_light_weights_t none = {zero, zero, zero};
-  TS_LANE vx = lx - p->px, vy = ly - p->py, vz = lz - p->pz;
+  TS_LANE vx = lx - TS_DEREF(p).px, vy = ly - TS_DEREF(p).py, vz = lz - TS_DEREF(p).pz;
   TS_LANE d2 = vx * vx + vy * vy + vz * vz;
   TS_LANE window = one;
   if (model == TS_MODEL_WINDOWED) {
@@ -214,9 +230,9 @@ static inline ts_light_weights_t ts_punctual_weights(const ts_shading_point *p, 
    * infinite and l is NaN, which the selects below and in ts_brdf_weights turn into 0. */
   TS_LANE inv_d = TS_RSQRT(d2);
   TS_LANE ux = vx * inv_d, uy = vy * inv_d, uz = vz * inv_d;
-  TS_LANE inv_dmin2 = (TS_LANE)TS_LIT(TS_INV_DMIN2);
+  TS_LANE inv_dmin2 = TS_CAST(TS_LANE, TS_LIT(TS_INV_DMIN2));
   TS_LANE falloff = window * min(inv_d * inv_d, inv_dmin2); /* window / max(d2, dmin^2) */
-  if (spot) {
+  if (spot != 0) {
     TS_LANE cd = -(ax * ux + ay * uy + az * uz); /* cosine between the axis and the light ray */
     TS_LANE t = clamp((cd - cos_outer) * angle_scale, zero, one);
     falloff = TS_SELECT(d2 > zero, falloff * t * t, zero);
@@ -226,10 +242,10 @@ static inline ts_light_weights_t ts_punctual_weights(const ts_shading_point *p, 
 
 /* The weights of a directional light arriving from the unit direction (lx, ly, lz) (towards the
  * light): no range, no falloff. */
-static inline ts_light_weights_t ts_directional_weights(const ts_shading_point *p, TS_LANE lx,
+static inline ts_light_weights_t ts_directional_weights(TS_IN(ts_shading_point, p), TS_LANE lx,
                                                         TS_LANE ly, TS_LANE lz, int shading,
                                                         int specular) {
-  return ts_brdf_weights(p, lx, ly, lz, (TS_LANE)TS_LIT(1.0), shading, specular);
+  return ts_brdf_weights(p, lx, ly, lz, TS_CAST(TS_LANE, TS_LIT(1.0)), shading, specular);
 }
 
 #if !defined(TS_LANES) || TS_LANES == 1
@@ -252,7 +268,7 @@ static inline TS_REAL3 ts_weighted_color(ts_light_weights_t w, TS_REAL3 C, TS_RE
 
 /* Contribution of one point or spot light (kernels/shading.h "Lights" layout: pos_range =
  * position + range, color = rgb + spot angle scale, spot = axis + cos outer). */
-static inline TS_REAL3 ts_punctual_light(const ts_shading_point *p, TS_REAL3 kd, TS_REAL3 ks,
+static inline TS_REAL3 ts_punctual_light(TS_IN(ts_shading_point, p), TS_REAL3 kd, TS_REAL3 ks,
                                          TS_REAL4 pos_range, TS_REAL4 color, TS_REAL4 spot,
                                          int model, int shading, int specular, int spot_on) {
   ts_light_weights_t w = ts_punctual_weights(
@@ -263,7 +279,7 @@ static inline TS_REAL3 ts_punctual_light(const ts_shading_point *p, TS_REAL3 kd,
 }
 
 /* Contribution of one directional light (dir: unit vector towards the light). */
-static inline TS_REAL3 ts_directional_light(const ts_shading_point *p, TS_REAL3 kd, TS_REAL3 ks,
+static inline TS_REAL3 ts_directional_light(TS_IN(ts_shading_point, p), TS_REAL3 kd, TS_REAL3 ks,
                                             TS_REAL3 dir, TS_REAL3 color, int shading,
                                             int specular) {
   ts_light_weights_t w = ts_directional_weights(p, dir.x, dir.y, dir.z, shading, specular);
@@ -275,7 +291,7 @@ static inline TS_REAL3 ts_directional_light(const ts_shading_point *p, TS_REAL3 
 static inline TS_REAL3 ts_point_light(TS_REAL3 P, TS_REAL3 N, TS_REAL3 V, TS_REAL3 kd, TS_REAL3 ks,
                                       TS_REAL s, TS_REAL3 Lp, TS_REAL3 C, TS_REAL r, int model) {
   ts_shading_point p = ts_make_shading_point(P, N, V, s, TS_SHADING_BLINN_PHONG);
-  ts_light_weights_t w = ts_punctual_weights(&p, Lp.x, Lp.y, Lp.z, r, TS_LIT(1.0) / (r * r),
+  ts_light_weights_t w = ts_punctual_weights(TS_ADDR(p), Lp.x, Lp.y, Lp.z, r, TS_LIT(1.0) / (r * r),
                                              TS_LIT(0.0), TS_LIT(0.0), TS_LIT(0.0), TS_LIT(-1.0),
                                              TS_LIT(1.0), model, TS_SHADING_BLINN_PHONG, 1, 0);
   return ts_weighted_color(w, C, kd, ks);

@@ -38,6 +38,7 @@ py::dict frameInfoDict(const ts::FrameInfo& i) {
   d["light_summary"] = i.lightSummary;
   d["raster_ms"] = i.rasterMs;
   d["raster_setup_ms"] = i.rasterSetupMs;
+  d["draws_scene"] = i.drawsScene;
   return d;
 }
 

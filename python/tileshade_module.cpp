@@ -118,11 +118,13 @@ PYBIND11_MODULE(tileshade, m) {
       [] {
         py::list list;
         for (const auto& t : ts::listTechniques()) {
-          list.append(py::dict("name"_a = t.name, "description"_a = t.description));
+          list.append(py::dict("name"_a = t.name, "description"_a = t.description,
+                               "draws_scene"_a = t.drawsScene));
         }
         return list;
       },
-      "The techniques, as dicts (name, description).");
+      "The techniques, as dicts (name, description, draws_scene: a forward technique, which needs "
+      "a frame rasterized with raster=\"gl\").");
 
   py::class_<ts::Device>(m, "Device", "An OpenCL device (spec as `tileshade render --device`).")
       .def(py::init<const std::string&>(), "spec"_a = "")

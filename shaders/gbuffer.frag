@@ -37,22 +37,12 @@ uniform bool u_hasTexture[4];
 #define TS_SAMPLE(slot) (u_hasTexture[slot] ? textureLod(u_texture[slot], v_uv, 0.0) : vec4(1.0))
 #include "material_planes.h"
 
+#include "surface_normal.h"
+
 void main() {
   // Derivatives outside any branch (undefined in non-uniform control flow).
   vec3 faceNormal = cross(dFdx(v_viewPosition), dFdy(v_viewPosition));
-  vec3 n = v_normal;
-  float len2 = dot(n, n);
-  if (len2 > 1e-24) {
-    n = n / sqrt(len2);
-  } else {
-    // The geometric normal (counter-clockwise front): the screen-space derivatives give the
-    // plane's normal up to sign; turn it towards the viewer, then away for a back face.
-    float gl2 = dot(faceNormal, faceNormal);
-    n = gl2 > 0.0 ? faceNormal / sqrt(gl2) : vec3(0.0, 0.0, 1.0);
-    if (dot(n, v_viewPosition) > 0.0) n = -n;
-    if (!gl_FrontFacing) n = -n;
-  }
-  if (u_doubleSided && !gl_FrontFacing) n = -n;
+  vec3 n = ts_surface_normal(v_normal, faceNormal, v_viewPosition, u_doubleSided);
 
   TsMaterialPlanes planes = ts_material_planes(u_metallicRoughness, u_material);
   o_depth = -v_viewPosition.z;

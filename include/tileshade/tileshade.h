@@ -178,6 +178,9 @@ struct FrameInfo {
   uint64_t lights = 0, directionalLights = 0;  // lights counts directional ones too
   std::string lightSummary;  // "924 lights", "12 lights: 6 point, 5 spot, 1 directional"
   double rasterMs = 0.0, rasterSetupMs = 0.0;  // 0 where nothing was rasterized
+  // A scene rasterized with raster "gl": the techniques that draw the scene (forward) can shade
+  // it, through the same OpenGL context (TechniqueDescription::drawsScene).
+  bool drawsScene = false;
 };
 
 // One frame's inputs on a device, shared by every Renderer that shades it.
@@ -213,6 +216,9 @@ class Frame {
 
 struct TechniqueDescription {
   std::string name, description;
+  // It draws the scene itself (the forward family, docs/techniques.md): it shades only frames
+  // whose FrameInfo::drawsScene is true, and refuses (ts::Error) the others.
+  bool drawsScene = false;
 };
 std::vector<TechniqueDescription> listTechniques();
 

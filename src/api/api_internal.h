@@ -9,6 +9,7 @@
 
 #include "reference/reference.h"
 #include "render/frame_setup.h"
+#include "render/render_input.h"
 #include "techniques/device_frame.h"
 #include "tileshade/tileshade.h"
 #include "util/error.h"
@@ -52,6 +53,11 @@ struct Frame::Impl {
   std::optional<DeviceGBuffer> devicePlanes;  // Frame::fromDevice: the caller's buffers
   bool hostPlanesComplete = true;
   std::optional<FrameReferences> references;  // computed at the first check
+  // Frame::fromScene: the scene and its rasterizer, kept alive for the techniques that draw it
+  // (onDevice.forward; null unless rasterized with --raster gl).
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<SceneRasterizer> rasterizer;
+  std::unique_ptr<ForwardScene> forward;
 
   // Frame::fromDevice: reads the caller's planes back (for the reference and for dump).
   void readHostPlanes();

@@ -53,6 +53,11 @@ std::shared_ptr<Frame::Impl> uploaded(Device& device, RenderInput input) {
   impl->info = describeFrame(input);  // before the frame moves out of `input`
   impl->prepared = std::move(input.frame);
   impl->onDevice = impl->prepared.upload(device.impl()->cl);
+  impl->scene = std::move(input.scene);
+  impl->rasterizer = std::move(input.rasterizer);
+  impl->forward = std::move(input.forward);
+  impl->onDevice.forward = impl->forward.get();
+  impl->info.drawsScene = impl->forward != nullptr;
   return impl;
 }
 

@@ -138,7 +138,8 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
 
 std::vector<TechniqueDescription> listTechniques() {
   std::vector<TechniqueDescription> out;
-  for (const TechniqueInfo& t : techniqueRegistry()) out.push_back({t.name, t.description});
+  for (const TechniqueInfo& t : techniqueRegistry())
+    out.push_back({t.name, t.description, t.drawsScene});
   return out;
 }
 

@@ -320,7 +320,7 @@ std::vector<BenchConfig> expandSweep(const BenchSweep& sweep) {
     for (const auto& v : it->second)
       for (const auto& item : splitList(v)) {
         if (dim.name == "technique" && item == "all") {
-          for (const auto& t : techniqueNames()) add(t);
+          for (const auto& t : gbufferTechniqueNames()) add(t);  // bench draws no forward pass
         } else {
           add(item);
         }

@@ -89,7 +89,8 @@ void measure(const std::vector<glm::vec4>& image, const ReferenceImage& ref,
 
 std::vector<CheckRow> runHardCases(const CheckOptions& o, std::ostream& out) {
   std::vector<const HardCase*> cases = selectCases(o.cases);
-  std::vector<std::string> techniques = o.techniques.empty() ? techniqueNames() : o.techniques;
+  std::vector<std::string> techniques =
+      o.techniques.empty() ? gbufferTechniqueNames() : o.techniques;
   for (const auto& t : techniques) findTechnique(t);
   ClContext cl(o.device);
   TechniqueCache cache(cl);

@@ -1,5 +1,6 @@
 #include "cli/render_job.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -45,11 +46,15 @@ class ReferenceProgress {
   Progress progress_;
 };
 
-std::vector<std::string> expandTechniques(const std::vector<std::string>& names) {
+// "all": every technique that can run on the frame; without a scene to draw (withScene false:
+// software raster, imported G-buffer) those that shade the G-buffer only.
+std::vector<std::string> expandTechniques(const std::vector<std::string>& names,
+                                          bool withScene = true) {
   std::vector<std::string> out;
   for (const auto& n : names) {
     if (n == "all") {
-      for (const auto& t : techniqueNames()) out.push_back(t);
+      for (const TechniqueDescription& t : listTechniques())
+        if (withScene || !t.drawsScene) out.push_back(t.name);
     } else {
       out.push_back(n);
     }
@@ -163,10 +168,23 @@ FrameResult frameResultOf(const ShadeResult& r, std::vector<glm::vec4> image) {
 void runRender(const RenderOptions& options) {
   // Every option is checked before any work, so a bad one never follows written images.
   validateRenderOptions(options);
-  const std::vector<std::string> techniques = expandTechniques(options.techniques);
   Device device(options.device);  // a bad --device fails before the scene is loaded
   Frame frame = loadFrame(device, options);
   const FrameInfo& info = frame.info();
+  const std::vector<std::string> techniques = expandTechniques(options.techniques, info.drawsScene);
+  // The forward techniques draw the scene: a frame without one (software raster, imported
+  // G-buffer) cannot be theirs. Said before any file is written.
+  const bool all = std::count(options.techniques.begin(), options.techniques.end(), "all") > 0;
+  for (const TechniqueDescription& t : listTechniques()) {
+    if (!t.drawsScene || info.drawsScene) continue;
+    if (all)
+      std::cout << "tileshade: --technique all leaves out " << t.name
+                << " (it draws the scene: --raster gl)\n";
+    if (std::count(techniques.begin(), techniques.end(), t.name))
+      throw Error(t.name +
+                  " draws the scene: it needs a frame rasterized with --raster gl (not the "
+                  "software rasterizer or an imported G-buffer)");
+  }
   const RenderOptions& o = options;
   const int width = info.width, height = info.height;  // an imported G-buffer decides the size
 

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <vector>
 
+#include "cl/cl_context.h"
 #include "util/data_dir.h"
 #include "util/error.h"
 #include "util/file_read.h"
@@ -62,6 +63,9 @@ const char* errorName(GLenum e) {
   }
 }
 
+// `#include "kernels/x.h"` reads x.h from the OpenCL kernel folder (kernelDir()).
+const std::string kKernelPrefix = "kernels/";
+
 }  // namespace
 
 std::string shaderDir() { return dataDir("TILESHADE_SHADER_DIR", "shaders", TILESHADE_SHADER_DIR); }
@@ -73,8 +77,10 @@ std::string shaderSource(const std::string& name) {
   std::string line, out;
   while (std::getline(in, line)) {
     std::smatch m;
-    if (std::regex_match(line, m, include)) out += readFile(shaderDir() + "/" + m[1].str());
-    else out += line;
+    if (!std::regex_match(line, m, include)) out += line;
+    else if (m[1].str().rfind(kKernelPrefix, 0) == 0)
+      out += readFile(kernelDir() + "/" + m[1].str().substr(kKernelPrefix.size()));
+    else out += readFile(shaderDir() + "/" + m[1].str());
     out += "\n";
   }
   return out;

@@ -11,7 +11,9 @@ namespace ts::gl {
 // $TILESHADE_SHADER_DIR, else the installed or source tree's shaders/ (as kernels/ for OpenCL).
 std::string shaderDir();
 
-// The text of shaderDir()/name with each `#include "other"` line replaced by that file's text.
+// The text of shaderDir()/name with each `#include "other"` line replaced by that file's text;
+// `#include "kernels/other"` takes the file from the OpenCL kernels' folder (cl/cl_context.h,
+// kernelDir()), so a shader compiles the very header the kernels do (kernels/shading.h).
 std::string shaderSource(const std::string& name);
 
 // Compiles and links a vertex + fragment program from shaderDir() files. Throws ts::Error

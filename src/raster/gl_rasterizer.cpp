@@ -37,6 +37,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -77,6 +78,53 @@ glm::mat4 clipFromView(const CameraIntrinsics& in) {
   return p;
 }
 
+// The uniforms the scene's draws set (shaders/gbuffer.vert and the material of the fragment
+// shaders that take one); -1 where a program has no such uniform (glUniform ignores it).
+struct Uniforms {
+  GLint viewFromWorld, normalMatrix, clipFromView;
+  GLint diffuse, specular, shininess, baseColor, metallic, roughness, emissive;
+  GLint doubleSided, metallicRoughness, firstTriangle;
+  GLint texture[TS_TEXTURE_SLOTS], hasTexture[TS_TEXTURE_SLOTS];
+};
+
+// Looks the uniforms up and points texture slot s at texture unit s (leaves `program` in use).
+Uniforms uniformsOf(GLuint program) {
+  Uniforms u{};
+  auto at = [&](const std::string& name) { return glGetUniformLocation(program, name.c_str()); };
+  u.viewFromWorld = at("u_viewFromWorld");
+  u.normalMatrix = at("u_normalMatrix");
+  u.clipFromView = at("u_clipFromView");
+  u.diffuse = at("u_material.diffuse");
+  u.specular = at("u_material.specular");
+  u.shininess = at("u_material.shininess");
+  u.baseColor = at("u_material.baseColor");
+  u.metallic = at("u_material.metallic");
+  u.roughness = at("u_material.roughness");
+  u.emissive = at("u_material.emissive");
+  u.doubleSided = at("u_doubleSided");
+  u.metallicRoughness = at("u_metallicRoughness");
+  u.firstTriangle = at("u_firstTriangle");
+  glUseProgram(program);
+  for (int s = 0; s < TS_TEXTURE_SLOTS; ++s) {
+    u.texture[s] = at("u_texture[" + std::to_string(s) + "]");
+    u.hasTexture[s] = at("u_hasTexture[" + std::to_string(s) + "]");
+    glUniform1i(u.texture[s], s);  // slot s samples texture unit s
+  }
+  return u;
+}
+
+// The forward pass's shader storage bindings (shaders/tiled_forward.frag).
+enum ForwardStorage {
+  kPosRange,
+  kColor,
+  kSpot,
+  kDirectional,
+  kTileBins,
+  kTileLights,
+  kTileWork,
+  kForwardStorages
+};
+
 // A run of consecutive triangles with one material: one draw call.
 struct Draw {
   uint32_t firstTriangle = 0;
@@ -95,12 +143,14 @@ struct GlRasterizer::State {
   GLuint targets[kTargets] = {};
   int width = 0, height = 0;  // of the framebuffer's attachments
   GLint maxSize = 0;          // largest width/height the implementation renders
-  struct Uniforms {
-    GLint viewFromWorld, normalMatrix, clipFromView;
-    GLint diffuse, specular, shininess, baseColor, metallic, roughness, emissive;
-    GLint doubleSided, metallicRoughness, firstTriangle;
-    GLint texture[TS_TEXTURE_SLOTS], hasTexture[TS_TEXTURE_SLOTS];
-  } u{};
+  Uniforms u{};
+  // The forward passes (built on first use: they need OpenGL 4.3, the G-buffer pass 3.3).
+  GLuint forwardProgram = 0, depthProgram = 0;
+  Uniforms fu{}, du{};
+  GLuint forwardFramebuffer = 0, forwardDepth = 0, forwardTargets[2] = {};  // image, depth
+  int forwardWidth = 0, forwardHeight = 0;
+  GLuint storage[kForwardStorages] = {};
+  GLuint timer = 0;
 
   explicit State(const Scene& s) : scene(s) {}
 
@@ -112,6 +162,13 @@ struct GlRasterizer::State {
       return;
     }
     releaseFramebuffer();
+    releaseForwardFramebuffer();
+    if (forwardProgram) {
+      glDeleteProgram(forwardProgram);
+      glDeleteProgram(depthProgram);
+      glDeleteBuffers(kForwardStorages, storage);
+      glDeleteQueries(1, &timer);
+    }
     if (!textures.empty()) glDeleteTextures(GLsizei(textures.size()), textures.data());
     glDeleteBuffers(1, &vertexBuffer);
     glDeleteBuffers(1, &indexBuffer);
@@ -195,26 +252,7 @@ struct GlRasterizer::State {
 
   void buildProgram() {
     program = gl::buildProgram("gbuffer.vert", "gbuffer.frag");
-    auto at = [&](const std::string& name) { return glGetUniformLocation(program, name.c_str()); };
-    u.viewFromWorld = at("u_viewFromWorld");
-    u.normalMatrix = at("u_normalMatrix");
-    u.clipFromView = at("u_clipFromView");
-    u.diffuse = at("u_material.diffuse");
-    u.specular = at("u_material.specular");
-    u.shininess = at("u_material.shininess");
-    u.baseColor = at("u_material.baseColor");
-    u.metallic = at("u_material.metallic");
-    u.roughness = at("u_material.roughness");
-    u.emissive = at("u_material.emissive");
-    u.doubleSided = at("u_doubleSided");
-    u.metallicRoughness = at("u_metallicRoughness");
-    u.firstTriangle = at("u_firstTriangle");
-    glUseProgram(program);
-    for (int s = 0; s < TS_TEXTURE_SLOTS; ++s) {
-      u.texture[s] = at("u_texture[" + std::to_string(s) + "]");
-      u.hasTexture[s] = at("u_hasTexture[" + std::to_string(s) + "]");
-      glUniform1i(u.texture[s], s);  // slot s samples texture unit s
-    }
+    u = uniformsOf(program);
     // Locations 0..5 of the fragment outputs are fixed in the shader (layout qualifiers).
     gl::checkErrors("setting up the G-buffer program");
   }
@@ -252,7 +290,7 @@ struct GlRasterizer::State {
     height = h;
   }
 
-  void setMaterial(const Material& m, bool metallicRoughness) {
+  void setMaterial(const Uniforms& u, const Material& m, bool metallicRoughness) {
     glUniform3fv(u.diffuse, 1, &m.diffuse.x);
     glUniform3fv(u.specular, 1, &m.specular.x);
     glUniform1f(u.shininess, m.shininess);
@@ -300,6 +338,13 @@ struct GlRasterizer::State {
     glClearBufferfv(GL_DEPTH, 0, &farDepth);
 
     glUseProgram(program);
+    drawScene(u, camera, in, options.model == ShadingModel::MetallicRoughness);
+    gl::checkErrors("drawing scene '" + scene.name + "'");
+  }
+
+  // Every draw of the scene with `u`'s program in use: the camera, then per draw its material.
+  void drawScene(const Uniforms& u, const SceneCamera& camera, const CameraIntrinsics& in,
+                 bool metallicRoughness) {
     const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(camera.viewFromWorld)));
     const glm::mat4 projection = clipFromView(in);
     // GL transforms in float (the software rasterizer in double; docs/opengl.md).
@@ -308,15 +353,119 @@ struct GlRasterizer::State {
     glUniformMatrix3fv(u.normalMatrix, 1, GL_FALSE, &normalMatrix[0][0]);
     glUniformMatrix4fv(u.clipFromView, 1, GL_FALSE, &projection[0][0]);
     glBindVertexArray(vao);
-    const bool metallicRoughness = options.model == ShadingModel::MetallicRoughness;
     for (const Draw& d : draws) {
-      setMaterial(*d.material, metallicRoughness);
+      setMaterial(u, *d.material, metallicRoughness);
       glUniform1i(u.firstTriangle, GLint(d.firstTriangle));
       glDrawElements(GL_TRIANGLES, GLsizei(d.triangles * 3), GL_UNSIGNED_INT,
                      reinterpret_cast<const void*>(size_t(d.firstTriangle) * 3 * sizeof(uint32_t)));
     }
     glBindVertexArray(0);
-    gl::checkErrors("drawing scene '" + scene.name + "'");
+  }
+
+  // ---- Forward passes ----------------------------------------------------------------------
+
+  void buildForward() {
+    if (forwardProgram) return;
+    if (epoxy_gl_version() < 43)
+      throw Error("OpenGL " + EglContext::shared().version() +
+                  " has no shader storage buffers (OpenGL 4.3), which forward shading needs");
+    depthProgram = gl::buildProgram("gbuffer.vert", "depth_only.frag");
+    du = uniformsOf(depthProgram);
+    forwardProgram = gl::buildProgram("gbuffer.vert", "tiled_forward.frag");
+    fu = uniformsOf(forwardProgram);
+    glGenBuffers(kForwardStorages, storage);
+    glGenQueries(1, &timer);
+    gl::checkErrors("setting up the forward programs");
+  }
+
+  void releaseForwardFramebuffer() {
+    if (!forwardFramebuffer) return;
+    glDeleteFramebuffers(1, &forwardFramebuffer);
+    glDeleteRenderbuffers(1, &forwardDepth);
+    glDeleteTextures(2, forwardTargets);
+    forwardFramebuffer = forwardDepth = 0;
+    forwardWidth = forwardHeight = 0;
+  }
+
+  // Colour 0: the shaded image (RGBA32F); colour 1: the pre-pass's linear depth (R32F); the
+  // reversed float depth buffer of the G-buffer pass.
+  void ensureForwardFramebuffer(int w, int h) {
+    if (forwardFramebuffer && w == forwardWidth && h == forwardHeight) return;
+    releaseForwardFramebuffer();
+    glGenFramebuffers(1, &forwardFramebuffer);
+    glBindFramebuffer(GL_FRAMEBUFFER, forwardFramebuffer);
+    glGenTextures(2, forwardTargets);
+    const GLenum formats[2] = {GL_RGBA32F, GL_R32F};
+    for (int t = 0; t < 2; ++t) {
+      glBindTexture(GL_TEXTURE_2D, forwardTargets[t]);
+      glTexStorage2D(GL_TEXTURE_2D, 1, formats[t], w, h);
+      glFramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + t), GL_TEXTURE_2D,
+                             forwardTargets[t], 0);
+    }
+    glGenRenderbuffers(1, &forwardDepth);
+    glBindRenderbuffer(GL_RENDERBUFFER, forwardDepth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, forwardDepth);
+    gl::checkErrors("creating a " + std::to_string(w) + "x" + std::to_string(h) +
+                    " forward framebuffer");
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      releaseForwardFramebuffer();
+      throw Error("OpenGL forward framebuffer (RGBA32F, R32F, float depth) is incomplete");
+    }
+    forwardWidth = w;
+    forwardHeight = h;
+  }
+
+  // The fixed-function state of a pass over the scene (as draw() sets it for the G-buffer).
+  void passState(const CameraIntrinsics& in) {
+    glBindFramebuffer(GL_FRAMEBUFFER, forwardFramebuffer);
+    glViewport(0, 0, in.width, in.height);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glFrontFace(GL_CW);
+    glDisable(GL_BLEND);
+    glDisable(GL_DITHER);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  }
+
+  void clearDepth(const CameraIntrinsics& in) {
+    const GLfloat farDepth = in.znear / in.zfar;
+    glDepthMask(GL_TRUE);
+    glClearBufferfv(GL_DEPTH, 0, &farDepth);
+  }
+
+  // A pass's time: the host's wall clock from an idle pipeline to the pass's completion (glFinish
+  // on both sides), and the GL timer query of the same commands. On llvmpipe the query measured
+  // the submission only (30 ms for a pass that took seconds: it rasterizes later, at the flush),
+  // so the wall time is the pass's row; queryMs is kept beside it (a GPU's own clock).
+  double timed(const std::function<void()>& pass, double& queryMs) {
+    glFinish();
+    const auto t0 = Clock::now();
+    glBeginQuery(GL_TIME_ELAPSED, timer);
+    pass();
+    glEndQuery(GL_TIME_ELAPSED);
+    glFinish();
+    const double wallMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(timer, GL_QUERY_RESULT, &ns);
+    queryMs = double(ns) * 1e-6;
+    return wallMs;
+  }
+
+  void storageData(int binding, const void* data, size_t bytes) {
+    static const uint32_t kZero[4] = {0, 0, 0, 0};
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, storage[binding]);
+    // An empty array is one zero element, never read (an SSBO may not be empty).
+    glBufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(bytes ? bytes : sizeof kZero),
+                 bytes ? data : kZero, GL_STREAM_DRAW);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(binding), storage[binding]);
+  }
+  template <typename T>
+  void storeVector(int binding, const std::vector<T>& v) {
+    storageData(binding, v.data(), v.size() * sizeof(T));
   }
 
   template <typename T>
@@ -369,6 +518,140 @@ GlRasterizer::GlRasterizer(const Scene& scene) : state_(std::make_unique<State>(
 }
 
 GlRasterizer::~GlRasterizer() = default;
+
+void GlRasterizer::warmUpForward() {
+  if (state_->forwardProgram) return;
+  state_->buildForward();
+  // First small frames of each pass: drivers compile shader variants on first use (llvmpipe's
+  // JIT: hundreds of ms for the forward shader, again for the EQUAL variant), which belongs to
+  // setup, not to the first frame's pass times.
+  SceneCamera warmup;
+  const ViewLights none;
+  ForwardLighting lighting;
+  lighting.lights = &none;
+  ForwardLightGrid grid;
+  grid.tileW = grid.tileH = 8;
+  grid.tilesX = grid.tilesY = 1;
+  grid.offsets = grid.counts = {0};
+  double ms = 0.0;
+  depthPrepass(warmup, 8, 8, ms);
+  tiledForward(warmup, 8, 8, lighting, grid, true);
+  tiledForward(warmup, 8, 8, lighting, grid, false);
+}
+
+std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int width, int height,
+                                              double& ms) {
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+  if (width > state_->maxSize || height > state_->maxSize)
+    throw Error("--raster gl: " + std::to_string(width) + "x" + std::to_string(height) +
+                " exceeds this OpenGL implementation's limit");
+  EglContext::shared().makeCurrent();
+  State& s = *state_;
+  warmUpForward();
+  s.ensureForwardFramebuffer(width, height);
+  s.passState(in);
+  const GLenum buffers[2] = {GL_NONE, GL_COLOR_ATTACHMENT1};
+  glDrawBuffers(2, buffers);
+  const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  glClearBufferfv(GL_COLOR, 1, zero);
+  s.clearDepth(in);
+  glDepthFunc(GL_GREATER);
+  glUseProgram(s.depthProgram);
+  double queryMs = 0.0;
+  ms = s.timed([&] { s.drawScene(s.du, camera, in, false); }, queryMs);
+  gl::checkErrors("the depth pre-pass of scene '" + s.scene.name + "'");
+  std::vector<float> depth(size_t(width) * size_t(height));
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glBindTexture(GL_TEXTURE_2D, s.forwardTargets[1]);
+  glGetTexImage(GL_TEXTURE_2D, 0, GL_RED, GL_FLOAT, depth.data());
+  gl::checkErrors("reading back the pre-pass depth");
+  return depth;
+}
+
+ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, int height,
+                                        const ForwardLighting& lighting,
+                                        const ForwardLightGrid& grid, bool depthEqual) {
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+  const size_t tiles = size_t(grid.tilesX) * size_t(grid.tilesY);
+  if (!lighting.lights || grid.tileW < 1 || grid.tileH < 1 ||
+      grid.tilesX != (width + grid.tileW - 1) / grid.tileW ||
+      grid.tilesY != (height + grid.tileH - 1) / grid.tileH || grid.offsets.size() != tiles ||
+      grid.counts.size() != tiles)
+    throw Error("tiled forward: the light grid does not match the " + std::to_string(width) + "x" +
+                std::to_string(height) + " frame");
+  if (width > state_->maxSize || height > state_->maxSize)
+    throw Error("--raster gl: " + std::to_string(width) + "x" + std::to_string(height) +
+                " exceeds this OpenGL implementation's limit");
+  EglContext::shared().makeCurrent();
+  State& s = *state_;
+  warmUpForward();
+  if (depthEqual && (s.forwardWidth != width || s.forwardHeight != height))
+    throw Error("tiled forward with depth EQUAL needs a depth pre-pass of the same size first");
+  s.ensureForwardFramebuffer(width, height);
+
+  ForwardImage out;
+  const auto t0 = Clock::now();
+  const ViewLights& lights = *lighting.lights;
+  s.storeVector(kPosRange, lights.positionRange);
+  s.storeVector(kColor, lights.color);
+  s.storeVector(kSpot, lights.spot);
+  std::vector<glm::vec4> directional;
+  if (lighting.features.directional)
+    for (size_t k = 0; k < lights.directionalCount(); ++k) {
+      directional.push_back(lights.directionalDir[k]);
+      directional.push_back(lights.directionalColor[k]);
+    }
+  s.storeVector(kDirectional, directional);
+  std::vector<glm::uvec2> bins(tiles);
+  for (size_t t = 0; t < tiles; ++t) bins[t] = {grid.offsets[t], grid.counts[t]};
+  s.storeVector(kTileBins, bins);
+  s.storeVector(kTileLights, grid.lights);
+  const std::vector<uint32_t> work(tiles, 0);
+  s.storeVector(kTileWork, work);
+  gl::checkErrors("uploading the lights and the light grid");
+  out.uploadMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+
+  glUseProgram(s.forwardProgram);
+  auto at = [&](const char* name) { return glGetUniformLocation(s.forwardProgram, name); };
+  const SceneFeatures& f = lighting.features;
+  const bool metallicRoughness = f.model == ShadingModel::MetallicRoughness;
+  glUniform3fv(at("u_ambient"), 1, &lighting.ambient.x);
+  glUniform1i(at("u_dirLightCount"), GLint(directional.size() / 2));
+  glUniform3i(at("u_tiles"), grid.tileW, grid.tileH, grid.tilesX);
+  glUniform1i(at("u_model"), lighting.rangeModel);
+  glUniform1i(at("u_shading"), int(f.model));
+  glUniform1i(at("u_specularOn"), f.specular || metallicRoughness ? 1 : 0);
+  glUniform1i(at("u_spotOn"), f.spot ? 1 : 0);
+  glUniform1i(at("u_emissiveOn"), f.emissive ? 1 : 0);
+
+  s.passState(in);
+  const GLenum buffers[1] = {GL_COLOR_ATTACHMENT0};
+  glDrawBuffers(1, buffers);
+  const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  glClearBufferfv(GL_COLOR, 0, zero);
+  if (depthEqual) {
+    glDepthFunc(GL_EQUAL);
+    glDepthMask(GL_FALSE);
+  } else {
+    s.clearDepth(in);
+    glDepthFunc(GL_GREATER);
+  }
+  out.drawMs = s.timed([&] { s.drawScene(s.fu, camera, in, metallicRoughness); }, out.queryMs);
+  glDepthMask(GL_TRUE);
+  gl::checkErrors("the tiled forward pass of scene '" + s.scene.name + "'");
+
+  out.image.resize(size_t(width) * size_t(height));
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glBindTexture(GL_TEXTURE_2D, s.forwardTargets[0]);
+  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out.image.data());
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  std::vector<uint32_t> counted(tiles);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, s.storage[kTileWork]);
+  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(tiles * 4), counted.data());
+  for (uint32_t c : counted) out.lightingComputations += c;
+  gl::checkErrors("reading back the forward image");
+  return out;
+}
 
 std::string GlRasterizer::renderer() const { return EglContext::shared().renderer(); }
 

@@ -7,13 +7,26 @@
 //
 // How it matches the software rasterizer, and where it cannot: docs/opengl.md and the design
 // notes at the top of gl_rasterizer.cpp.
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "raster/rasterizer.h"
 #include "scene/scene.h"
+#include "scene/scene_features.h"
+#include "shading/forward_grid.h"
+#include "shading/view_lights.h"
 
 namespace ts {
+
+// What a forward pass shades with, as the kernels get it.
+struct ForwardLighting {
+  const ViewLights* lights = nullptr;  // view space
+  glm::vec3 ambient{0.0f};
+  SceneFeatures features;  // features.model: the materials' terms (RasterOptions::model)
+  int rangeModel = 0;      // TS_MODEL_* (kernels/shading.h)
+};
 
 class GlRasterizer {
  public:
@@ -33,10 +46,23 @@ class GlRasterizer {
   GBuffer rasterize(const SceneCamera& camera, int width, int height,
                     const RasterOptions& options = {});
 
+  // Tiled forward shading (shaders/tiled_forward.frag): the scene drawn once, each fragment
+  // shading its tile's lights with kernels/shading.h. depthEqual: after depthPrepass() of the same
+  // camera and size, with the depth test EQUAL (each pixel shaded once); else the depth test of
+  // the G-buffer pass (every fragment that passes it at its time is shaded). Needs OpenGL 4.3.
+  ForwardImage tiledForward(const SceneCamera& camera, int width, int height,
+                            const ForwardLighting& lighting, const ForwardLightGrid& grid,
+                            bool depthEqual);
+  // A depth-only pass: fills the depth buffer the next tiledForward(.., true) tests against and
+  // returns the linear view depth per pixel (0 = background), the G-buffer's depth plane.
+  // ms: the draw's wall-clock time (ForwardImage::drawMs).
+  std::vector<float> depthPrepass(const SceneCamera& camera, int width, int height, double& ms);
+
   std::string renderer() const;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   double setupMs() const { return setupMs_; }  // context (first use) + upload + shader build
 
  private:
+  void warmUpForward();  // builds the forward programs on first use, then a first small frame
   struct State;
   std::unique_ptr<State> state_;
   double setupMs_ = 0.0;

@@ -16,6 +16,35 @@ class GlRasterizer {
   GBuffer rasterize(const SceneCamera&, int, int, const RasterOptions&) { return {}; }
   std::string renderer() const { return {}; }
 };
+#else
+namespace {
+
+// One frame's camera in the OpenGL rasterizer's context.
+class GlForwardScene : public ForwardScene {
+ public:
+  GlForwardScene(GlRasterizer& gl, const SceneCamera& camera, int width, int height)
+      : gl_(gl), camera_(camera), width_(width), height_(height) {}
+  std::vector<float> depthPrepass(double& ms) override {
+    return gl_.depthPrepass(camera_, width_, height_, ms);
+  }
+  ForwardImage tiledForward(const ViewLights& lights, glm::vec3 ambient,
+                            const SceneFeatures& features, int rangeModel,
+                            const ForwardLightGrid& grid, bool depthEqual) override {
+    ForwardLighting lighting;
+    lighting.lights = &lights;
+    lighting.ambient = ambient;
+    lighting.features = features;
+    lighting.rangeModel = rangeModel;
+    return gl_.tiledForward(camera_, width_, height_, lighting, grid, depthEqual);
+  }
+
+ private:
+  GlRasterizer& gl_;
+  SceneCamera camera_;
+  int width_, height_;
+};
+
+}  // namespace
 #endif
 
 const EnumNames<RasterBackend>& rasterBackendNames() {
@@ -69,6 +98,17 @@ GBuffer SceneRasterizer::rasterize(const SceneCamera& camera, int width, int hei
                   "use --raster software");
   }
   return g;
+}
+
+std::unique_ptr<ForwardScene> SceneRasterizer::forwardScene(const SceneCamera& camera, int width,
+                                                            int height) {
+#ifdef TILESHADE_NO_GL
+  (void)camera, (void)width, (void)height;
+  return nullptr;
+#else
+  if (!gl_) return nullptr;
+  return std::make_unique<GlForwardScene>(*gl_, camera, width, height);
+#endif
 }
 
 std::string SceneRasterizer::description() const {

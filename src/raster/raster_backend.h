@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "raster/forward_scene.h"
 #include "raster/rasterizer.h"
 #include "scene/scene.h"
 #include "util/enum_names.h"
@@ -30,6 +31,11 @@ class SceneRasterizer {
 
   // ts::rasterize or GlRasterizer::rasterize.
   GBuffer rasterize(const SceneCamera& camera, int width, int height, const RasterOptions& options);
+
+  // The scene for the forward techniques at `camera` (DeviceFrame::forward), drawn by this
+  // rasterizer's OpenGL context; null for the software rasterizer (it draws no forward passes).
+  // The rasterizer must outlive it.
+  std::unique_ptr<ForwardScene> forwardScene(const SceneCamera& camera, int width, int height);
 
   const Scene& scene() const { return scene_; }
   RasterBackend backend() const { return backend_; }

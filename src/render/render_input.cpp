@@ -30,11 +30,14 @@ RenderInput loadImportedInput(const std::string& path, std::optional<GBufferForm
 
 RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
   RenderInput input;
-  Scene scene = loadScene(o.scene, o.sceneOptions());
+  input.scene = std::make_unique<Scene>(loadScene(o.scene, o.sceneOptions()));
+  Scene& scene = *input.scene;
   if (o.lightThreshold > 0.0f) applyThresholdRanges(scene.lights, o.lightThreshold);
   const SceneFeatures features = resolveFeatures(scene, o.shadingModel, o.features);
-  SceneRasterizer rasterizer(scene, o.raster);
+  input.rasterizer = std::make_unique<SceneRasterizer>(scene, o.raster);
+  SceneRasterizer& rasterizer = *input.rasterizer;
   input.frame = prepareFrame(rasterizer, frame, o.width, o.height, o.format, features);
+  input.forward = rasterizer.forwardScene(input.frame.camera, o.width, o.height);
   input.lightSummary = describeLights(scene.lights);
   input.sceneName = scene.name;
   input.triangles = scene.triangleCount();

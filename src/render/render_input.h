@@ -2,9 +2,12 @@
 // Where a frame comes from: a scene rasterized by the software or the OpenGL rasterizer
 // (--raster), or a G-buffer imported from files (--gbuffer-in). The API's Frame::fromScene and
 // Frame::fromFiles (src/api/) are these.
+#include <memory>
 #include <optional>
 #include <string>
 
+#include "raster/forward_scene.h"
+#include "raster/raster_backend.h"
 #include "render/frame_setup.h"
 #include "render/pipeline_options.h"
 
@@ -18,6 +21,12 @@ struct RenderInput {
   std::string rasterDetail;    // "software", "gl: <GL_RENDERER>", or the descriptor's path
   double rasterSetupMs = 0.0;  // one-time cost before the frame (OpenGL context, upload)
   std::string lightSummary;    // "924 lights" or "12 lights: 6 point, 5 spot, 1 directional"
+  // The scene and its rasterizer, kept for the forward techniques, which draw the scene
+  // (DeviceFrame::forward): `forward` is set for a scene rasterized with --raster gl, null for
+  // the software rasterizer and an imported G-buffer (no scene).
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<SceneRasterizer> rasterizer;
+  std::unique_ptr<ForwardScene> forward;
 };
 
 // Frame `frame` of the scene `o` describes, rasterized; its features are the scene's

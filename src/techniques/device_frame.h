@@ -8,6 +8,7 @@
 #include "cl/cl_context.h"
 #include "gbuffer/gbuffer_layout.h"
 #include "scene/scene.h"
+#include "raster/forward_scene.h"
 #include "shading/view_lights.h"
 
 namespace ts {
@@ -19,6 +20,9 @@ struct DeviceFrame {
   const ViewLights* lights = nullptr;       // host copy of what was uploaded
   CameraIntrinsics camera;
   glm::vec3 ambient{0.0f};
+  // The scene to draw, for the forward techniques (raster/forward_scene.h): set where the frame
+  // was rasterized from a scene with OpenGL, null otherwise (software raster, imported G-buffer).
+  ForwardScene* forward = nullptr;
 
   cl::Buffer depth, normal, diffuse, specular, emissive;  // G-buffer planes (absent: 1 element)
   cl::Buffer lightPositionRange, lightColor, lightSpot;   // at least one element each

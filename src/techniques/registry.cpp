@@ -34,6 +34,20 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
        [](ClContext& cl, const TechniqueConfig& c) { return makeDeferredTechnique(cl, c, true); }},
       {"brute", "every light for every pixel, range test only: the naive baseline",
        makeBruteTechnique, 16},
+      {"tiled-forward",
+       "tiled forward (needs --raster gl): tiled's light grid binned by screen rectangle only (no "
+       "depth range), the scene drawn once in OpenGL, each fragment shading its tile's lights",
+       [](ClContext& cl, const TechniqueConfig& c) {
+         return makeTiledForwardTechnique(cl, c, false);
+       },
+       1, true},
+      {"tiled-forward-prez",
+       "tiled forward with a depth pre-pass (needs --raster gl): pre-pass depth -> tiled's depth "
+       "bounds and binning kernels, then the forward pass with depth test EQUAL",
+       [](ClContext& cl, const TechniqueConfig& c) {
+         return makeTiledForwardTechnique(cl, c, true);
+       },
+       1, true},
   };
   return registry;
 }
@@ -41,6 +55,13 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
 std::vector<std::string> techniqueNames() {
   std::vector<std::string> names;
   for (const auto& t : techniqueRegistry()) names.push_back(t.name);
+  return names;
+}
+
+std::vector<std::string> gbufferTechniqueNames() {
+  std::vector<std::string> names;
+  for (const auto& t : techniqueRegistry())
+    if (!t.drawsScene) names.push_back(t.name);
   return names;
 }
 

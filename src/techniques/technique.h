@@ -126,10 +126,16 @@ struct TechniqueInfo {
   // Lanes for TechniqueConfig::lanes = 0 (auto) on a CPU device: the measured faster choice
   // (bench/RESULTS.md); GPUs always get 1.
   int autoLanesOnCpu = 1;
+  // Draws the scene (the forward family) instead of reading the G-buffer: runs only on frames
+  // with a DeviceFrame::forward scene (`--raster gl`); `all` leaves it out elsewhere.
+  bool drawsScene = false;
 };
 
 const std::vector<TechniqueInfo>& techniqueRegistry();
 std::vector<std::string> techniqueNames();
+// The techniques that shade the frame's G-buffer (all but the drawsScene ones): what `all` means
+// where the frame has no scene to draw (software raster, imported G-buffer, bench, check).
+std::vector<std::string> gbufferTechniqueNames();
 // Both throw ts::Error naming the known techniques when `name` is not one of them.
 const TechniqueInfo& findTechnique(const std::string& name);
 // Throws ts::Error naming the known techniques when `name` is not one of them, or for a bad

@@ -11,5 +11,7 @@ std::unique_ptr<Technique> makeClusteredTechnique(ClContext& cl, const Technique
 std::unique_ptr<Technique> makeTiledSingleTechnique(ClContext& cl, const TechniqueConfig& config);
 std::unique_ptr<Technique> makeBruteTechnique(ClContext& cl, const TechniqueConfig& config);
 std::unique_ptr<Technique> makeDeferredTechnique(ClContext&, const TechniqueConfig&, bool stencil);
+// prez: tiled-forward-prez (depth pre-pass, tile depth bounds, depth EQUAL); else tiled-forward.
+std::unique_ptr<Technique> makeTiledForwardTechnique(ClContext&, const TechniqueConfig&, bool prez);
 
 }  // namespace ts

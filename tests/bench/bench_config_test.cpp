@@ -55,7 +55,7 @@ TEST(BenchSweep, DefaultsDuplicatesAndAll) {
   EXPECT_EQ(ts::expandSweep(s).size(), 1u);  // the same configuration
   BenchSweep all;
   all.set("technique", {"all"});
-  EXPECT_EQ(ts::expandSweep(all).size(), ts::techniqueNames().size());
+  EXPECT_EQ(ts::expandSweep(all).size(), ts::gbufferTechniqueNames().size());
   // The key is stable and names every dimension (but those added later, at their default).
   std::string key = one[0].key();
   for (const auto& d : ts::benchDimensions())

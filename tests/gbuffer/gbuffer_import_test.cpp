@@ -92,7 +92,7 @@ TEST(GBufferImport, DumpRoundTripsExactlyInEveryLayoutForEveryTechnique) {
       TechniqueConfig config;
       config.format = format;
       config.lanes = lanes;
-      for (const auto& name : techniqueNames()) {
+      for (const auto& name : gbufferTechniqueNames()) {
         Technique& t = test::cachedTechnique(name, config);
         const FrameResult a = test::renderOnly(original, t, false);
         const FrameResult b = test::renderOnly(imported.frame, t, false);

@@ -607,7 +607,7 @@ TEST(GlRaster, ImagesFromTheOpenGLGBufferPassTheReferenceChecks) {
     const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
     TechniqueConfig config;
     config.format = format;
-    for (const auto& name : techniqueNames()) {
+    for (const auto& name : gbufferTechniqueNames()) {
       test::Checked c = test::renderAndCheck(f, test::cachedTechnique(name, config), ref);
       EXPECT_EQ(c.missed, 0u) << name << " " << toString(format);
       EXPECT_LE(c.error.maxRelPeak, test::kFp32RelativeTolerance)

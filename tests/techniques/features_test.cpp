@@ -92,8 +92,8 @@ TEST_P(SpecialisedPipeline, SameImageAsTheGeneralOne) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryTechnique, SpecialisedPipeline, ::testing::ValuesIn(techniqueNames()),
-                         [](const auto& info) {
+INSTANTIATE_TEST_SUITE_P(EveryTechnique, SpecialisedPipeline,
+                         ::testing::ValuesIn(gbufferTechniqueNames()), [](const auto& info) {
                            std::string n = info.param;
                            for (char& ch : n)
                              if (ch == '-') ch = '_';
@@ -147,7 +147,7 @@ std::vector<LightCase> lightCases() {
 }
 
 INSTANTIATE_TEST_SUITE_P(Variants, EveryTechniqueWithLightTypes,
-                         ::testing::Combine(::testing::ValuesIn(techniqueNames()),
+                         ::testing::Combine(::testing::ValuesIn(gbufferTechniqueNames()),
                                             ::testing::ValuesIn(lightCases())),
                          [](const auto& info) {
                            std::string n =
@@ -197,7 +197,7 @@ TEST(SpotCulling, ConesAroundTheCameraMissNothing) {
       PreparedFrame f = prepareFrame(scene, 0, 128, 80, GBufferFormat::FP32, need);
       ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
       ASSERT_GT(ref.contributing, 0u);
-      for (const auto& technique : techniqueNames()) {
+      for (const auto& technique : gbufferTechniqueNames()) {
         for (const char* cull : {"cone", "bound-sphere"}) {
           TechniqueConfig config;
           config.features = need;
@@ -277,7 +277,7 @@ TEST(RealContentInItsOwnModel, EveryTechniqueMatchesTheReference) {
     PreparedFrame f = prepareFrame(scene, 0, 128, 80, GBufferFormat::FP16, need);
     ASSERT_GT(f.gbuffer.geometryPixels(), 0u) << r.path;
     ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
-    for (const auto& name : techniqueNames()) {
+    for (const auto& name : gbufferTechniqueNames()) {
       TechniqueConfig config;
       config.format = GBufferFormat::FP16;
       config.features = need;

@@ -44,7 +44,7 @@ TEST(Lanes, EveryWidthGivesThePerPixelImage) {
     config.tileWidth = 10;
     config.tileHeight = 6;
     config.rangeModel = model;
-    for (const auto& name : techniqueNames()) {
+    for (const auto& name : gbufferTechniqueNames()) {
       FrameResult one = render(f, name, config, 1);
       ASSERT_TRUE(allFinite(one.image)) << name;
       for (int lanes : {16, 8, 4, 2}) {
@@ -116,7 +116,7 @@ TEST(Lanes, LightExactlyOnASurfacePointStaysFinite) {
 // lights), 1 for the rest and on GPUs.
 TEST(Lanes, AutoPicksTheFasterWidthPerTechniqueAndDevice) {
   bool gpu = test::context().isGpu();
-  for (const auto& name : techniqueNames()) {
+  for (const auto& name : gbufferTechniqueNames()) {
     auto t = createTechnique(name, test::context(), TechniqueConfig{});
     bool lanes =
         name == "tiled" || name == "tiled-single" || name == "clustered" || name == "brute";

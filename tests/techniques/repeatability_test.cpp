@@ -28,7 +28,7 @@ bool sameBits(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b) 
 void expectRepeatable(const Scene& scene, int width, int height, const std::string& label) {
   for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16, GBufferFormat::PACKED}) {
     PreparedFrame f = prepareFrame(scene, 0, width, height, format);
-    for (const std::string& name : techniqueNames()) {
+    for (const std::string& name : gbufferTechniqueNames()) {
       for (int lanes : {1, 16}) {
         TechniqueConfig config;
         config.format = format;

@@ -82,7 +82,7 @@ std::vector<Case> everyTechniqueCases() {
       {"", "atrium", "big", 70, 64, GBufferFormat::FP16},
   };
   std::vector<Case> cases;
-  for (const auto& name : techniqueNames())
+  for (const auto& name : gbufferTechniqueNames())
     for (Case c : shapes) {
       c.technique = name;
       cases.push_back(c);

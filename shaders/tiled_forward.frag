@@ -1,0 +1,100 @@
+#version 430 core
+// Tiled forward shading (Olsson & Assarsson's TiledFwd; src/raster/gl_forward.cpp): the scene
+// drawn once, each fragment forms its material planes (material_planes.h, as the G-buffer pass
+// does), then sums the lights of its screen tile's list (the OpenCL binning kernels' grid,
+// copied into shader storage buffers) with kernels/shading.h compiled as GLSL: the same shading
+// function as every technique and the reference.
+
+// The depth test before the shader runs (a shader with buffer writes otherwise runs for every
+// fragment): with the pre-pass's EQUAL test each pixel is shaded once, without it each fragment
+// that passes the test at its turn (later overwritten ones included, as the paper counts them).
+layout(early_fragment_tests) in;
+
+in vec3 v_viewPosition;  // perspective-correct ("smooth")
+in vec3 v_normal;
+in vec2 v_uv;
+
+layout(location = 0) out vec4 o_color;
+
+struct TsMaterial {
+  vec3 diffuse;
+  vec3 specular;
+  float shininess;
+  vec3 baseColor;
+  float metallic;
+  float roughness;
+  vec3 emissive;
+};
+
+uniform TsMaterial u_material;
+uniform bool u_doubleSided;
+uniform bool u_metallicRoughness;
+uniform sampler2D u_texture[4];
+uniform bool u_hasTexture[4];
+
+#define TS_SAMPLE(slot) (u_hasTexture[slot] ? textureLod(u_texture[slot], v_uv, 0.0) : vec4(1.0))
+#include "material_planes.h"
+#include "surface_normal.h"
+#include "opencl_as_glsl.h"
+#include "kernels/shading.h"
+
+layout(std430, binding = 0) readonly buffer LightPosRange { vec4 light_pos_range[]; };
+layout(std430, binding = 1) readonly buffer LightColor { vec4 light_color[]; };
+layout(std430, binding = 2) readonly buffer LightSpot { vec4 light_spot[]; };
+layout(std430, binding = 3) readonly buffer DirLights { vec4 dir_light[]; };  // dir, colour pairs
+layout(std430, binding = 4) readonly buffer TileBins { uvec2 tile_bin[]; };  // (offset, count)
+layout(std430, binding = 5) readonly buffer TileLights { uint tile_lights[]; };
+// Lighting computations, the paper's Figure 3 count: fragment invocations x lights evaluated
+// (fragments later overwritten included), per tile so no counter wraps and few collide.
+layout(std430, binding = 6) buffer TileWork { uint tile_work[]; };
+
+uniform vec3 u_ambient;
+uniform int u_dirLightCount;
+uniform ivec3 u_tiles;  // tile width, height, tiles per row
+uniform int u_model;
+uniform int u_shading;
+uniform int u_specularOn;
+uniform int u_spotOn;
+uniform int u_emissiveOn;
+
+void main() {
+  vec3 faceNormal = cross(dFdx(v_viewPosition), dFdy(v_viewPosition));
+  vec3 N = ts_surface_normal(v_normal, faceNormal, v_viewPosition, u_doubleSided);
+  TsMaterialPlanes planes = ts_material_planes(u_metallicRoughness, u_material);
+  // The position interpolated from the vertices (forward shading's own), not rebuilt from depth.
+  vec3 P = v_viewPosition;
+  vec3 V = normalize(-P);
+  vec3 c_diff, kd, ks;
+  float gloss, view_term = 1.0;
+  if (u_shading == TS_SHADING_METALLIC_ROUGHNESS) {
+    ts_metallic_roughness_terms(planes.diffuse.xyz, planes.diffuse.w, planes.specular.x, c_diff,
+                                kd, ks, gloss);
+    view_term = ts_smith_view_term(N, V, gloss);
+  } else {
+    c_diff = kd = planes.diffuse.xyz;
+    vec4 spec = u_specularOn != 0 ? planes.specular : vec4(0.0, 0.0, 0.0, 1.0);
+    ks = spec.xyz;
+    gloss = spec.w;
+  }
+  vec3 ke = u_emissiveOn != 0 ? planes.emissive.xyz : vec3(0.0);
+  ts_shading_point p = ts_make_shading_point(P, N, V, gloss, u_shading);
+  p.view_term = view_term;
+
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  int tile = (pixel.y / u_tiles.y) * u_tiles.z + pixel.x / u_tiles.x;
+  uvec2 bin = tile_bin[tile];
+  vec3 sum = vec3(0.0);
+  for (uint k = 0u; k < bin.y; ++k) {
+    uint i = tile_lights[bin.x + k];
+    vec4 spot = u_spotOn != 0 ? light_spot[i] : vec4(0.0, 0.0, 0.0, -1.0);
+    sum += ts_punctual_light(p, kd, ks, light_pos_range[i], light_color[i], spot, u_model,
+                             u_shading, u_specularOn, u_spotOn);
+  }
+  vec3 directional = vec3(0.0);
+  for (int k = 0; k < u_dirLightCount; ++k)
+    directional += ts_directional_light(p, kd, ks, dir_light[2 * k].xyz, dir_light[2 * k + 1].xyz,
+                                        u_shading, u_specularOn);
+  atomicAdd(tile_work[tile], bin.y + uint(u_dirLightCount));
+  sum += directional + ts_surface_base(ke, c_diff, u_ambient);
+  o_color = vec4(sum, 0.0);
+}

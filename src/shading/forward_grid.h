@@ -1,0 +1,29 @@
+#pragma once
+// What a tiled forward pass reads and returns (shared by the techniques, which build the grid with
+// the OpenCL binning kernels, and the OpenGL rasterizer, which draws with it).
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace ts {
+
+// The tile light grid, copied to the host: tiles of tileW x tileH pixels, row-major from the top
+// left; tile t's lights are lights[offsets[t] .. offsets[t] + counts[t]), indices into the
+// frame's ViewLights.
+struct ForwardLightGrid {
+  int tileW = 16, tileH = 16, tilesX = 0, tilesY = 0;
+  std::vector<uint32_t> offsets, counts, lights;
+};
+
+// A forward pass's output.
+struct ForwardImage {
+  std::vector<glm::vec4> image;  // rgb, a = 0; row 0 at the top; background 0
+  double drawMs = 0.0;           // the draw: host wall clock, glFinish before and after
+  double queryMs = 0.0;   // the same draw by an OpenGL timer query (llvmpipe: submission only)
+  double uploadMs = 0.0;  // lights and grid into shader storage (host clock)
+  uint64_t lightingComputations = 0;  // fragment invocations x lights evaluated (an atomic
+                                      // counter per tile in the fragment shader)
+};
+
+}  // namespace ts
