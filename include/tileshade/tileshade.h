@@ -273,7 +273,7 @@ struct CheckReport {
 struct ShadeResult {
   std::string technique;
   int width = 0, height = 0;
-  std::vector<float> rgba;  // linear RGB + unused alpha (1), 4 floats per pixel, rows top first
+  std::vector<float> rgba;  // linear RGB + a meaningless alpha, 4 floats a pixel, rows top first
   std::vector<KernelTiming> kernels;
   double totalMs = 0.0;  // sum of the kernel times
   int lanes = 1;         // as it ran
