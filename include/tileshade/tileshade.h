@@ -27,6 +27,12 @@
 #include <string>
 #include <vector>
 
+// The OpenCL types of the cl_mem / cl_context entry points are OpenCL 1.2's (the level tileshade
+// targets); an includer that wants another level defines CL_TARGET_OPENCL_VERSION first. Without
+// it, cl_version.h would print a note in every file that includes this header.
+#ifndef CL_TARGET_OPENCL_VERSION
+#define CL_TARGET_OPENCL_VERSION 120
+#endif
 #include <CL/cl.h>
 
 #include "tileshade/error.h"
