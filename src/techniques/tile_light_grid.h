@@ -1,0 +1,57 @@
+#pragma once
+// The light grid of the techniques built on kernels/tiled.cl (`tiled`, `tiled-forward`,
+// `tiled-forward-prez`): Olsson & Assarsson's per-tile depth range, per-tile (count, offset) and
+// tile light index list. One copy of the launches, so every technique on this grid clears, bounds
+// and bins it the same way, and a change to the binning is made once.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "techniques/tile_grid.h"
+
+namespace ts {
+
+class TileLightGrid {
+ public:
+  // `program`: kernels/tiled.cl built with the technique's TILE_W and TILE_H.
+  TileLightGrid(ClContext& cl, const cl::Program& program);
+
+  // (Re)allocates the per-tile buffers for a frame of this size; false when they already fit.
+  bool allocate(int width, int height, int tileW, int tileH);
+  // Grows the list to the frame's upper bound (tileListBound): saves a first frame's rerun.
+  void presize(const DeviceFrame& frame, int spotCulling);
+
+  // One frame's grid, in launch order: clear the per-tile counters, give every tile a depth range
+  // (from a linear depth plane, or the camera's whole range), then bin the lights.
+  void enqueueClear(FrameTimer& timer);
+  void enqueueDepthBounds(const cl::Buffer& linearDepth, int width, int height, FrameTimer& timer);
+  void enqueueWholeDepthRange(float znear, float zfar, FrameTimer& timer);
+  void enqueueBinning(const DeviceFrame& frame, FrameTimer& timer);
+
+  // runUntilListFits on this grid's list: `enqueueFrame` clears the timer and enqueues the whole
+  // frame, grid included. Returns the list's total entries.
+  uint32_t runUntilListFits(const std::function<void()>& enqueueFrame,
+                            std::vector<std::string>& notes);
+
+  const TileGrid& grid() const { return grid_; }
+  // The grid as the shading passes read it (kernels/light_lists.h).
+  const cl::Buffer& counts() const { return count_; }
+  const cl::Buffer& offsets() const { return offset_; }
+  const cl::Buffer& lights() const { return lights_; }
+  cl_uint capacity() const { return cl_uint(capacity_); }
+
+  // Host copies, after the queue has finished the frame.
+  std::vector<uint32_t> readCounts() const;
+  std::vector<uint32_t> readOffsets() const;
+  std::vector<uint32_t> readLights(uint32_t total) const;
+
+ private:
+  ClContext& cl_;
+  cl::Kernel depthBounds_, bin_, scan_, sort_;
+  TileGrid grid_;
+  cl::Buffer depth_, count_, offset_, cursor_, total_, lights_;
+  size_t capacity_ = 0;
+};
+
+}  // namespace ts
