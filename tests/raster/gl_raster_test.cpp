@@ -21,22 +21,13 @@
 #include "raster/gl_rasterizer.h"
 #include "raster/raster_backend.h"
 #include "reference_check.h"
+#include "require_gl.h"
 #include "scene/scene_features.h"
 #include "shaders/material_planes.h"
 #include "util/error.h"
 
 namespace ts {
 namespace {
-
-// Skips the calling test, saying why, when no OpenGL context can be made here.
-#define REQUIRE_GL()            \
-  do {                          \
-    try {                       \
-      EglContext::shared();     \
-    } catch (const Error& e) {  \
-      GTEST_SKIP() << e.what(); \
-    }                           \
-  } while (0)
 
 // ---- The per-pixel bound (docs/opengl.md) ----------------------------------------------------
 //

@@ -13,20 +13,12 @@
 #include "raster/egl_context.h"
 #include "raster/gl_gbuffer_shading.h"
 #include "reference_check.h"
+#include "require_gl.h"
 #include "util/error.h"
 #include "util/file_read.h"
 
 namespace ts {
 namespace {
-
-#define REQUIRE_GL()            \
-  do {                          \
-    try {                       \
-      EglContext::shared();     \
-    } catch (const Error& e) {  \
-      GTEST_SKIP() << e.what(); \
-    }                           \
-  } while (0)
 
 // Sets an environment variable for one scope.
 class ScopedEnv {

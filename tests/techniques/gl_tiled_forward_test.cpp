@@ -13,19 +13,11 @@
 #include "raster/egl_context.h"
 #include "raster/raster_backend.h"
 #include "reference_check.h"
+#include "require_gl.h"
 #include "util/error.h"
 
 namespace ts {
 namespace {
-
-#define REQUIRE_GL()            \
-  do {                          \
-    try {                       \
-      EglContext::shared();     \
-    } catch (const Error& e) {  \
-      GTEST_SKIP() << e.what(); \
-    }                           \
-  } while (0)
 
 // The bound. The forward pass shades the position its vertices interpolate (float), the
 // reference the position rebuilt from the stored depth (double, from the same fragment's
