@@ -4,7 +4,6 @@
 // G-buffers come from numpy planes (python_planes.h). A ts::Error is tileshade.Error (a
 // RuntimeError) with the same one line the command prints.
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include <pybind11/numpy.h>
@@ -60,10 +59,12 @@ ts::Frame frameFromScene(ts::Device& device, const ts::SceneRequest& request) {
   return ts::Frame::fromScene(device, request);
 }
 
-// A bench config as JSON text: a dict (through Python's json), a JSON document, or a file's path.
-std::string benchConfigText(py::handle config) {
+// A bench config: a dict (as JSON through Python's json) or a JSON document into configJson, or a
+// file's path into configPath (read by the library, as `bench --config` reads it).
+void setBenchConfig(py::handle config, ts::BenchRequest& request) {
   if (py::isinstance<py::dict>(config)) {
-    return py::module_::import("json").attr("dumps")(config).cast<std::string>();
+    request.configJson = py::module_::import("json").attr("dumps")(config).cast<std::string>();
+    return;
   }
   if (!py::isinstance<py::str>(config)) {
     throw py::type_error("bench: config: expected a dict, a JSON document or a path, got " +
@@ -71,17 +72,13 @@ std::string benchConfigText(py::handle config) {
   }
   const std::string text = config.cast<std::string>();
   const size_t first = text.find_first_not_of(" \t\r\n");
-  if (first != std::string::npos && text[first] == '{') return text;
-  std::ifstream in(text, std::ios::binary);
-  if (!in) throw ts::Error("cannot read bench config " + text);
-  std::ostringstream content;
-  content << in.rdbuf();
-  return content.str();
+  if (first != std::string::npos && text[first] == '{') request.configJson = text;
+  else request.configPath = text;
 }
 
 py::list bench(py::handle config, const std::string& outDir, bool calibrate, bool quiet) {
   ts::BenchRequest request;
-  request.configJson = benchConfigText(config);
+  setBenchConfig(config, request);
   request.outDir = outDir;
   request.calibrate = calibrate;
   request.quiet = quiet;

@@ -321,6 +321,7 @@ class Renderer {
 // as its text, keyed by column name (docs/output-formats.md lists the columns).
 struct BenchRequest {
   std::string configJson;  // a --config document: dimension names as keys, frames, repeat, ...
+  std::string configPath;  // or a --config file's path (then configJson stays empty)
   std::string outDir;      // bench.csv, bench.json, summary.csv (replaced when there)
   bool calibrate = false;  // the device-limit calibration behind the limit_pct columns (seconds)
   bool quiet = true;       // no progress on stderr

@@ -6,14 +6,23 @@
 #include "bench/bench_run.h"
 #include "bench/bench_stats.h"
 #include "util/error.h"
+#include "util/file_read.h"
 
 namespace ts {
 
 std::vector<std::map<std::string, std::string>> runBench(const BenchRequest& request) {
   if (request.outDir.empty()) throw Error("runBench: outDir is empty (where bench.csv goes)");
+  if (!request.configJson.empty() && !request.configPath.empty())
+    throw Error("runBench: give configJson or configPath, not both");
+  // A file is read as `bench --config` reads it (a directory or a missing file: one line naming
+  // it); errors in the document name the file, or say it was the configJson text.
+  const bool fromFile = !request.configPath.empty();
+  const std::string text =
+      fromFile ? readTextFile(request.configPath, "bench config") : request.configJson;
   BenchOptions o;
   // No command line: every field of the document applies.
-  applyBenchConfig(request.configJson, "bench config", o, [](const std::string&) { return false; });
+  applyBenchConfig(text, fromFile ? request.configPath : "(runBench's configJson)", o,
+                   [](const std::string&) { return false; });
   o.outDir = request.outDir;
   o.overwrite = true;
   o.calibrate = request.calibrate;

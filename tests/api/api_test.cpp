@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <string>
 #include <vector>
@@ -330,6 +331,30 @@ TEST(Api, RunBenchReturnsTheRowsOfBenchCsv) {
   EXPECT_TRUE(std::filesystem::exists(dir / "bench.csv"));
   request.configJson = R"({"technique": "nope"})";
   EXPECT_NE(errorOf([&] { runBench(request); }).find("nope"), std::string::npos);
+}
+
+// The document's origin in its errors: the configJson text or the file; a folder given as the
+// file is one line saying so, not a JSON parse error of nothing.
+TEST(Api, RunBenchNamesWhereItsConfigCameFrom) {
+  const auto dir = test::freshDir("api", "bench-config");
+  BenchRequest request;
+  request.outDir = (dir / "out").string();
+  request.configJson = R"({"technique": ["tiled"], "technique": ["brute"]})";
+  const std::string twice = errorOf([&] { runBench(request); });
+  EXPECT_NE(twice.find("(runBench's configJson)"), std::string::npos) << twice;
+  EXPECT_NE(twice.find("appears twice"), std::string::npos) << twice;
+  EXPECT_EQ(twice.find("bench config bench config"), std::string::npos) << twice;
+  request.configPath = dir.string();
+  EXPECT_NE(errorOf([&] { runBench(request); }).find("not both"), std::string::npos);
+  request.configJson.clear();
+  const std::string folder = errorOf([&] { runBench(request); });
+  EXPECT_NE(folder.find("is a directory"), std::string::npos) << folder;
+  const auto file = dir / "config.json";
+  std::ofstream(file) << R"({"frames": "1", "frames": "2"})";
+  request.configPath = file.string();
+  const std::string bad = errorOf([&] { runBench(request); });
+  EXPECT_NE(bad.find(file.string()), std::string::npos) << bad;
+  EXPECT_NE(bad.find("\"frames\" appears twice"), std::string::npos) << bad;
 }
 
 TEST(Api, ListsDevicesAndTechniques) {
