@@ -53,6 +53,11 @@ struct Frame::Impl {
   std::optional<DeviceGBuffer> devicePlanes;  // Frame::fromDevice: the caller's buffers
   bool hostPlanesComplete = true;
   std::optional<FrameReferences> references;  // computed at the first check
+  // A technique that draws the scene (forward) reads no G-buffer, so the frame's layout does not
+  // quantize its surfaces: its references are those of the rasterization's fp32 planes. Computed
+  // at its first check, and only for a frame whose layout is not fp32 (else `references`).
+  std::optional<FrameReferences> drawnReferences;
+  std::optional<EncodedGBuffer> fp32Planes;  // the fp32 encoding behind drawnReferences
   // Frame::fromScene: the scene and its rasterizer, kept alive for the techniques that draw it
   // (onDevice.forward; null unless rasterized with --raster gl).
   std::unique_ptr<Scene> scene;
@@ -63,11 +68,16 @@ struct Frame::Impl {
   void readHostPlanes();
   // Computed at the first call (seconds to minutes for big frames), then cached; `pass` gives
   // each of the three passes its row progress (empty: none).
-  const FrameReferences& ensureReferences(const PassProgress& pass = {});
+  const FrameReferences& ensureReferences(const PassProgress& pass = {}, bool drawsScene = false);
+  // The planes a technique shades: the frame's layout, or its fp32 encoding for one that draws
+  // the scene (the reference and the missed-contribution count use the same ones).
+  const EncodedGBuffer& planesShadedBy(bool drawsScene);
 };
 
 // The frame's references (computed now if no check asked for them yet): the command's heatmap.
-const FrameReferences& frameReferences(const Frame& frame, const PassProgress& pass = {});
+// drawsScene: those of a technique that draws the scene (TechniqueDescription::drawsScene).
+const FrameReferences& frameReferences(const Frame& frame, const PassProgress& pass = {},
+                                       bool drawsScene = false);
 // `render --gbuffer-in --features`: the features an imported frame's kernels model, instead of
 // its files' own (chooseFeatures). Throws ts::Error on a bad spec.
 void overrideFrameFeatures(Frame& frame, const std::string& features);

@@ -426,9 +426,18 @@ void Frame::Impl::readHostPlanes() {
   hostPlanesComplete = true;
 }
 
-const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass) {
-  if (references) return *references;
+const EncodedGBuffer& Frame::Impl::planesShadedBy(bool drawsScene) {
   readHostPlanes();
+  if (!drawsScene || prepared.encoded.format == GBufferFormat::FP32) return prepared.encoded;
+  if (!fp32Planes) fp32Planes = encode(prepared.gbuffer, GBufferFormat::FP32);
+  return *fp32Planes;
+}
+
+const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass, bool drawsScene) {
+  const bool drawn = drawsScene && prepared.encoded.format != GBufferFormat::FP32;
+  std::optional<FrameReferences>& cached = drawn ? drawnReferences : references;
+  if (cached) return *cached;
+  const EncodedGBuffer& planes = planesShadedBy(drawsScene);
   const PreparedFrame& p = prepared;
   const int model = int(RangeModel::Windowed);
   auto progress = [&](const char* label) { return pass ? pass(label) : RowProgress(); };
@@ -437,23 +446,29 @@ const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass) {
           sizeText(p.intrinsics.width, p.intrinsics.height) + " frame",
       [&] {
         FrameReferences r;
-        r.reference = shadeReference(p.encoded, p.intrinsics, p.lights, p.ambient, model, 0,
+        r.reference = shadeReference(planes, p.intrinsics, p.lights, p.ambient, model, 0,
                                      progress("windowed model"));
-        r.shadingOnly = shadeReference(p.encoded, p.intrinsics, p.lights, p.ambient, model, 0,
+        r.shadingOnly = shadeReference(planes, p.intrinsics, p.lights, p.ambient, model, 0,
                                        progress("windowed model, kernel positions"),
                                        ReferencePositions::KernelFloat);
-        const EncodedGBuffer fp32 = p.encoded.format == GBufferFormat::FP32
-                                        ? p.encoded
-                                        : encode(p.gbuffer, GBufferFormat::FP32);
-        r.physical = shadeReference(fp32, p.intrinsics, p.lights, p.ambient,
-                                    int(RangeModel::Physical), 0, progress("physical model"));
-        references = std::move(r);
+        if (drawn) {
+          r.physical = shadeReference(planes, p.intrinsics, p.lights, p.ambient,
+                                      int(RangeModel::Physical), 0, progress("physical model"));
+        } else {
+          const EncodedGBuffer fp32 = p.encoded.format == GBufferFormat::FP32
+                                          ? p.encoded
+                                          : encode(p.gbuffer, GBufferFormat::FP32);
+          r.physical = shadeReference(fp32, p.intrinsics, p.lights, p.ambient,
+                                      int(RangeModel::Physical), 0, progress("physical model"));
+        }
+        cached = std::move(r);
       });
-  return *references;
+  return *cached;
 }
 
-const FrameReferences& frameReferences(const Frame& frame, const PassProgress& pass) {
-  return frame.impl()->ensureReferences(pass);
+const FrameReferences& frameReferences(const Frame& frame, const PassProgress& pass,
+                                       bool drawsScene) {
+  return frame.impl()->ensureReferences(pass, drawsScene);
 }
 
 void overrideFrameFeatures(Frame& frame, const std::string& features) {

@@ -116,7 +116,8 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
     const TechniqueConfig config = impl_->configFor(frame);
     out.kernelOptions = config.kernelOptions();
     if (options.check) {
-      const FrameReferences& refs = f.ensureReferences();
+      const bool drawsScene = findTechnique(impl_->settings.technique).drawsScene;
+      const FrameReferences& refs = f.ensureReferences({}, drawsScene);
       CheckReport check;
       check.error = compared(r.image, refs.reference);
       check.shadingError = compared(r.image, refs.shadingOnly);
@@ -125,8 +126,8 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
       check.referencePeak = refs.reference.peak;
       if (r.assignment) {
         const PreparedFrame& p = f.prepared;
-        check.missed = countMissedContributions(*r.assignment, p.encoded, p.intrinsics, p.lights,
-                                                int(config.rangeModel));
+        check.missed = countMissedContributions(*r.assignment, f.planesShadedBy(drawsScene),
+                                                p.intrinsics, p.lights, int(config.rangeModel));
       } else {
         check.missedCounted = false;
       }

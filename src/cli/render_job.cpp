@@ -254,7 +254,10 @@ void runRender(const RenderOptions& options) {
       errorPhysical = errorStats(r.check->physicalError);
       if (r.check->missedCounted) missed = r.check->missed;
       if (o.heatmap) {
-        const ReferenceImage& reference = references->reference;
+        // A technique that draws the scene has its own references (fp32 planes; the check's).
+        const ReferenceImage& reference = findTechnique(name).drawsScene
+                                              ? frameReferences(frame, {}, true).reference
+                                              : references->reference;
         writeHeatMapPng(dir + "/error.png", width, height, errorMap(image, reference),
                         float(1e-7 * reference.peak), float(1e-2 * reference.peak));
       }
