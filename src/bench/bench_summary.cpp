@@ -21,6 +21,9 @@ double num(const json& j, const char* key) { return jsonDoubleOf(findKey(j, key)
 std::string str(const json& j, const char* key) { return jsonTextOf(findKey(j, key)); }
 
 json summaryJson(const Summary& s) {
+  // No values (an uncalibrated bench's limit_pct): no statistics, not a median of 0.
+  if (s.n == 0)
+    return {{"n", 0}, {"median", nullptr}, {"min", nullptr}, {"max", nullptr}, {"mean", nullptr}};
   return {{"n", s.n}, {"median", s.median}, {"min", s.min}, {"max", s.max}, {"mean", s.mean}};
 }
 

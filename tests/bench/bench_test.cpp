@@ -229,6 +229,26 @@ TEST(BenchRun, ShardsTogetherMakeTheWholeSweep) {
   fs::remove_all(dir);
 }
 
+// Without the calibration there is no device limit: the summary says so (empty, "-") instead of a
+// median of 0 % of the limit.
+TEST(BenchRun, UncalibratedSummaryHasNoLimitFigures) {
+  std::string dir = tempDir("uncalibrated");
+  ts::BenchOptions o = tinyOptions(dir);
+  o.frames.text = "1";  // frame 0
+  o.warmup = 0;
+  o.calibrate = false;
+  ts::BenchRunResult r = ts::runBench(o);
+  EXPECT_TRUE(r.failures.empty());
+  std::vector<std::map<std::string, std::string>> rows;
+  ASSERT_GT(csvRows(dir + "/summary.csv", nullptr, &rows), 0u);
+  for (auto& row : rows) {
+    EXPECT_EQ(row["limit_pct_median"], "");
+    EXPECT_EQ(row["limit_ms_median"], "");
+    EXPECT_GT(std::stod(row["total_ms_median"]), 0.0);
+  }
+  fs::remove_all(dir);
+}
+
 // ---- --resume keeps only rows it can use (issue #16 item 7) -----------------------------------
 
 std::vector<std::string> fileLines(const std::string& path) {
