@@ -423,6 +423,11 @@ void Frame::Impl::readHostPlanes() {
                                  targets[p]->data());
   }
   prepared.gbuffer = decodePlanes(e);
+  // The caller's planes are seen here for the first time: the checks fromHost makes, before a
+  // reference or a dump is made of them (a NaN normal is one line naming its pixel).
+  const ShadingRangeTerms range =
+      checkGBufferValues(prepared.gbuffer, prepared.intrinsics.znear, "device G-buffer");
+  checkShadingRange(range, "the device G-buffer with its lights");
   hostPlanesComplete = true;
 }
 

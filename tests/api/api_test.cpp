@@ -280,6 +280,46 @@ TEST(Api, DevicePlanesShadeAsHostPlanes) {
             std::string::npos);
 }
 
+// The planes of a cl_mem frame are read back for a check, and checked then as host planes are at
+// once: a NaN in the normal plane is one line naming the plane and the pixel.
+TEST(Api, DevicePlanesValuesAreCheckedWhenReadBack) {
+  Frame scene = Frame::fromScene(device(), smallScene("fp32"));
+  HostCopy copy = hostCopyOf(scene);
+  OwnQueue own(CL_QUEUE_PROFILING_ENABLE);
+  ClContext& cl = test::context();
+  Device mine = Device::fromOpenCL(cl.context()(), cl.device()(), own.queue());
+  EncodedGBuffer e = copy.encoded;
+  size_t geometry = 0;
+  while (!(e.depth[geometry] > 0.0f)) ++geometry;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(e.normal.data() + geometry * 16, &nan, sizeof nan);
+  auto buffer = [&](std::vector<uint8_t>& bytes) {
+    return cl::Buffer(cl.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes.size(),
+                      bytes.data());
+  };
+  cl::Buffer depth(cl.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                   e.depth.size() * sizeof(float), e.depth.data());
+  cl::Buffer normal = buffer(e.normal), diffuse = buffer(e.diffuse), specular = buffer(e.specular),
+             emissive = buffer(e.emissive);
+  DeviceGBuffer planes;
+  planes.width = e.width;
+  planes.height = e.height;
+  planes.layout = "fp32";
+  planes.depth = depth();
+  planes.normal = normal();
+  planes.diffuse = diffuse();
+  planes.specular = specular();
+  planes.emissive = emissive();
+  Frame frame = Frame::fromDevice(mine, planes, copy.camera, copy.lights);
+  Renderer renderer(mine, Settings{});
+  ShadeOptions check;
+  check.check = true;
+  const std::string what = errorOf([&] { renderer.shade(frame, check); });
+  EXPECT_NE(what.find("device G-buffer"), std::string::npos) << what;
+  EXPECT_NE(what.find("normal"), std::string::npos) << what;
+  EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+}
+
 TEST(Api, AQueueWithoutProfilingIsRefused) {
   OwnQueue plain(0);
   ClContext& cl = test::context();
