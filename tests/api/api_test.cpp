@@ -219,6 +219,32 @@ struct OwnQueue {
       : queue(test::context().context(), test::context().device(), properties) {}
 };
 
+// A frame's stored planes copied into cl_mem buffers of `cl`'s context, as an engine holds its
+// G-buffer: `planes` names them for Frame::fromDevice.
+struct BuffersOf {
+  BuffersOf(ClContext& cl, const EncodedGBuffer& e, const std::string& layout) {
+    auto buffer = [&](const void* data, size_t bytes) {
+      return cl::Buffer(cl.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes,
+                        const_cast<void*>(data));
+    };
+    depth = buffer(e.depth.data(), e.depth.size() * sizeof(float));
+    normal = buffer(e.normal.data(), e.normal.size());
+    diffuse = buffer(e.diffuse.data(), e.diffuse.size());
+    specular = buffer(e.specular.data(), e.specular.size());
+    emissive = buffer(e.emissive.data(), e.emissive.size());
+    planes.width = e.width;
+    planes.height = e.height;
+    planes.layout = layout;
+    planes.depth = depth();
+    planes.normal = normal();
+    planes.diffuse = diffuse();
+    planes.specular = specular();
+    planes.emissive = emissive();
+  }
+  cl::Buffer depth, normal, diffuse, specular, emissive;
+  DeviceGBuffer planes;
+};
+
 TEST(Api, DevicePlanesShadeAsHostPlanes) {
   Frame scene = Frame::fromScene(device(), smallScene("packed"));
   HostCopy copy = hostCopyOf(scene);
@@ -227,27 +253,11 @@ TEST(Api, DevicePlanesShadeAsHostPlanes) {
   Device mine = Device::fromOpenCL(cl.context()(), cl.device()(), own.queue());
   EXPECT_EQ(mine.name(), device().name());
 
-  auto buffer = [&](const void* data, size_t bytes) {
-    return cl::Buffer(cl.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes,
-                      const_cast<void*>(data));
-  };
   const EncodedGBuffer& e = copy.encoded;
-  cl::Buffer depth = buffer(e.depth.data(), e.depth.size() * sizeof(float));
-  cl::Buffer normal = buffer(e.normal.data(), e.normal.size());
-  cl::Buffer diffuse = buffer(e.diffuse.data(), e.diffuse.size());
-  cl::Buffer specular = buffer(e.specular.data(), e.specular.size());
-  cl::Buffer emissive = buffer(e.emissive.data(), e.emissive.size());
   ASSERT_FALSE(e.specular.empty());
   ASSERT_FALSE(e.emissive.empty());
-  DeviceGBuffer planes;
-  planes.width = e.width;
-  planes.height = e.height;
-  planes.layout = "packed";
-  planes.depth = depth();
-  planes.normal = normal();
-  planes.diffuse = diffuse();
-  planes.specular = specular();
-  planes.emissive = emissive();
+  const BuffersOf buffers(cl, e, "packed");
+  const DeviceGBuffer& planes = buffers.planes;
   Frame onDevice = Frame::fromDevice(mine, planes, copy.camera, copy.lights);
   Frame host = Frame::fromHost(mine, copy.planes, copy.camera, copy.lights);
   Settings s;
@@ -263,7 +273,7 @@ TEST(Api, DevicePlanesShadeAsHostPlanes) {
 
   // A plane smaller than the frame, and the renderer's default device for cl_mem planes.
   DeviceGBuffer small = planes;
-  small.normal = depth();  // 4 bytes a pixel, the packed normal's size: accepted
+  small.normal = buffers.depth();  // 4 bytes a pixel, the packed normal's size: accepted
   EXPECT_EQ(errorOf([&] { Frame::fromDevice(mine, small, copy.camera, copy.lights); }), "");
   small.width = e.width * 2;
   small.height = e.height * 2;
@@ -293,23 +303,8 @@ TEST(Api, DevicePlanesValuesAreCheckedWhenReadBack) {
   while (!(e.depth[geometry] > 0.0f)) ++geometry;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   std::memcpy(e.normal.data() + geometry * 16, &nan, sizeof nan);
-  auto buffer = [&](std::vector<uint8_t>& bytes) {
-    return cl::Buffer(cl.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes.size(),
-                      bytes.data());
-  };
-  cl::Buffer depth(cl.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                   e.depth.size() * sizeof(float), e.depth.data());
-  cl::Buffer normal = buffer(e.normal), diffuse = buffer(e.diffuse), specular = buffer(e.specular),
-             emissive = buffer(e.emissive);
-  DeviceGBuffer planes;
-  planes.width = e.width;
-  planes.height = e.height;
-  planes.layout = "fp32";
-  planes.depth = depth();
-  planes.normal = normal();
-  planes.diffuse = diffuse();
-  planes.specular = specular();
-  planes.emissive = emissive();
+  const BuffersOf buffers(cl, e, "fp32");
+  const DeviceGBuffer& planes = buffers.planes;
   Frame frame = Frame::fromDevice(mine, planes, copy.camera, copy.lights);
   Renderer renderer(mine, Settings{});
   ShadeOptions check;
