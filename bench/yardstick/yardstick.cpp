@@ -8,10 +8,13 @@
 // prints the median time of N runs and its image's error, against the double reference or an
 // image of tileshade's from the same dump.
 //
-//   tileshade-yardstick DUMP_DIR [--runs N] [--threads T] [--tile N] [--compare IMAGE.exr]
-//                       [--reference] [--max-error E]
+//   tileshade-yardstick DUMP_DIR [--runs N] [--threads T] [--tile N] [--simd 0|8|16]
+//                       [--compare IMAGE.exr] [--reference] [--max-error E]
 //
-// --threads 0 is every core (tiles handed out one at a time); 1 (default) is serial.
+// --threads 0 is every core (tiles handed out one at a time); 1 (default) is one thread.
+// --simd 8|16 is the SIMD form, ISPC's examples/cpu/deferred ShadeTile in C++: the same tile loop
+// with the rectangle test on 8 or 16 lights at once and each tile's pixels shaded in blocks of 8
+// or 16 in vector lanes (shading.h's lane functions, as kernels/lanes.h runs them in OpenCL).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -19,6 +22,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -56,6 +60,69 @@ inline float pow(float x, float s) {
 #include "kernels/shading.h"
 #include "kernels/culling.h"
 }  // namespace yardstick
+
+// The SIMD form: kernels/shading.h again, with its light terms on vectors of 8 or 16 floats
+// (TS_LANE: bench/yardstick/vector_lanes.h), one namespace per width, as kernels/lanes.h compiles
+// it for OpenCL with floatN. Of shading.h's spellings only TS_CAST changes: a C cast cannot turn
+// a scalar into a vector in C++, so it broadcasts (a scalar cast stays a cast).
+#include "vector_lanes.h"
+#undef TS_LANE
+#undef TS_ANY
+#undef TS_CAST
+#define TS_CAST(type, x) (::yardstick::cast<type>(x))
+#define TS_ANY(c) (::yardstick::any(c))
+#define TS_LANES 8
+#define TS_LANE ::yardstick::Floats8
+namespace yardstick::lanes8 {
+#include "kernels/shading.h"
+}  // namespace yardstick::lanes8
+#undef TS_LANES
+#undef TS_LANE
+#define TS_LANES 16
+#define TS_LANE ::yardstick::Floats16
+namespace yardstick::lanes16 {
+#include "kernels/shading.h"
+}  // namespace yardstick::lanes16
+#undef TS_LANES
+#undef TS_LANE
+
+namespace {
+
+// One width of the SIMD form: its vector types, shading.h's lane functions of that width and the
+// shape of the pixel block one vector shades (kernels/lanes.h's: 4x4 for 16 lanes, 4x2 for 8, so
+// a vector's pixels lie close together and more lights reach none of them and exit early).
+struct Lanes8 {
+  using Floats = yardstick::Floats8;
+  using Mask = yardstick::Mask8;
+  using Point = yardstick::lanes8::ts_shading_point;
+  using Weights = yardstick::lanes8::ts_light_weights_t;
+  static constexpr int count = 8, blockW = 4, blockH = 2;
+  template <typename... A>
+  static Weights punctual(A... a) {
+    return yardstick::lanes8::ts_punctual_weights(a...);
+  }
+  template <typename... A>
+  static Weights directional(A... a) {
+    return yardstick::lanes8::ts_directional_weights(a...);
+  }
+};
+struct Lanes16 {
+  using Floats = yardstick::Floats16;
+  using Mask = yardstick::Mask16;
+  using Point = yardstick::lanes16::ts_shading_point;
+  using Weights = yardstick::lanes16::ts_light_weights_t;
+  static constexpr int count = 16, blockW = 4, blockH = 4;
+  template <typename... A>
+  static Weights punctual(A... a) {
+    return yardstick::lanes16::ts_punctual_weights(a...);
+  }
+  template <typename... A>
+  static Weights directional(A... a) {
+    return yardstick::lanes16::ts_directional_weights(a...);
+  }
+};
+
+}  // namespace
 
 namespace {
 
@@ -144,23 +211,40 @@ struct LightRect {
   bool onScreen;
 };
 
+// Thread time of a render's two phases, summed over its threads.
+struct Phases {
+  double cullMs = 0.0;   // depth bounds and light culling
+  double shadeMs = 0.0;  // the tile's pixels over its list
+};
+
 struct Renderer {
   const Frame& f;
   int tile;
+  int simd;  // 0: serial (one pixel, one light at a time); 8 or 16: lanes (Lanes8, Lanes16)
   int tilesX, tilesY;
   std::vector<LightRect> rects;
+  // The rectangles again, one array per bound, padded with empty ones to whole vectors, for the
+  // SIMD form's culling (16 or 8 lights per test); off-screen lights are empty (x0 > x1) too.
+  std::vector<int> rectX0, rectY0, rectX1, rectY1;
   std::vector<glm::vec4> image;
   uint64_t listed = 0;  // sum over tiles of the lights listed (a check that culling ran)
+  Phases phases;
 
-  Renderer(const Frame& frame, int tileSize)
+  Renderer(const Frame& frame, int tileSize, int simdLanes)
       : f(frame),
         tile(tileSize),
+        simd(simdLanes),
         tilesX((frame.width + tileSize - 1) / tileSize),
         tilesY((frame.height + tileSize - 1) / tileSize),
         image(size_t(frame.width) * size_t(frame.height)) {}
 
   void prepareLights() {
     rects.resize(f.lights.size());
+    size_t padded = (rects.size() + 15) / 16 * 16;
+    rectX0.assign(padded, 1);
+    rectX1.assign(padded, 0);
+    rectY0.assign(padded, 1);
+    rectY1.assign(padded, 0);
     for (size_t i = 0; i < f.lights.size(); ++i) {
       LightRect& r = rects[i];
       r.volume = yardstick::ts_make_light_volume(f.lights.positionRange[i], f.lights.spot[i],
@@ -168,11 +252,18 @@ struct Renderer {
       glm::vec4 b = yardstick::ts_light_ndc_bounds(&r.volume, f.znear, f.tanX, f.tanY);
       r.onScreen = yardstick::ts_ndc_bounds_to_tiles(b, f.width, f.height, tile, tile, &r.x0, &r.y0,
                                                      &r.x1, &r.y1);
+      if (r.onScreen) {
+        rectX0[i] = r.x0;
+        rectX1[i] = r.x1;
+        rectY0[i] = r.y0;
+        rectY1[i] = r.y1;
+      }
     }
   }
 
   // One tile: depth bounds, culling, shading; returns the lights it listed.
-  uint32_t shadeTile(int tx, int ty, std::vector<uint32_t>& list) {
+  uint32_t shadeTile(int tx, int ty, std::vector<uint32_t>& list, Phases& ph) {
+    auto t0 = Clock::now();
     int px0 = tx * tile, py0 = ty * tile;
     int px1 = std::min(px0 + tile, f.width), py1 = std::min(py0 + tile, f.height);
     float zmin = 3.402823466e38f, zmax = 0.0f;
@@ -185,18 +276,54 @@ struct Renderer {
         }
       }
     list.clear();
-    if (zmin <= zmax)
-      for (uint32_t i = 0; i < rects.size(); ++i) {
-        const LightRect& r = rects[i];
-        if (!r.onScreen || tx < r.x0 || tx > r.x1 || ty < r.y0 || ty > r.y1) continue;
-        if (!yardstick::ts_light_meets_depth_range(&r.volume, zmin, zmax)) continue;
-        if (yardstick::ts_light_meets_tile(&r.volume, TS_CULL_RECT, px0, py0, px1, py1, f.width,
-                                           f.height, f.tanX, f.tanY, zmin, zmax))
-          list.push_back(i);
-      }
-    if (f.spot) shadePixels<1>(px0, py0, px1, py1, list);
+    if (zmin <= zmax) {
+      if (simd == 16) cullLanes<Lanes16>(tx, ty, px0, py0, px1, py1, zmin, zmax, list);
+      else if (simd == 8) cullLanes<Lanes8>(tx, ty, px0, py0, px1, py1, zmin, zmax, list);
+      else
+        for (uint32_t i = 0; i < rects.size(); ++i) {
+          const LightRect& r = rects[i];
+          if (!r.onScreen || tx < r.x0 || tx > r.x1 || ty < r.y0 || ty > r.y1) continue;
+          listIfMeets(i, px0, py0, px1, py1, zmin, zmax, list);
+        }
+    }
+    auto t1 = Clock::now();
+    if (simd == 16) shadeLanes<Lanes16>(px0, py0, px1, py1, list);
+    else if (simd == 8) shadeLanes<Lanes8>(px0, py0, px1, py1, list);
+    else if (f.spot) shadePixels<1>(px0, py0, px1, py1, list);
     else shadePixels<0>(px0, py0, px1, py1, list);
+    auto t2 = Clock::now();
+    ph.cullMs += std::chrono::duration<double, std::milli>(t1 - t0).count();
+    ph.shadeMs += std::chrono::duration<double, std::milli>(t2 - t1).count();
     return uint32_t(list.size());
+  }
+
+  // The tests after the rectangle's: the depth range, then kernels/culling.h's tile test.
+  void listIfMeets(uint32_t i, int px0, int py0, int px1, int py1, float zmin, float zmax,
+                   std::vector<uint32_t>& list) const {
+    const LightRect& r = rects[i];
+    if (!yardstick::ts_light_meets_depth_range(&r.volume, zmin, zmax)) return;
+    if (yardstick::ts_light_meets_tile(&r.volume, TS_CULL_RECT, px0, py0, px1, py1, f.width,
+                                       f.height, f.tanX, f.tanY, zmin, zmax))
+      list.push_back(i);
+  }
+
+  // The rectangle test on L::count lights at once (most lights miss a tile's rectangle); the
+  // lights that pass go through the scalar tests in order, so the list is the serial form's.
+  template <class L>
+  void cullLanes(int tx, int ty, int px0, int py0, int px1, int py1, float zmin, float zmax,
+                 std::vector<uint32_t>& list) const {
+    using Mask = typename L::Mask;
+    for (size_t g = 0; g < rectX0.size(); g += L::count) {
+      Mask x0, y0, x1, y1;
+      std::memcpy(&x0, &rectX0[g], sizeof(Mask));
+      std::memcpy(&x1, &rectX1[g], sizeof(Mask));
+      std::memcpy(&y0, &rectY0[g], sizeof(Mask));
+      std::memcpy(&y1, &rectY1[g], sizeof(Mask));
+      Mask in = (x0 <= tx) & (x1 >= tx) & (y0 <= ty) & (y1 >= ty);
+      if (!yardstick::any(in)) continue;
+      for (int k = 0; k < L::count; ++k)
+        if (in[k]) listIfMeets(uint32_t(g) + uint32_t(k), px0, py0, px1, py1, zmin, zmax, list);
+    }
   }
 
   // Lights in list order, then the directional ones, then the base: the kernels' order.
@@ -225,17 +352,100 @@ struct Renderer {
       }
   }
 
+  // The SIMD form: the tile in blocks of L::count pixels, each block's surfaces in lanes (decoded
+  // one pixel at a time by loadSurface, as the lanes kernels do), then every light of the list
+  // for all of the block's pixels at once with shading.h's lane functions; the same order of
+  // terms as shadePixels, lane by lane. Lanes outside the tile or on the background are unlit
+  // slots (kernels/lanes.h's: far away, black, no normal), which no light reaches.
+  template <class L>
+  void shadeLanes(int px0, int py0, int px1, int py1, const std::vector<uint32_t>& list) {
+    if (f.spot) {
+      if (f.shading == TS_SHADING_METALLIC_ROUGHNESS)
+        shadeLanes<L, 1, TS_SHADING_METALLIC_ROUGHNESS>(px0, py0, px1, py1, list);
+      else shadeLanes<L, 1, TS_SHADING_BLINN_PHONG>(px0, py0, px1, py1, list);
+    } else {
+      if (f.shading == TS_SHADING_METALLIC_ROUGHNESS)
+        shadeLanes<L, 0, TS_SHADING_METALLIC_ROUGHNESS>(px0, py0, px1, py1, list);
+      else shadeLanes<L, 0, TS_SHADING_BLINN_PHONG>(px0, py0, px1, py1, list);
+    }
+  }
+
+  template <class L, int Spot, int Shading>
+  void shadeLanes(int px0, int py0, int px1, int py1, const std::vector<uint32_t>& list) {
+    using V = typename L::Floats;
+    constexpr int N = L::count;
+    auto all = [](float x) { return yardstick::cast<V>(x); };
+    const glm::vec4* posRange = f.lights.positionRange.data();
+    const glm::vec4* color = f.lights.color.data();
+    const glm::vec4* spot = f.lights.spot.data();
+    for (int by = py0; by < py1; by += L::blockH)
+      for (int bx = px0; bx < px1; bx += L::blockW) {
+        typename L::Point p;
+        V kdr, kdg, kdb, ksr, ksg, ksb;
+        glm::vec3 base[N];
+        bool inTile[N], lit[N], anyLit = false;
+        for (int k = 0; k < N; ++k) {
+          int x = bx + k % L::blockW, y = by + k / L::blockW;
+          Surface s;
+          inTile[k] = x < px1 && y < py1;
+          lit[k] = inTile[k] && loadSurface(f, x, y, s);
+          anyLit |= lit[k];
+          if (!lit[k]) {
+            s.p = {0.0f, 0.0f, -1e18f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 1.0f};
+            s.kd = s.ks = s.base = glm::vec3(0.0f);
+          }
+          p.px[k] = s.p.px, p.py[k] = s.p.py, p.pz[k] = s.p.pz;
+          p.nx[k] = s.p.nx, p.ny[k] = s.p.ny, p.nz[k] = s.p.nz;
+          p.vx[k] = s.p.vx, p.vy[k] = s.p.vy, p.vz[k] = s.p.vz;
+          p.gloss[k] = s.p.gloss, p.view_term[k] = s.p.view_term;
+          kdr[k] = s.kd.x, kdg[k] = s.kd.y, kdb[k] = s.kd.z;
+          ksr[k] = s.ks.x, ksg[k] = s.ks.y, ksb[k] = s.ks.z;
+          base[k] = s.base;
+        }
+        V r{}, g{}, b{};
+        for (size_t li = 0; anyLit && li < list.size(); ++li) {
+          uint32_t i = list[li];
+          const glm::vec4 pr = posRange[i], c = color[i], sp = spot[i];
+          typename L::Weights w = L::punctual(
+              &p, all(pr.x), all(pr.y), all(pr.z), all(pr.w), all(1.0f / (pr.w * pr.w)), all(sp.x),
+              all(sp.y), all(sp.z), all(sp.w), all(c.w), TS_MODEL_WINDOWED, Shading, 1, Spot);
+          r += c.x * (w.wd * kdr + w.ws * ksr + w.wf);
+          g += c.y * (w.wd * kdg + w.ws * ksg + w.wf);
+          b += c.z * (w.wd * kdb + w.ws * ksb + w.wf);
+        }
+        for (size_t k = 0; anyLit && f.directional && k < f.lights.directionalCount(); ++k) {
+          const glm::vec4 d = f.lights.directionalDir[k], c = f.lights.directionalColor[k];
+          typename L::Weights w = L::directional(&p, all(d.x), all(d.y), all(d.z), Shading, 1);
+          r += c.x * (w.wd * kdr + w.ws * ksr + w.wf);
+          g += c.y * (w.wd * kdg + w.ws * ksg + w.wf);
+          b += c.z * (w.wd * kdb + w.ws * ksb + w.wf);
+        }
+        for (int k = 0; k < N; ++k) {
+          if (!inTile[k]) continue;
+          int x = bx + k % L::blockW, y = by + k / L::blockW;
+          image[size_t(y) * size_t(f.width) + size_t(x)] =
+              lit[k] ? glm::vec4(glm::vec3(r[k], g[k], b[k]) + base[k], 0.0f) : glm::vec4(0.0f);
+        }
+      }
+  }
+
   void render(int threads) {
     prepareLights();
     const int tiles = tilesX * tilesY;
     std::atomic<int> next{0};
     std::atomic<uint64_t> total{0};
+    std::mutex phasesMutex;
+    phases = Phases{};
     auto worker = [&] {
       std::vector<uint32_t> list;
       list.reserve(rects.size());
       uint64_t mine = 0;
-      for (int t; (t = next++) < tiles;) mine += shadeTile(t % tilesX, t / tilesX, list);
+      Phases ph;
+      for (int t; (t = next++) < tiles;) mine += shadeTile(t % tilesX, t / tilesX, list, ph);
       total += mine;
+      std::lock_guard<std::mutex> lock(phasesMutex);
+      phases.cullMs += ph.cullMs;
+      phases.shadeMs += ph.shadeMs;
     };
     if (threads <= 1) {
       worker();
@@ -274,7 +484,7 @@ ImageError compare(const std::vector<glm::vec4>& image, size_t pixels, Truth tru
 
 int run(int argc, char** argv) {
   std::string dir, compareImage;
-  int runs = 5, threads = 1, tile = 16;
+  int runs = 5, threads = 1, tile = 16, simd = 0;
   bool reference = false;
   double maxError = -1.0;
   CLI::App app{
@@ -286,6 +496,10 @@ int run(int argc, char** argv) {
   app.add_option("--threads", threads, "threads over tiles (0: every core)")
       ->check(CLI::Range(0, 256));
   app.add_option("--tile", tile, "tile size in pixels (square)")->check(CLI::Range(1, 1024));
+  app.add_option("--simd", simd,
+                 "the SIMD form: each tile's pixels shaded 8 or 16 at a time in vector lanes, "
+                 "lights culled as many at a time (0: serial, the default)")
+      ->check(CLI::IsMember({0, 8, 16}));
   app.add_option("--compare", compareImage,
                  "an image.exr of tileshade's from the same dump: print the error against it");
   app.add_flag("--reference", reference, "print the error against the double-precision reference");
@@ -300,21 +514,30 @@ int run(int argc, char** argv) {
 
   ts::PreparedFrame prepared;
   Frame f = loadFrame(dir, prepared);
-  Renderer r(f, tile);
+  Renderer r(f, tile, simd);
   r.render(threads);  // warm-up
   std::vector<double> ms;
+  std::vector<std::pair<double, Phases>> byTime;
   for (int i = 0; i < runs; ++i) {
     auto t0 = Clock::now();
     r.render(threads);
     ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    byTime.emplace_back(ms.back(), r.phases);
   }
+  std::sort(byTime.begin(), byTime.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  const Phases& middle = byTime[byTime.size() / 2].second;
   size_t pixels = size_t(f.width) * size_t(f.height);
   std::printf(
-      "yardstick: %dx%d, %zu lights, tile %d, threads %d: median %.3f ms of %d runs "
+      "yardstick: %dx%d, %zu lights, tile %d, threads %d, %s: median %.3f ms of %d runs "
       "(min %.3f, max %.3f); %.1f lights listed per tile\n",
-      f.width, f.height, f.lights.size(), tile, threads, median(ms), runs,
+      f.width, f.height, f.lights.size(), tile, threads,
+      simd ? (simd == 16 ? "simd 16 lanes" : "simd 8 lanes") : "serial", median(ms), runs,
       *std::min_element(ms.begin(), ms.end()), *std::max_element(ms.begin(), ms.end()),
       double(r.listed) / double(r.tilesX * r.tilesY));
+  std::printf(
+      "phases (thread time of the middle run): depth bounds + culling %.3f ms, shading %.3f ms\n",
+      middle.cullMs, middle.shadeMs);
   bool tooLarge = false;
   auto report = [&](const char* against, const ImageError& e) {
     std::printf("error against %s: max abs %.3g, peak %.6g, max abs / peak %.3g\n", against,
