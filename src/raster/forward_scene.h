@@ -38,6 +38,11 @@ class ForwardScene {
   virtual ForwardImage multiPassForward(const ViewLights& lights, glm::vec3 ambient,
                                         const SceneFeatures& features, int rangeModel,
                                         const IndexLists& lightBatches) = 0;
+  // `forward-single`: the scene drawn once, each batch shading its list in batchLights (one list
+  // per batch; GlRasterizer::singlePassForward).
+  virtual ForwardImage singlePassForward(const ViewLights& lights, glm::vec3 ambient,
+                                         const SceneFeatures& features, int rangeModel,
+                                         const IndexLists& batchLights) = 0;
 };
 
 }  // namespace ts

@@ -626,7 +626,8 @@ void GlRasterizer::warmUpForward() {
   depthPrepass(warmup, 8, 8, ms);
   tiledForward(warmup, 8, 8, lighting, grid, true);
   tiledForward(warmup, 8, 8, lighting, grid, false);
-  // forward's blended light pass (a light far away, drawn with the first batch).
+  // forward's blended light pass (a light far away, drawn with the first batch) and
+  // forward-single's draw lists.
   ViewLights one;
   one.addPoint(glm::vec3(0.0f, 0.0f, 1e6f), 1.0f, glm::vec3(1.0f));
   lighting.lights = &one;
@@ -635,6 +636,11 @@ void GlRasterizer::warmUpForward() {
   lists.counts = {state_->draws.empty() ? 0u : 1u};
   lists.items.assign(lists.counts[0], 0);
   multiPassForward(warmup, 8, 8, lighting, lists);
+  IndexLists emptyLists;
+  emptyLists.offsets.assign(state_->draws.size(), 0);
+  emptyLists.counts.assign(state_->draws.size(), 0);
+  lighting.lights = &none;
+  singlePassForward(warmup, 8, 8, lighting, emptyLists);
 }
 
 std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int width, int height,
@@ -788,6 +794,53 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
   gl::checkErrors("the forward light passes of scene '" + s.scene.name + "'");
+  s.readForward(out, width, height, tiles, true);
+  return out;
+}
+
+ForwardImage GlRasterizer::singlePassForward(const SceneCamera& camera, int width, int height,
+                                             const ForwardLighting& lighting,
+                                             const IndexLists& batchLights) {
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+  State& s = beginForward(width, height);
+  if (!lighting.lights || batchLights.size() != s.draws.size())
+    throw Error("forward-single: the batches' light lists do not match the scene's " +
+                std::to_string(s.draws.size()) + " draw batches");
+  s.checkLists(batchLights, lighting.lights->size(), "a batch's light list");
+  s.ensureForwardFramebuffer(width, height);
+
+  ForwardImage out;
+  const auto t0 = Clock::now();
+  const int directionals = s.uploadLights(lighting);
+  s.storeVector(kTileLights, batchLights.items);  // no cap: a list is as long as it is
+  const size_t tiles = s.uploadWorkTiles(width, height);
+  gl::checkErrors("uploading the lights and the batch lists");
+  out.uploadMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+
+  const int workTilesX = (width + kWorkTile - 1) / kWorkTile;
+  s.setForwardUniforms(lighting, directionals, {kWorkTile, kWorkTile, workTilesX});
+  const GLint list = s.forwardUniform("u_list");
+  glUniform1i(s.forwardUniform("u_drawList"), 1);
+  glUniform1i(s.forwardUniform("u_baseTerms"), 1);
+  const bool metallicRoughness = lighting.features.model == ShadingModel::MetallicRoughness;
+
+  s.passState(in);
+  s.clearImage(true);
+  s.clearDepth(in);
+  glDepthFunc(GL_GREATER);
+  out.drawMs = s.timed(
+      [&] {
+        s.setCamera(s.fu, camera, in);
+        glBindVertexArray(s.vao);
+        for (size_t b = 0; b < s.draws.size(); ++b) {
+          glUniform2ui(list, batchLights.offsets[b], batchLights.counts[b]);
+          s.drawBatch(s.fu, b, metallicRoughness);
+        }
+        glBindVertexArray(0);
+      },
+      out.queryMs);
+  out.draws = s.draws.size();
+  gl::checkErrors("the forward-single pass of scene '" + s.scene.name + "'");
   s.readForward(out, width, height, tiles, true);
   return out;
 }

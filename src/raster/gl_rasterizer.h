@@ -63,6 +63,11 @@ class GlRasterizer {
   // the light passes together.
   ForwardImage multiPassForward(const SceneCamera& camera, int width, int height,
                                 const ForwardLighting& lighting, const IndexLists& lightBatches);
+  // Single-pass forward shading (`forward-single`): the scene drawn once (the G-buffer pass's
+  // depth test), batch b's fragments shading the lights of batchLights' list b (one list per
+  // draw batch, in a shader storage buffer: no cap on a list's length) and the directional ones.
+  ForwardImage singlePassForward(const SceneCamera& camera, int width, int height,
+                                 const ForwardLighting& lighting, const IndexLists& batchLights);
   // The view-space boxes of the draw batches at `camera`, in draw order (raster/draw_batches.h).
   std::vector<ViewBox> batchBoxes(const SceneCamera& camera) const;
   size_t batchCount() const;

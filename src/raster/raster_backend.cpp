@@ -50,6 +50,12 @@ class GlForwardScene : public ForwardScene {
     return gl_.multiPassForward(camera_, width_, height_,
                                 lightingOf(lights, ambient, features, rangeModel), lightBatches);
   }
+  ForwardImage singlePassForward(const ViewLights& lights, glm::vec3 ambient,
+                                 const SceneFeatures& features, int rangeModel,
+                                 const IndexLists& batchLights) override {
+    return gl_.singlePassForward(camera_, width_, height_,
+                                 lightingOf(lights, ambient, features, rangeModel), batchLights);
+  }
 
  private:
   GlRasterizer& gl_;

@@ -1,6 +1,7 @@
-// forward (src/techniques/forward.cpp): the scene drawn in OpenGL with per-batch light lists
-// found on the host, against the double reference shaded from the G-buffer the same OpenGL
-// rasterizer draws for the same camera, against tiled forward and tiled deferred, and with every
+// forward and forward-single (src/techniques/forward.cpp, forward_single.cpp): the scene drawn
+// in OpenGL with per-batch light lists found on the host, against the double reference shaded
+// from the G-buffer the same OpenGL rasterizer draws for the same camera, against the other
+// forward techniques and tiled deferred, on a list longer than any uniform array and with every
 // light outside every batch. Skips, saying why, where no OpenGL context can be made.
 #include <gtest/gtest.h>
 
@@ -35,7 +36,7 @@ namespace {
 // sums. A missed or doubled light is >= 1e-3 of the peak in these frames.
 constexpr double kForwardBound = 1e-4;
 
-const char* const kTechniques[] = {"forward"};
+const char* const kTechniques[] = {"forward", "forward-single"};
 
 // A few point lights through a scene's bounds (glTF files bring one or two of their own).
 void addLatticeLights(Scene& scene, int count, float rangeFraction) {
@@ -157,7 +158,7 @@ TEST(Forward, MatchesTheReferenceOnARealScene) {
   for (const char* technique : kTechniques) checkAgainstReference(g, technique, "dungeon");
 }
 
-// forward and tiled-forward shade the same fragments with the same function and
+// forward, forward-single and tiled-forward shade the same fragments with the same function and
 // differ only in the order of the sums (blending adds one light at a time): fp32 rounding of the
 // sums, the kernels' bound. Tiled deferred shades the position rebuilt from the G-buffer's depth
 // instead of the interpolated one: within the forward bound of the reference.
@@ -167,15 +168,30 @@ TEST(Forward, AgreesWithTiledForwardAndTiledDeferred) {
     SCOPED_TRACE(name);
     GlFrame g(testScene(name), 2, 128, 72);
     const FrameResult forward = g.render("forward");
+    const FrameResult single = g.render("forward-single");
     const FrameResult tiledForward = g.render("tiled-forward");
     const FrameResult tiled = g.render("tiled");
+    const double toSingle = test::relativeDifference(forward.image, single.image);
     const double toTiledForward = test::relativeDifference(forward.image, tiledForward.image);
     const double toTiled = test::relativeDifference(forward.image, tiled.image);
+    EXPECT_LE(toSingle, test::kFp32RelativeTolerance);
     EXPECT_LE(toTiledForward, test::kFp32RelativeTolerance);
     EXPECT_LE(toTiled, kForwardBound);
-    std::cout << "[ forward ] " << name << ": forward vs tiled-forward " << toTiledForward
-              << ", vs tiled " << toTiled << " of the peak\n";
+    std::cout << "[ forward ] " << name << ": forward vs forward-single " << toSingle
+              << ", vs tiled-forward " << toTiledForward << ", vs tiled " << toTiled
+              << " of the peak\n";
   }
+}
+
+// Lists longer than a uniform array could hold (OpenGL 4.3 guarantees a fragment shader 1024
+// uniform components): forward-single's lists are a storage buffer, so every light is shaded.
+TEST(Forward, ListsLongerThanAnyUniformArrayShadeEveryLight) {
+  REQUIRE_GL();
+  const Scene scene = test::atriumLatticeLights(1100);
+  GlFrame g(scene, 0, 32, 18);
+  const FrameResult r = g.render("forward-single");
+  EXPECT_GT(r.counters.listMax, 1024u);
+  checkAgainstReference(g, "forward-single", "1100 lattice lights");
 }
 
 // Every light outside every batch: no light pass, no light in any list, and the image is the
