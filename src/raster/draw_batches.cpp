@@ -17,7 +17,8 @@ std::vector<DrawBatch> drawBatches(const Scene& scene) {
   const size_t n = scene.triangleCount();
   for (size_t t = 0; t < n; ++t) {
     const Material* m = materialOf(t);
-    if (batches.empty() || batches.back().material != m)
+    if (batches.empty() || batches.back().material != m ||
+        batches.back().triangles == kBatchTriangles)
       batches.push_back({uint32_t(t), 0, m, Bounds{}});
     DrawBatch& b = batches.back();
     ++b.triangles;

@@ -1,9 +1,9 @@
 #pragma once
 // The scene's draw batches, the "objects" of forward shading: runs of consecutive triangles that
-// share a material (one draw call each, in scene order: the OpenGL rasterizer's draws), each with
-// its world-space bounding box. The forward techniques test the lights' volumes against these
-// boxes each frame (raster/batch_lights.h) to choose what each light pass draws (`forward`) or
-// which lights a batch's draw shades (`forward-single`).
+// share a material, cut every kBatchTriangles (one draw call each, in scene order: the OpenGL
+// rasterizer's draws), each with its world-space bounding box. The forward techniques test the
+// lights' volumes against these boxes each frame (raster/batch_lights.h) to choose what each light
+// pass draws (`forward`) or which lights a batch's draw shades (`forward-single`).
 #include <cstdint>
 #include <vector>
 
@@ -12,6 +12,12 @@
 #include "scene/scene.h"
 
 namespace ts {
+
+// The longest batch. A Scene keeps no meshes, only triangles in file order; a file with one
+// material (the Sponza of ../shared/scenes: 262k triangles) would be one batch that every light
+// touches. Consecutive triangles of a mesh lie together, so cutting the runs gives batches with
+// boxes that cull; the draws keep the scene's order, so the images do not change.
+constexpr uint32_t kBatchTriangles = 1024;
 
 struct DrawBatch {
   uint32_t firstTriangle = 0;

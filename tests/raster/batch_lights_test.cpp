@@ -30,15 +30,37 @@ TEST(DrawBatches, CoverTheTrianglesInOrderOneMaterialEach) {
     const DrawBatch& d = batches[b];
     EXPECT_EQ(d.firstTriangle, next);
     ASSERT_GT(d.triangles, 0u);
+    EXPECT_LE(d.triangles, kBatchTriangles);
     for (uint32_t t = d.firstTriangle; t < d.firstTriangle + d.triangles; ++t)
       EXPECT_EQ(d.material, &scene.materials[scene.triangleMaterial[t]]);
-    // A batch ends where the material changes.
-    if (b + 1 < batches.size()) {
+    // A batch ends where the material changes or at the longest batch.
+    if (b + 1 < batches.size() && d.triangles < kBatchTriangles) {
       EXPECT_NE(d.material, batches[b + 1].material);
     }
     next += d.triangles;
   }
   EXPECT_EQ(next, scene.triangleCount());
+}
+
+// One material over 2500 triangles along x: three batches, each boxing only its own stretch.
+TEST(DrawBatches, LongRunsAreCutIntoBatchesThatCull) {
+  Scene scene;
+  scene.materials.resize(1);
+  for (uint32_t t = 0; t < 2500; ++t) {
+    const float x = float(t);
+    for (glm::vec3 p : {glm::vec3(x, 0, 0), glm::vec3(x + 1, 0, 0), glm::vec3(x, 1, 0)}) {
+      scene.indices.push_back(uint32_t(scene.vertices.size()));
+      scene.vertices.push_back({p, glm::vec3(0, 0, 1), glm::vec2(0)});
+    }
+    scene.triangleMaterial.push_back(0);
+  }
+  const std::vector<DrawBatch> batches = drawBatches(scene);
+  ASSERT_EQ(batches.size(), 3u);
+  EXPECT_EQ(batches[0].triangles, kBatchTriangles);
+  EXPECT_EQ(batches[1].firstTriangle, kBatchTriangles);
+  EXPECT_EQ(batches[2].triangles, 2500u - 2 * kBatchTriangles);
+  EXPECT_EQ(batches[1].bounds.min.x, float(kBatchTriangles));
+  EXPECT_EQ(batches[1].bounds.max.x, float(2 * kBatchTriangles));
 }
 
 // Every vertex of a batch, transformed as the vertex shader does (float), lies in its view box.
