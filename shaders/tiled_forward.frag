@@ -1,9 +1,10 @@
 #version 430 core
-// Tiled forward shading (Olsson & Assarsson's TiledFwd; src/raster/gl_forward.cpp): the scene
-// drawn once, each fragment forms its material planes (material_planes.h, as the G-buffer pass
-// does), then sums the lights of its screen tile's list (the OpenCL binning kernels' grid,
-// copied into shader storage buffers) with kernels/shading.h compiled as GLSL: the same shading
-// function as every technique and the reference.
+// The forward family's fragment shader (src/raster/gl_rasterizer.cpp): each fragment forms its
+// material planes (material_planes.h, as the G-buffer pass does), then sums the lights of one list
+// with kernels/shading.h compiled as GLSL: the same shading function as every technique and the
+// reference. The list is the fragment's screen tile's in the light grid (tiled-forward and
+// tiled-forward-prez: the OpenCL binning kernels' grid, copied into shader storage buffers) or
+// its draw's (u_drawList: forward's one light per additive pass, forward-single's batch list).
 
 // The depth test before the shader runs (a shader with buffer writes otherwise runs for every
 // fragment): with the pre-pass's EQUAL test each pixel is shaded once, without it each fragment
@@ -15,6 +16,10 @@ in vec3 v_normal;
 in vec2 v_uv;
 
 layout(location = 0) out vec4 o_color;
+// The draw batch that wrote the fragment (forward, forward-single: which list a pixel's visible
+// surface shaded, for the conservativeness check); not a draw buffer of tiled forward.
+layout(location = 2) out int o_batch;
+uniform int u_batch;
 
 struct TsMaterial {
   vec3 diffuse;
@@ -56,6 +61,12 @@ uniform int u_shading;
 uniform int u_specularOn;
 uniform int u_spotOn;
 uniform int u_emissiveOn;
+// The list of the draw instead of the tile's: u_list = (offset, count) into tile_lights.
+uniform bool u_drawList;
+uniform uvec2 u_list;
+// Ambient and emission (and the directional lights, u_dirLightCount): off in forward's light
+// passes, which add one light each onto the base pass's image.
+uniform bool u_baseTerms;
 
 void main() {
   vec3 faceNormal = cross(dFdx(v_viewPosition), dFdy(v_viewPosition));
@@ -82,7 +93,9 @@ void main() {
 
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   int tile = (pixel.y / u_tiles.y) * u_tiles.z + pixel.x / u_tiles.x;
-  uvec2 bin = tile_bin[tile];
+  uvec2 bin;
+  if (u_drawList) bin = u_list;
+  else bin = tile_bin[tile];
   vec3 sum = vec3(0.0);
   for (uint k = 0u; k < bin.y; ++k) {
     uint i = tile_lights[bin.x + k];
@@ -95,6 +108,8 @@ void main() {
     directional += ts_directional_light(p, kd, ks, dir_light[2 * k].xyz, dir_light[2 * k + 1].xyz,
                                         u_shading, u_specularOn);
   atomicAdd(tile_work[tile], bin.y + uint(u_dirLightCount));
-  sum += directional + ts_surface_base(ke, c_diff, u_ambient);
+  vec3 base = u_baseTerms ? ts_surface_base(ke, c_diff, u_ambient) : vec3(0.0);
+  sum += directional + base;
   o_color = vec4(sum, 0.0);
+  o_batch = u_batch;
 }

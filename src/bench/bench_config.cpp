@@ -320,7 +320,8 @@ std::vector<BenchConfig> expandSweep(const BenchSweep& sweep) {
     for (const auto& v : it->second)
       for (const auto& item : splitList(v)) {
         if (dim.name == "technique" && item == "all") {
-          for (const auto& t : gbufferTechniqueNames()) add(t);  // bench draws no forward pass
+          // The G-buffer techniques: the forward ones need --raster gl frames, so by name only.
+          for (const auto& t : gbufferTechniqueNames()) add(t);
         } else {
           add(item);
         }

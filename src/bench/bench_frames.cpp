@@ -4,6 +4,7 @@
 #include "scene/scene_features.h"
 #include "scene/scene_loader.h"
 #include "scene/view_space_lights.h"
+#include "techniques/technique.h"
 #include "util/error.h"
 
 namespace ts {
@@ -46,9 +47,13 @@ void BenchScene::check(const BenchConfig& c) {
                   " is an imported G-buffer: its files decide the shading "
                   "model (no --variant or --shading-model)");
     features(c);  // a bad --features fails before anything is timed
+    if (findTechnique(c.technique).drawsScene)
+      throw Error(c.technique + " draws the scene: an imported G-buffer has none (--raster gl)");
     return;
   }
   features(c);  // a bad --shading-model or --features fails before anything is timed
+  if (findTechnique(c.technique).drawsScene && backend != RasterBackend::Gl)
+    throw Error(c.technique + " draws the scene: bench needs --raster gl for it");
   auto& r = rasterizers_[backend];
   if (!r) r = std::make_unique<SceneRasterizer>(scene_, backend);
 }
@@ -65,6 +70,12 @@ PreparedFrame BenchScene::prepare(const BenchConfig& c, int frame) {
   SceneRasterizer& r = *rasterizers_.at(c.raster);
   return prepareFrame(r, frame, c.width, c.height, GBufferFormat::FP32,
                       SceneFeatures::general(features(c).model));
+}
+
+std::unique_ptr<ForwardScene> BenchScene::forwardScene(const BenchConfig& c,
+                                                       const PreparedFrame& frame) {
+  if (imported_) return nullptr;
+  return rasterizers_.at(c.raster)->forwardScene(frame.camera, c.width, c.height);
 }
 
 ViewLights BenchScene::ownRangeLights(const PreparedFrame& frame) const {

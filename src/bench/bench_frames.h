@@ -38,6 +38,9 @@ class BenchScene {
   // plane (the general layout: the error reference's input; configurations encode their own
   // layout from its gbuffer); raster_ms inside.
   PreparedFrame prepare(const BenchConfig& config, int frame);
+  // The scene to draw at `frame`'s camera for the forward techniques (DeviceFrame::forward):
+  // from the configuration's OpenGL rasterizer; null for the software one or an imported G-buffer.
+  std::unique_ptr<ForwardScene> forwardScene(const BenchConfig& config, const PreparedFrame& frame);
   // The lights with the scene's own ranges (before light_threshold), in the frame's view space:
   // the error reference of every configuration of the scene.
   ViewLights ownRangeLights(const PreparedFrame& frame) const;

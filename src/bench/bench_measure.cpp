@@ -60,6 +60,7 @@ GroupFrame::GroupFrame(BenchScene& scene, const BenchConfig& group, int frame)
       prepared_(outOfMemoryAs("preparing a " + std::to_string(group.width) + "x" +
                                   std::to_string(group.height) + " frame of " + group.scene,
                               [&] { return scene.prepare(group, frame); })),
+      forward_(scene.forwardScene(group, prepared_)),
       pixels_(size_t(group.width) * group.height),
       geometry_(prepared_.gbuffer.geometryPixels()) {}
 
@@ -93,10 +94,13 @@ const ReferenceImage& GroupFrame::sceneReference() {
 }
 
 TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFrame& prepared,
-                     int warmup, int repeat) {
+                     ForwardScene* forward, int warmup, int repeat) {
   ClContext& cl = *e.cl;
   auto upload = [&] {
-    return DeviceFrame::upload(cl, enc, prepared.intrinsics, prepared.lights, prepared.ambient);
+    DeviceFrame df =
+        DeviceFrame::upload(cl, enc, prepared.intrinsics, prepared.lights, prepared.ambient);
+    df.forward = forward;
+    return df;
   };
   if (!e.warmed) {
     for (int w = 0; w < warmup; ++w) {

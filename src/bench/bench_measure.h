@@ -51,6 +51,8 @@ class GroupFrame {
   GroupFrame(BenchScene& scene, const BenchConfig& group, int frame);
 
   const PreparedFrame& prepared() const { return prepared_; }
+  // The scene to draw for the forward techniques (null where the frame is not OpenGL's).
+  ForwardScene* forward() const { return forward_.get(); }
   size_t pixels() const { return pixels_; }
   uint64_t geometryPixels() const { return geometry_; }
 
@@ -68,6 +70,7 @@ class GroupFrame {
  private:
   BenchScene& scene_;
   PreparedFrame prepared_;
+  std::unique_ptr<ForwardScene> forward_;
   size_t pixels_;
   uint64_t geometry_;
   std::map<std::pair<GBufferFormat, std::string>, EncodedGBuffer> layouts_;
@@ -83,8 +86,9 @@ struct TimedFrame {
 
 // Renders `repeat` times after the configuration's `warmup` untimed renders (before its first
 // frame only); keeps the median by kernel time (the lower middle one for an even count).
+// forward: the frame's scene to draw (GroupFrame::forward), null for a G-buffer-only frame.
 TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFrame& prepared,
-                     int warmup, int repeat);
+                     ForwardScene* forward, int warmup, int repeat);
 
 // The error of one frame against the references (on the frames --error-frames selects).
 struct FrameErrors {

@@ -395,7 +395,7 @@ void BenchRunner::measureFrame(const std::vector<BenchEntry*>& group, BenchScene
 json BenchRunner::measure(BenchEntry& e, GroupFrame& frame, int f) {
   const EncodedGBuffer& enc = frame.encoded(e.config.format, e.features);
   TechniqueConfig tc = e.config.techniqueConfig(e.features);
-  TimedFrame m = timeFrame(e, enc, frame.prepared(), o_.warmup, o_.repeat);
+  TimedFrame m = timeFrame(e, enc, frame.prepared(), frame.forward(), o_.warmup, o_.repeat);
   FrameErrors errors;
   if (e.errorFrames.count(f)) errors = measureErrors(e, frame, enc, tc, m.r.image);
   return measurementRow(e, frame, f, enc, m, errors, o_.warmup, o_.repeat);

@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include "raster/batch_lights.h"
+#include "raster/draw_batches.h"
 #include "scene/scene_features.h"
 #include "shading/forward_grid.h"
 #include "shading/view_lights.h"
@@ -28,6 +30,19 @@ class ForwardScene {
   virtual ForwardImage tiledForward(const ViewLights& lights, glm::vec3 ambient,
                                     const SceneFeatures& features, int rangeModel,
                                     const ForwardLightGrid& grid, bool depthEqual) = 0;
+  // The scene's draw batches (raster/draw_batches.h) as view-space boxes at this frame's camera,
+  // in draw order: what the forward techniques test the lights against.
+  virtual std::vector<ViewBox> batchBoxes() = 0;
+  // `forward`: a base pass, then one additive pass per light over the batches of its list in
+  // lightBatches (one list per light), depth test EQUAL (GlRasterizer::multiPassForward).
+  virtual ForwardImage multiPassForward(const ViewLights& lights, glm::vec3 ambient,
+                                        const SceneFeatures& features, int rangeModel,
+                                        const IndexLists& lightBatches) = 0;
+  // `forward-single`: the scene drawn once, each batch shading its list in batchLights (one list
+  // per batch; GlRasterizer::singlePassForward).
+  virtual ForwardImage singlePassForward(const ViewLights& lights, glm::vec3 ambient,
+                                         const SceneFeatures& features, int rangeModel,
+                                         const IndexLists& batchLights) = 0;
 };
 
 }  // namespace ts

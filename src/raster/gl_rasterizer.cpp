@@ -27,7 +27,8 @@
 //    wrap modes and filter (GL_LINEAR: bilinear with texel centres at half-integers; GL_NEAREST),
 //    as Texture::sample.
 //  - Triangle ids: gl_PrimitiveID plus the draw's first triangle (one draw per run of triangles
-//    sharing a material, in scene order).
+//    sharing a material, in scene order: raster/draw_batches.h, whose boxes the forward
+//    techniques cull lights against).
 // What cannot match bit for bit (float vertex transform, the snapped-triangle attribute
 // interpolation, sampler weight precision) is measured in tests/raster/gl_raster_test.cpp and
 // described in docs/opengl.md.
@@ -43,6 +44,7 @@
 
 #include <epoxy/gl.h>
 
+#include "raster/draw_batches.h"
 #include "raster/egl_context.h"
 #include "raster/gl_program.h"
 #include "raster/scene_validation.h"
@@ -83,7 +85,7 @@ glm::mat4 clipFromView(const CameraIntrinsics& in) {
 struct Uniforms {
   GLint viewFromWorld, normalMatrix, clipFromView;
   GLint diffuse, specular, shininess, baseColor, metallic, roughness, emissive;
-  GLint doubleSided, metallicRoughness, firstTriangle;
+  GLint doubleSided, metallicRoughness, firstTriangle, batch;
   GLint texture[TS_TEXTURE_SLOTS], hasTexture[TS_TEXTURE_SLOTS];
 };
 
@@ -104,6 +106,7 @@ Uniforms uniformsOf(GLuint program) {
   u.doubleSided = at("u_doubleSided");
   u.metallicRoughness = at("u_metallicRoughness");
   u.firstTriangle = at("u_firstTriangle");
+  u.batch = at("u_batch");
   glUseProgram(program);
   for (int s = 0; s < TS_TEXTURE_SLOTS; ++s) {
     u.texture[s] = at("u_texture[" + std::to_string(s) + "]");
@@ -113,7 +116,7 @@ Uniforms uniformsOf(GLuint program) {
   return u;
 }
 
-// The forward pass's shader storage bindings (shaders/tiled_forward.frag).
+// The forward passes' shader storage bindings (shaders/tiled_forward.frag).
 enum ForwardStorage {
   kPosRange,
   kColor,
@@ -125,18 +128,15 @@ enum ForwardStorage {
   kForwardStorages
 };
 
-// A run of consecutive triangles with one material: one draw call.
-struct Draw {
-  uint32_t firstTriangle = 0;
-  uint32_t triangles = 0;
-  const Material* material = nullptr;
-};
+// The work counter's tiles where the lists are the draws' (forward, forward-single): only
+// spreads the atomics, as tiled forward's per-tile counters do.
+constexpr int kWorkTile = 16;
 
 }  // namespace
 
 struct GlRasterizer::State {
   const Scene& scene;
-  std::vector<Draw> draws;
+  std::vector<DrawBatch> draws;
   GLuint program = 0, vao = 0, vertexBuffer = 0, indexBuffer = 0;
   std::vector<GLuint> textures;  // per scene texture; 0 for an empty one (sampled as 1)
   GLuint framebuffer = 0, depthBuffer = 0;
@@ -147,7 +147,8 @@ struct GlRasterizer::State {
   // The forward passes (built on first use: they need OpenGL 4.3, the G-buffer pass 3.3).
   GLuint forwardProgram = 0, depthProgram = 0;
   Uniforms fu{}, du{};
-  GLuint forwardFramebuffer = 0, forwardDepth = 0, forwardTargets[2] = {};  // image, depth
+  // image, pre-pass depth, batch ids
+  GLuint forwardFramebuffer = 0, forwardDepth = 0, forwardTargets[3] = {};
   int forwardWidth = 0, forwardHeight = 0;
   GLuint storage[kForwardStorages] = {};
   GLuint timer = 0;
@@ -183,21 +184,6 @@ struct GlRasterizer::State {
     glDeleteTextures(kTargets, targets);
     framebuffer = depthBuffer = 0;
     width = height = 0;
-  }
-
-  void buildDraws() {
-    static const Material kDefaultMaterial;
-    const size_t n = scene.triangleCount();
-    auto materialOf = [&](size_t t) -> const Material* {
-      if (scene.triangleMaterial.empty())
-        return scene.materials.empty() ? &kDefaultMaterial : &scene.materials[0];
-      return &scene.materials[scene.triangleMaterial[t]];
-    };
-    for (size_t t = 0; t < n; ++t) {
-      const Material* m = materialOf(t);
-      if (draws.empty() || draws.back().material != m) draws.push_back({uint32_t(t), 0, m});
-      ++draws.back().triangles;
-    }
   }
 
   void upload() {
@@ -345,6 +331,13 @@ struct GlRasterizer::State {
   // Every draw of the scene with `u`'s program in use: the camera, then per draw its material.
   void drawScene(const Uniforms& u, const SceneCamera& camera, const CameraIntrinsics& in,
                  bool metallicRoughness) {
+    setCamera(u, camera, in);
+    glBindVertexArray(vao);
+    for (size_t b = 0; b < draws.size(); ++b) drawBatch(u, b, metallicRoughness);
+    glBindVertexArray(0);
+  }
+
+  void setCamera(const Uniforms& u, const SceneCamera& camera, const CameraIntrinsics& in) {
     const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(camera.viewFromWorld)));
     const glm::mat4 projection = clipFromView(in);
     // GL transforms in float (the software rasterizer in double; docs/opengl.md).
@@ -352,14 +345,16 @@ struct GlRasterizer::State {
     glUniformMatrix4fv(u.viewFromWorld, 1, GL_FALSE, &viewFromWorld[0][0]);
     glUniformMatrix3fv(u.normalMatrix, 1, GL_FALSE, &normalMatrix[0][0]);
     glUniformMatrix4fv(u.clipFromView, 1, GL_FALSE, &projection[0][0]);
-    glBindVertexArray(vao);
-    for (const Draw& d : draws) {
-      setMaterial(u, *d.material, metallicRoughness);
-      glUniform1i(u.firstTriangle, GLint(d.firstTriangle));
-      glDrawElements(GL_TRIANGLES, GLsizei(d.triangles * 3), GL_UNSIGNED_INT,
-                     reinterpret_cast<const void*>(size_t(d.firstTriangle) * 3 * sizeof(uint32_t)));
-    }
-    glBindVertexArray(0);
+  }
+
+  // Draw batch b (the vertex array bound): its material, then its triangles.
+  void drawBatch(const Uniforms& u, size_t b, bool metallicRoughness) {
+    const DrawBatch& d = draws[b];
+    setMaterial(u, *d.material, metallicRoughness);
+    glUniform1i(u.firstTriangle, GLint(d.firstTriangle));
+    glUniform1i(u.batch, GLint(b));
+    glDrawElements(GL_TRIANGLES, GLsizei(d.triangles * 3), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(size_t(d.firstTriangle) * 3 * sizeof(uint32_t)));
   }
 
   // ---- Forward passes ----------------------------------------------------------------------
@@ -382,21 +377,22 @@ struct GlRasterizer::State {
     if (!forwardFramebuffer) return;
     glDeleteFramebuffers(1, &forwardFramebuffer);
     glDeleteRenderbuffers(1, &forwardDepth);
-    glDeleteTextures(2, forwardTargets);
+    glDeleteTextures(3, forwardTargets);
     forwardFramebuffer = forwardDepth = 0;
     forwardWidth = forwardHeight = 0;
   }
 
-  // Colour 0: the shaded image (RGBA32F); colour 1: the pre-pass's linear depth (R32F); the
-  // reversed float depth buffer of the G-buffer pass.
+  // Colour 0: the shaded image (RGBA32F); colour 1: the pre-pass's linear depth (R32F); colour 2:
+  // the draw batch of each pixel's surface (R32I, forward and forward-single); the reversed float
+  // depth buffer of the G-buffer pass.
   void ensureForwardFramebuffer(int w, int h) {
     if (forwardFramebuffer && w == forwardWidth && h == forwardHeight) return;
     releaseForwardFramebuffer();
     glGenFramebuffers(1, &forwardFramebuffer);
     glBindFramebuffer(GL_FRAMEBUFFER, forwardFramebuffer);
-    glGenTextures(2, forwardTargets);
-    const GLenum formats[2] = {GL_RGBA32F, GL_R32F};
-    for (int t = 0; t < 2; ++t) {
+    glGenTextures(3, forwardTargets);
+    const GLenum formats[3] = {GL_RGBA32F, GL_R32F, GL_R32I};
+    for (int t = 0; t < 3; ++t) {
       glBindTexture(GL_TEXTURE_2D, forwardTargets[t]);
       glTexStorage2D(GL_TEXTURE_2D, 1, formats[t], w, h);
       glFramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + t), GL_TEXTURE_2D,
@@ -410,7 +406,7 @@ struct GlRasterizer::State {
                     " forward framebuffer");
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
       releaseForwardFramebuffer();
-      throw Error("OpenGL forward framebuffer (RGBA32F, R32F, float depth) is incomplete");
+      throw Error("OpenGL forward framebuffer (RGBA32F, R32F, R32I, float depth) is incomplete");
     }
     forwardWidth = w;
     forwardHeight = h;
@@ -468,6 +464,99 @@ struct GlRasterizer::State {
     storageData(binding, v.data(), v.size() * sizeof(T));
   }
 
+  // The frame's lights into shader storage (the directional ones where the features shade them);
+  // returns the directional count.
+  int uploadLights(const ForwardLighting& lighting) {
+    const ViewLights& lights = *lighting.lights;
+    storeVector(kPosRange, lights.positionRange);
+    storeVector(kColor, lights.color);
+    storeVector(kSpot, lights.spot);
+    std::vector<glm::vec4> directional;
+    if (lighting.features.directional)
+      for (size_t k = 0; k < lights.directionalCount(); ++k) {
+        directional.push_back(lights.directionalDir[k]);
+        directional.push_back(lights.directionalColor[k]);
+      }
+    storeVector(kDirectional, directional);
+    return int(directional.size() / 2);
+  }
+
+  // Where the lists are the draws', the tiles only spread the work counters: bins unused (0),
+  // counters cleared. Returns the tile count.
+  size_t uploadWorkTiles(int w, int h) {
+    const size_t tiles =
+        size_t((w + kWorkTile - 1) / kWorkTile) * ((h + kWorkTile - 1) / kWorkTile);
+    storeVector(kTileBins, std::vector<glm::uvec2>(tiles, glm::uvec2(0)));
+    storeVector(kTileWork, std::vector<uint32_t>(tiles, 0));
+    return tiles;
+  }
+
+  GLint forwardUniform(const char* name) const {
+    return glGetUniformLocation(forwardProgram, name);
+  }
+
+  // The forward program in use with the uniforms every forward pass shares. tiles: the tile
+  // width, height and tiles per row of the light grid (or of the work counters).
+  void setForwardUniforms(const ForwardLighting& lighting, int directionals, glm::ivec3 tiles) {
+    glUseProgram(forwardProgram);
+    const SceneFeatures& f = lighting.features;
+    const bool metallicRoughness = f.model == ShadingModel::MetallicRoughness;
+    glUniform3fv(forwardUniform("u_ambient"), 1, &lighting.ambient.x);
+    glUniform1i(forwardUniform("u_dirLightCount"), GLint(directionals));
+    glUniform3i(forwardUniform("u_tiles"), tiles.x, tiles.y, tiles.z);
+    glUniform1i(forwardUniform("u_model"), lighting.rangeModel);
+    glUniform1i(forwardUniform("u_shading"), int(f.model));
+    glUniform1i(forwardUniform("u_specularOn"), f.specular || metallicRoughness ? 1 : 0);
+    glUniform1i(forwardUniform("u_spotOn"), f.spot ? 1 : 0);
+    glUniform1i(forwardUniform("u_emissiveOn"), f.emissive ? 1 : 0);
+  }
+
+  // The image target drawn and cleared to 0 (the background); with batchIds also the batch
+  // target, cleared to -1 (no surface).
+  void clearImage(bool batchIds = false) {
+    const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_NONE, GL_COLOR_ATTACHMENT2};
+    glDrawBuffers(batchIds ? 3 : 1, buffers);
+    const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glClearBufferfv(GL_COLOR, 0, zero);
+    const GLint none[4] = {-1, -1, -1, -1};
+    if (batchIds) glClearBufferiv(GL_COLOR, 2, none);
+  }
+
+  // The forward image and the shader's lighting computations (its per-tile counters) back; with
+  // batchIds the batch of each pixel's surface too.
+  void readForward(ForwardImage& out, int w, int h, size_t tiles, bool batchIds = false) {
+    out.image.resize(size_t(w) * size_t(h));
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glBindTexture(GL_TEXTURE_2D, forwardTargets[0]);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out.image.data());
+    if (batchIds) {
+      out.pixelBatch.resize(out.image.size());
+      glBindTexture(GL_TEXTURE_2D, forwardTargets[2]);
+      glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_INT, out.pixelBatch.data());
+    }
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<uint32_t> counted(tiles);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, storage[kTileWork]);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(tiles * 4), counted.data());
+    for (uint32_t c : counted) out.lightingComputations += c;
+    gl::checkErrors("reading back the forward image");
+  }
+
+  // Lists whose entries index `targets` things, packed as IndexLists says.
+  static void checkLists(const IndexLists& lists, size_t targets, const char* what) {
+    if (lists.offsets.size() != lists.size())
+      throw Error(std::string(what) + "s: offsets and counts differ in length");
+    for (size_t o = 0; o < lists.size(); ++o) {
+      if (size_t(lists.offsets[o]) + lists.counts[o] > lists.items.size())
+        throw Error(std::string(what) + " runs past the packed lists");
+      for (uint32_t k = 0; k < lists.counts[o]; ++k)
+        if (lists.items[lists.offsets[o] + k] >= targets)
+          throw Error(std::string(what) + " names entry " +
+                      std::to_string(lists.items[lists.offsets[o] + k]) + " of " +
+                      std::to_string(targets));
+    }
+  }
+
   template <typename T>
   void readTarget(int target, GLenum format, GLenum type, std::vector<T>& out) {
     // glGetTexImage of the attachment: on llvmpipe ~8x faster than glReadPixels (which takes a
@@ -502,7 +591,7 @@ GlRasterizer::GlRasterizer(const Scene& scene) : state_(std::make_unique<State>(
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
   state_->maxSize = std::min({viewport[0], viewport[1], renderbuffer, texture});
-  state_->buildDraws();
+  state_->draws = drawBatches(scene);
   try {
     state_->buildProgram();
     state_->upload();
@@ -537,6 +626,21 @@ void GlRasterizer::warmUpForward() {
   depthPrepass(warmup, 8, 8, ms);
   tiledForward(warmup, 8, 8, lighting, grid, true);
   tiledForward(warmup, 8, 8, lighting, grid, false);
+  // forward's blended light pass (a light far away, drawn with the first batch) and
+  // forward-single's draw lists.
+  ViewLights one;
+  one.addPoint(glm::vec3(0.0f, 0.0f, 1e6f), 1.0f, glm::vec3(1.0f));
+  lighting.lights = &one;
+  IndexLists lists;
+  lists.offsets = {0};
+  lists.counts = {state_->draws.empty() ? 0u : 1u};
+  lists.items.assign(lists.counts[0], 0);
+  multiPassForward(warmup, 8, 8, lighting, lists);
+  IndexLists emptyLists;
+  emptyLists.offsets.assign(state_->draws.size(), 0);
+  emptyLists.counts.assign(state_->draws.size(), 0);
+  lighting.lights = &none;
+  singlePassForward(warmup, 8, 8, lighting, emptyLists);
 }
 
 std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int width, int height,
@@ -579,29 +683,14 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
       grid.counts.size() != tiles)
     throw Error("tiled forward: the light grid does not match the " + std::to_string(width) + "x" +
                 std::to_string(height) + " frame");
-  if (width > state_->maxSize || height > state_->maxSize)
-    throw Error("--raster gl: " + std::to_string(width) + "x" + std::to_string(height) +
-                " exceeds this OpenGL implementation's limit");
-  EglContext::shared().makeCurrent();
-  State& s = *state_;
-  warmUpForward();
+  State& s = beginForward(width, height);
   if (depthEqual && (s.forwardWidth != width || s.forwardHeight != height))
     throw Error("tiled forward with depth EQUAL needs a depth pre-pass of the same size first");
   s.ensureForwardFramebuffer(width, height);
 
   ForwardImage out;
   const auto t0 = Clock::now();
-  const ViewLights& lights = *lighting.lights;
-  s.storeVector(kPosRange, lights.positionRange);
-  s.storeVector(kColor, lights.color);
-  s.storeVector(kSpot, lights.spot);
-  std::vector<glm::vec4> directional;
-  if (lighting.features.directional)
-    for (size_t k = 0; k < lights.directionalCount(); ++k) {
-      directional.push_back(lights.directionalDir[k]);
-      directional.push_back(lights.directionalColor[k]);
-    }
-  s.storeVector(kDirectional, directional);
+  const int directionals = s.uploadLights(lighting);
   std::vector<glm::uvec2> bins(tiles);
   for (size_t t = 0; t < tiles; ++t) bins[t] = {grid.offsets[t], grid.counts[t]};
   s.storeVector(kTileBins, bins);
@@ -611,24 +700,13 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
   gl::checkErrors("uploading the lights and the light grid");
   out.uploadMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 
-  glUseProgram(s.forwardProgram);
-  auto at = [&](const char* name) { return glGetUniformLocation(s.forwardProgram, name); };
-  const SceneFeatures& f = lighting.features;
-  const bool metallicRoughness = f.model == ShadingModel::MetallicRoughness;
-  glUniform3fv(at("u_ambient"), 1, &lighting.ambient.x);
-  glUniform1i(at("u_dirLightCount"), GLint(directional.size() / 2));
-  glUniform3i(at("u_tiles"), grid.tileW, grid.tileH, grid.tilesX);
-  glUniform1i(at("u_model"), lighting.rangeModel);
-  glUniform1i(at("u_shading"), int(f.model));
-  glUniform1i(at("u_specularOn"), f.specular || metallicRoughness ? 1 : 0);
-  glUniform1i(at("u_spotOn"), f.spot ? 1 : 0);
-  glUniform1i(at("u_emissiveOn"), f.emissive ? 1 : 0);
+  s.setForwardUniforms(lighting, directionals, {grid.tileW, grid.tileH, grid.tilesX});
+  glUniform1i(s.forwardUniform("u_drawList"), 0);
+  glUniform1i(s.forwardUniform("u_baseTerms"), 1);
+  const bool metallicRoughness = lighting.features.model == ShadingModel::MetallicRoughness;
 
   s.passState(in);
-  const GLenum buffers[1] = {GL_COLOR_ATTACHMENT0};
-  glDrawBuffers(1, buffers);
-  const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-  glClearBufferfv(GL_COLOR, 0, zero);
+  s.clearImage();
   if (depthEqual) {
     glDepthFunc(GL_EQUAL);
     glDepthMask(GL_FALSE);
@@ -637,20 +715,152 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
     glDepthFunc(GL_GREATER);
   }
   out.drawMs = s.timed([&] { s.drawScene(s.fu, camera, in, metallicRoughness); }, out.queryMs);
+  out.draws = s.draws.size();
   glDepthMask(GL_TRUE);
   gl::checkErrors("the tiled forward pass of scene '" + s.scene.name + "'");
-
-  out.image.resize(size_t(width) * size_t(height));
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glBindTexture(GL_TEXTURE_2D, s.forwardTargets[0]);
-  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out.image.data());
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  std::vector<uint32_t> counted(tiles);
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, s.storage[kTileWork]);
-  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(tiles * 4), counted.data());
-  for (uint32_t c : counted) out.lightingComputations += c;
-  gl::checkErrors("reading back the forward image");
+  s.readForward(out, width, height, tiles);
   return out;
+}
+
+ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width, int height,
+                                            const ForwardLighting& lighting,
+                                            const IndexLists& lightBatches) {
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+  if (!lighting.lights || lightBatches.size() != lighting.lights->size())
+    throw Error("forward: the lights' batch lists do not match the frame's lights");
+  State& s = beginForward(width, height);
+  s.checkLists(lightBatches, s.draws.size(), "a light's batch list");
+  s.ensureForwardFramebuffer(width, height);
+
+  ForwardImage out;
+  const auto t0 = Clock::now();
+  const int directionals = s.uploadLights(lighting);
+  // The lights that have a pass, in index order: pass p shades passLights[p] (u_list = (p, 1)).
+  std::vector<uint32_t> passLights;
+  for (size_t i = 0; i < lightBatches.size(); ++i)
+    if (lightBatches.counts[i] > 0) passLights.push_back(uint32_t(i));
+  s.storeVector(kTileLights, passLights);
+  const size_t tiles = s.uploadWorkTiles(width, height);
+  gl::checkErrors("uploading the lights");
+  out.uploadMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+
+  const int workTilesX = (width + kWorkTile - 1) / kWorkTile;
+  s.setForwardUniforms(lighting, directionals, {kWorkTile, kWorkTile, workTilesX});
+  const GLint drawList = s.forwardUniform("u_drawList"), list = s.forwardUniform("u_list"),
+              baseTerms = s.forwardUniform("u_baseTerms"),
+              dirCount = s.forwardUniform("u_dirLightCount");
+  glUniform1i(drawList, 1);
+  const bool metallicRoughness = lighting.features.model == ShadingModel::MetallicRoughness;
+
+  // The base pass: ambient, emission and the directional lights, every batch, the depth test of
+  // the G-buffer pass (its depth is what the light passes test EQUAL against).
+  s.passState(in);
+  s.clearImage(true);
+  s.clearDepth(in);
+  glDepthFunc(GL_GREATER);
+  glUniform1i(baseTerms, 1);
+  glUniform2ui(list, 0, 0);
+  out.baseMs = s.timed([&] { s.drawScene(s.fu, camera, in, metallicRoughness); }, out.baseQueryMs);
+  out.draws = s.draws.size();
+  gl::checkErrors("the forward base pass of scene '" + s.scene.name + "'");
+
+  // One additive pass per light over the batches its sphere touches; EQUAL: only the visible
+  // surface of the base pass is shaded, once per pixel and light.
+  const GLenum image[1] = {GL_COLOR_ATTACHMENT0};
+  glDrawBuffers(1, image);
+  glDepthFunc(GL_EQUAL);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFunc(GL_ONE, GL_ONE);
+  glUniform1i(baseTerms, 0);
+  glUniform1i(dirCount, 0);
+  out.drawMs = s.timed(
+      [&] {
+        s.setCamera(s.fu, camera, in);
+        glBindVertexArray(s.vao);
+        for (size_t p = 0; p < passLights.size(); ++p) {
+          glUniform2ui(list, GLuint(p), 1);
+          const uint32_t light = passLights[p];
+          for (uint32_t k = 0; k < lightBatches.counts[light]; ++k)
+            s.drawBatch(s.fu, lightBatches.items[lightBatches.offsets[light] + k],
+                        metallicRoughness);
+        }
+        glBindVertexArray(0);
+      },
+      out.queryMs);
+  out.passes = passLights.size();
+  out.draws += lightBatches.items.size();
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  gl::checkErrors("the forward light passes of scene '" + s.scene.name + "'");
+  s.readForward(out, width, height, tiles, true);
+  return out;
+}
+
+ForwardImage GlRasterizer::singlePassForward(const SceneCamera& camera, int width, int height,
+                                             const ForwardLighting& lighting,
+                                             const IndexLists& batchLights) {
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+  State& s = beginForward(width, height);
+  if (!lighting.lights || batchLights.size() != s.draws.size())
+    throw Error("forward-single: the batches' light lists do not match the scene's " +
+                std::to_string(s.draws.size()) + " draw batches");
+  s.checkLists(batchLights, lighting.lights->size(), "a batch's light list");
+  s.ensureForwardFramebuffer(width, height);
+
+  ForwardImage out;
+  const auto t0 = Clock::now();
+  const int directionals = s.uploadLights(lighting);
+  s.storeVector(kTileLights, batchLights.items);  // no cap: a list is as long as it is
+  const size_t tiles = s.uploadWorkTiles(width, height);
+  gl::checkErrors("uploading the lights and the batch lists");
+  out.uploadMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+
+  const int workTilesX = (width + kWorkTile - 1) / kWorkTile;
+  s.setForwardUniforms(lighting, directionals, {kWorkTile, kWorkTile, workTilesX});
+  const GLint list = s.forwardUniform("u_list");
+  glUniform1i(s.forwardUniform("u_drawList"), 1);
+  glUniform1i(s.forwardUniform("u_baseTerms"), 1);
+  const bool metallicRoughness = lighting.features.model == ShadingModel::MetallicRoughness;
+
+  s.passState(in);
+  s.clearImage(true);
+  s.clearDepth(in);
+  glDepthFunc(GL_GREATER);
+  out.drawMs = s.timed(
+      [&] {
+        s.setCamera(s.fu, camera, in);
+        glBindVertexArray(s.vao);
+        for (size_t b = 0; b < s.draws.size(); ++b) {
+          glUniform2ui(list, batchLights.offsets[b], batchLights.counts[b]);
+          s.drawBatch(s.fu, b, metallicRoughness);
+        }
+        glBindVertexArray(0);
+      },
+      out.queryMs);
+  out.draws = s.draws.size();
+  gl::checkErrors("the forward-single pass of scene '" + s.scene.name + "'");
+  s.readForward(out, width, height, tiles, true);
+  return out;
+}
+
+std::vector<ViewBox> GlRasterizer::batchBoxes(const SceneCamera& camera) const {
+  std::vector<ViewBox> boxes;
+  boxes.reserve(state_->draws.size());
+  for (const DrawBatch& d : state_->draws) boxes.push_back(viewBox(d.bounds, camera.viewFromWorld));
+  return boxes;
+}
+
+size_t GlRasterizer::batchCount() const { return state_->draws.size(); }
+
+GlRasterizer::State& GlRasterizer::beginForward(int width, int height) {
+  if (width > state_->maxSize || height > state_->maxSize)
+    throw Error("--raster gl: " + std::to_string(width) + "x" + std::to_string(height) +
+                " exceeds this OpenGL implementation's limit");
+  EglContext::shared().makeCurrent();
+  warmUpForward();
+  return *state_;
 }
 
 std::string GlRasterizer::renderer() const { return EglContext::shared().renderer(); }

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "raster/batch_lights.h"
+#include "raster/draw_batches.h"
 #include "raster/rasterizer.h"
 #include "scene/scene.h"
 #include "scene/scene_features.h"
@@ -53,6 +55,23 @@ class GlRasterizer {
   ForwardImage tiledForward(const SceneCamera& camera, int width, int height,
                             const ForwardLighting& lighting, const ForwardLightGrid& grid,
                             bool depthEqual);
+  // Multi-pass forward shading (`forward`, the thesis's): a base pass of every draw batch
+  // (ambient, emission, directional lights; the G-buffer pass's depth test), then for each light
+  // with a non-empty list in lightBatches (one list per light: the batches its volume touches,
+  // raster/batch_lights.h) one pass that draws those batches with depth test EQUAL and additive
+  // blending (ONE, ONE), shading that light alone. ForwardImage::baseMs is the base pass, drawMs
+  // the light passes together.
+  ForwardImage multiPassForward(const SceneCamera& camera, int width, int height,
+                                const ForwardLighting& lighting, const IndexLists& lightBatches);
+  // Single-pass forward shading (`forward-single`): the scene drawn once (the G-buffer pass's
+  // depth test), batch b's fragments shading the lights of batchLights' list b (one list per
+  // draw batch, in a shader storage buffer: no cap on a list's length) and the directional ones.
+  ForwardImage singlePassForward(const SceneCamera& camera, int width, int height,
+                                 const ForwardLighting& lighting, const IndexLists& batchLights);
+  // The view-space boxes of the draw batches at `camera`, in draw order (raster/draw_batches.h).
+  std::vector<ViewBox> batchBoxes(const SceneCamera& camera) const;
+  size_t batchCount() const;
+
   // A depth-only pass: fills the depth buffer the next tiledForward(.., true) tests against and
   // returns the linear view depth per pixel (0 = background), the G-buffer's depth plane.
   // ms: the draw's wall-clock time (ForwardImage::drawMs).
@@ -64,6 +83,8 @@ class GlRasterizer {
  private:
   void warmUpForward();  // builds the forward programs on first use, then a first small frame
   struct State;
+  // The checks and setup every forward pass starts with (size limit, context, warm-up).
+  State& beginForward(int width, int height);
   std::unique_ptr<State> state_;
   double setupMs_ = 0.0;
 };

@@ -19,6 +19,16 @@ class GlRasterizer {
 #else
 namespace {
 
+ForwardLighting lightingOf(const ViewLights& lights, glm::vec3 ambient,
+                           const SceneFeatures& features, int rangeModel) {
+  ForwardLighting lighting;
+  lighting.lights = &lights;
+  lighting.ambient = ambient;
+  lighting.features = features;
+  lighting.rangeModel = rangeModel;
+  return lighting;
+}
+
 // One frame's camera in the OpenGL rasterizer's context.
 class GlForwardScene : public ForwardScene {
  public:
@@ -30,12 +40,21 @@ class GlForwardScene : public ForwardScene {
   ForwardImage tiledForward(const ViewLights& lights, glm::vec3 ambient,
                             const SceneFeatures& features, int rangeModel,
                             const ForwardLightGrid& grid, bool depthEqual) override {
-    ForwardLighting lighting;
-    lighting.lights = &lights;
-    lighting.ambient = ambient;
-    lighting.features = features;
-    lighting.rangeModel = rangeModel;
-    return gl_.tiledForward(camera_, width_, height_, lighting, grid, depthEqual);
+    return gl_.tiledForward(camera_, width_, height_,
+                            lightingOf(lights, ambient, features, rangeModel), grid, depthEqual);
+  }
+  std::vector<ViewBox> batchBoxes() override { return gl_.batchBoxes(camera_); }
+  ForwardImage multiPassForward(const ViewLights& lights, glm::vec3 ambient,
+                                const SceneFeatures& features, int rangeModel,
+                                const IndexLists& lightBatches) override {
+    return gl_.multiPassForward(camera_, width_, height_,
+                                lightingOf(lights, ambient, features, rangeModel), lightBatches);
+  }
+  ForwardImage singlePassForward(const ViewLights& lights, glm::vec3 ambient,
+                                 const SceneFeatures& features, int rangeModel,
+                                 const IndexLists& batchLights) override {
+    return gl_.singlePassForward(camera_, width_, height_,
+                                 lightingOf(lights, ambient, features, rangeModel), batchLights);
   }
 
  private:

@@ -24,6 +24,14 @@ struct ForwardImage {
   double uploadMs = 0.0;  // lights and grid into shader storage (host clock)
   uint64_t lightingComputations = 0;  // fragment invocations x lights evaluated (an atomic
                                       // counter per tile in the fragment shader)
+  // Multi-pass forward: its base pass apart (drawMs and queryMs are then its light passes), and
+  // the light passes drawn.
+  double baseMs = 0.0, baseQueryMs = 0.0;
+  size_t passes = 0;
+  size_t draws = 0;  // draw calls, all passes
+  // forward, forward-single: the draw batch of each pixel's surface (-1: background), row 0 at
+  // the top.
+  std::vector<int32_t> pixelBatch;
 };
 
 }  // namespace ts

@@ -48,6 +48,14 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
          return makeTiledForwardTechnique(cl, c, true);
        },
        1, true},
+      {"forward",
+       "multi-pass forward (needs --raster gl): a base pass (ambient, emission, directional), then "
+       "per light one additive pass, depth test EQUAL, over the draw batches its sphere touches",
+       makeForwardTechnique, 1, true},
+      {"forward-single",
+       "single-pass forward (needs --raster gl): per draw batch the lights touching its box, found "
+       "on the host each frame (no list cap), the scene drawn once",
+       makeForwardSingleTechnique, 1, true},
   };
   return registry;
 }

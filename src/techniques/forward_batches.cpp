@@ -1,0 +1,43 @@
+#include "techniques/forward_batches.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+
+#include "util/error.h"
+
+namespace ts {
+
+ForwardScene& sceneToDraw(const DeviceFrame& frame, const std::string& technique) {
+  if (!frame.forward)
+    throw Error(technique +
+                " draws the scene: it needs a frame rasterized with --raster gl (not the "
+                "software rasterizer or an imported G-buffer)");
+  return *frame.forward;
+}
+
+IndexLists findBatchLights(ForwardScene& scene, const ViewLights& lights, double& ms) {
+  const auto t0 = std::chrono::steady_clock::now();
+  IndexLists lists = batchLightLists(scene.batchBoxes(), lights);
+  ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return lists;
+}
+
+void setBatchListCounters(const IndexLists& batchLights, WorkCounters& counters) {
+  if (batchLights.size() == 0) return;
+  counters.listMin = UINT32_MAX;
+  for (uint32_t c : batchLights.counts) counters.listMin = std::min(counters.listMin, c);
+  counters.listMax = batchLights.longest();
+  counters.listMean = double(batchLights.items.size()) / double(batchLights.size());
+}
+
+LightAssignment batchAssignment(const IndexLists& batchLights, const ForwardImage& drawn) {
+  LightAssignment a;
+  a.binOffset = batchLights.offsets;
+  a.binCount = batchLights.counts;
+  a.binLights = batchLights.items;
+  a.pixelBin = drawn.pixelBatch;
+  return a;
+}
+
+}  // namespace ts

@@ -1,0 +1,26 @@
+#pragma once
+// What `forward` and `forward-single` share: the scene to draw (or the one-line refusal), the
+// per-batch light lists found on the host (their own row, batch_lists) and the counters and
+// light assignment those lists give.
+#include <string>
+
+#include "raster/batch_lights.h"
+#include "raster/forward_scene.h"
+#include "techniques/technique.h"
+
+namespace ts {
+
+// The frame's scene, or ts::Error: the technique needs a frame rasterized with --raster gl.
+ForwardScene& sceneToDraw(const DeviceFrame& frame, const std::string& technique);
+
+// Per draw batch, the lights whose range sphere touches it at the frame's camera
+// (raster/batch_lights.h); ms: the host's time for it, view-space boxes included.
+IndexLists findBatchLights(ForwardScene& scene, const ViewLights& lights, double& ms);
+
+// The lists' lengths as WorkCounters' list statistics (lights per batch).
+void setBatchListCounters(const IndexLists& batchLights, WorkCounters& counters);
+
+// Bins = batches, each pixel in the bin of the batch whose surface it shows.
+LightAssignment batchAssignment(const IndexLists& batchLights, const ForwardImage& drawn);
+
+}  // namespace ts
