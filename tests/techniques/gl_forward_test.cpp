@@ -15,20 +15,12 @@
 #include "raster/gl_program.h"
 #include "raster/raster_backend.h"
 #include "reference_check.h"
+#include "require_gl.h"
 #include "util/error.h"
 #include "util/file_read.h"
 
 namespace ts {
 namespace {
-
-#define REQUIRE_GL()            \
-  do {                          \
-    try {                       \
-      EglContext::shared();     \
-    } catch (const Error& e) {  \
-      GTEST_SKIP() << e.what(); \
-    }                           \
-  } while (0)
 
 // Issue #17's bound, argued in gl_tiled_forward_test.cpp: the forward passes shade the
 // interpolated float position, the reference the one rebuilt from depth (float rounding of the
