@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "shading/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
+#include "techniques/technique.h"
 #include "render/stats.h"
 #include "util/error.h"
 
@@ -129,14 +130,19 @@ TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFra
 FrameErrors measureErrors(const BenchEntry& e, GroupFrame& frame, const EncodedGBuffer& enc,
                           const TechniqueConfig& tc, const std::vector<glm::vec4>& image) {
   FrameErrors out;
-  out.reference = &frame.storedReference(enc, e.config.format, int(tc.rangeModel),
-                                         ReferencePositions::FromDepth);
+  // A technique that draws the scene reads no G-buffer: its stored references are the fp32
+  // planes', whatever the configuration's layout (as render --check's; docs/accuracy.md).
+  const bool drawn = findTechnique(e.config.technique).drawsScene;
+  const GBufferFormat format = drawn ? GBufferFormat::FP32 : e.config.format;
+  const EncodedGBuffer& planes = drawn ? frame.encoded(format, tc.features) : enc;
+  out.reference =
+      &frame.storedReference(planes, format, int(tc.rangeModel), ReferencePositions::FromDepth);
   out.errorStored = compareToReference(image, *out.reference, kTolerance * out.reference->peak);
-  const ReferenceImage& shading = frame.storedReference(enc, e.config.format, int(tc.rangeModel),
-                                                        ReferencePositions::KernelFloat);
+  const ReferenceImage& shading =
+      frame.storedReference(planes, format, int(tc.rangeModel), ReferencePositions::KernelFloat);
   out.errorShading = compareToReference(image, shading, kTolerance * shading.peak);
   // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
-  bool same = e.config.format == GBufferFormat::FP32 && e.config.lightThreshold <= 0.0f &&
+  bool same = format == GBufferFormat::FP32 && e.config.lightThreshold <= 0.0f &&
               tc.rangeModel == RangeModel::Windowed;
   const ReferenceImage& truth = same ? *out.reference : frame.sceneReference();
   out.error = compareToReference(image, truth, kTolerance * truth.peak);
