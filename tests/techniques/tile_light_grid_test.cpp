@@ -63,9 +63,9 @@ struct Binned {
 // the device's default split between the two paths.
 Binned binOnDevice(const PreparedFrame& f, const TechniqueConfig& config, int aloneTiles) {
   ClContext& cl = test::context();
-  const cl::Program program =
-      cl.build("tiled.cl", config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
-                               " -DTILE_H=" + std::to_string(config.tileHeight));
+  const cl::Program program = cl.build(
+      "tiled.cl", config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
+                      " -DTILE_H=" + std::to_string(config.tileHeight));
   TileLightGrid grid(cl, program);
   if (aloneTiles >= 0) grid.setAloneTiles(aloneTiles);
   DeviceFrame frame = f.upload(cl);
@@ -99,11 +99,13 @@ struct HostRect {
 };
 HostRect hostRect(const PreparedFrame& f, const TileGrid& g, size_t i, SpotCulling spot) {
   HostRect r;
-  r.volume = shading_f::ts_make_light_volume(f.lights.positionRange[i], f.lights.spot[i], int(spot));
+  r.volume =
+      shading_f::ts_make_light_volume(f.lights.positionRange[i], f.lights.spot[i], int(spot));
   const CameraIntrinsics& cam = f.intrinsics;
-  glm::vec4 b = shading_f::ts_light_ndc_bounds(&r.volume, cam.znear, cam.tanHalfFovX, cam.tanHalfFovY);
-  if (!shading_f::ts_ndc_bounds_to_tiles(b, g.width, g.height, g.tileW, g.tileH, &r.x0, &r.y0, &r.x1,
-                                         &r.y1))
+  glm::vec4 b =
+      shading_f::ts_light_ndc_bounds(&r.volume, cam.znear, cam.tanHalfFovX, cam.tanHalfFovY);
+  if (!shading_f::ts_ndc_bounds_to_tiles(b, g.width, g.height, g.tileW, g.tileH, &r.x0, &r.y0,
+                                         &r.x1, &r.y1))
     r.x1 = r.x0 - 1;
   return r;
 }
@@ -127,7 +129,8 @@ Lists hostLists(const PreparedFrame& f, const TileGrid& g, const std::vector<glm
                      g.width, g.height, cam.tanHalfFovX, cam.tanHalfFovY, zmin, zmax);
         };
         const glm::vec4 z = depth[size_t(t)];
-        if (meets(z.x, z.y) || (z.z <= z.w && meets(z.z, z.w))) lists[size_t(t)].push_back(uint32_t(i));
+        if (meets(z.x, z.y) || (z.z <= z.w && meets(z.z, z.w)))
+          lists[size_t(t)].push_back(uint32_t(i));
       }
   }
   return lists;
@@ -146,8 +149,8 @@ void expectSameLists(const Lists& device, const Lists& host, const std::string& 
   for (size_t t = 0; t < host.size(); ++t) {
     entries += host[t].size();
     if (device[t] != host[t] && differing++ < 3)
-      ADD_FAILURE() << label << ": tile " << t << " lists " << device[t].size() << " lights, the host "
-                    << host[t].size();
+      ADD_FAILURE() << label << ": tile " << t << " lists " << device[t].size()
+                    << " lights, the host " << host[t].size();
   }
   EXPECT_EQ(differing, 0u) << label;
   EXPECT_GT(entries, 0u) << label << ": nothing binned, nothing tested";
