@@ -13,6 +13,9 @@ and SVG:
   vs_tile_*.png            median frame time vs tile size
   vs_light_count_*.png     median frame time vs number of lights
   vs_light_range_*.png     median frame time vs light range (radius)
+  scaling_*.png            with several light counts: median frame time (solid) and binning time
+                           (dashed: the bin_* kernels and scan) against lights, log-log, per
+                           technique, so where each one stops scaling shows as a steeper line
   pareto_*.png             with `bench --error`: speed against error per scene and device, median
                            frame time (x) against max error / peak (y, log) and against PSNR,
                            the Pareto-optimal configurations marked and connected
@@ -28,6 +31,7 @@ import math
 import os
 import re
 import sys
+import textwrap
 from collections import OrderedDict, defaultdict
 
 plt = None  # matplotlib.pyplot, imported once the input has been read (load_matplotlib)
@@ -440,6 +444,57 @@ def plot_vs(report, summaries, dims, dim, xlabel, prefix, section, xvalue, logy=
         made += 1
 
 
+BINNING_KERNEL = re.compile(r"^(bin_|scan$)")  # the light grid's passes (techniques/tile_grid.h)
+
+
+def binning_ms(s):
+    """Median time of a configuration's binning kernels, or None when it has none."""
+    times = [v for k, v in s["kernels"].items() if BINNING_KERNEL.match(k) and math.isfinite(v)]
+    return sum(times) if times else None
+
+
+def plot_scaling(report, summaries, dims):
+    """Frame and binning time against the number of lights, log-log (issue 19)."""
+    made = 0
+    for key, group in panels(summaries, dims, {"technique", "tile", "light_count"}).items():
+        lights = {s["lights_n"] for s in group if math.isfinite(s["lights_n"]) and s["lights_n"] > 0}
+        if len(lights) < 2 or made >= MAX_PANELS:
+            continue
+        fig, ax = plt.subplots(figsize=(7, 4.6))
+        series = OrderedDict()
+        with_tile = len({s["tile"] for s in group}) > 1
+        for s in group:
+            if math.isfinite(s["lights_n"]) and s["lights_n"] > 0 and s["median"] > 0:
+                series.setdefault(series_label(s, with_tile), []).append(s)
+        plotted = False
+        for label, ss in series.items():
+            ss.sort(key=lambda s: s["lights_n"])
+            if len(ss) < 2:
+                continue
+            xs = [s["lights_n"] for s in ss]
+            line, = ax.plot(xs, [s["median"] for s in ss], marker="o", ms=3, label=label)
+            binned = [(s["lights_n"], binning_ms(s)) for s in ss]
+            binned = [(x, y) for x, y in binned if y is not None and y > 0]
+            if len(binned) >= 2:
+                ax.plot([x for x, _ in binned], [y for _, y in binned], marker="s", ms=3,
+                        ls="--", color=line.get_color(), label=label + " binning")
+            plotted = True
+        if not plotted:
+            plt.close(fig)
+            continue
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("number of lights")
+        ax.set_ylabel("median time (ms)")
+        title = panel_title(key)
+        ax.set_title("Frame (solid) and binning (dashed) time vs lights\n" + textwrap.fill(title, 100),
+                     fontsize=8)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7, ncol=2)
+        report.save(fig, "scaling_%s" % slug(title), "Scaling with the number of lights", title)
+        made += 1
+
+
 # ---- speed against error (issue 5) ----
 
 EXACT_REL = 2e-5     # "exact": max error / peak within fp32 rounding (docs/accuracy.md)
@@ -837,6 +892,7 @@ def plot(argv):
         plot_vs(report, summaries, dims, "light_count", "number of lights", "vs_light_count",
                 "Frame time vs number of lights",
                 lambda s: s["lights_n"] if math.isfinite(s["lights_n"]) else None)
+        plot_scaling(report, summaries, dims)
     if "light_range" in dims:
         plot_vs(report, summaries, dims, "light_range", "light range (scene units)",
                 "vs_light_range", "Frame time vs light range",

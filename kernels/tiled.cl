@@ -2,11 +2,14 @@
  * Multi-kernel tiled deferred shading (Olsson & Assarsson 2011, the CUDA variant), host side in
  * src/techniques/tiled.cpp. Per frame:
  *   1. tile_depth_bounds  one work-group per tile: min/max linear depth of the tile's geometry
- *   2. bin_lights (COUNT) per light: screen-space tile rectangle of its volume (sphere or cone),
- *                         each tile tested
- *                         against the tile's depth range, tile_count[t]++
+ *   2. light_tile_rects   per light: screen-space tile rectangle of its volume (sphere or cone);
+ *                         lights of many tiles listed as big
+ *      bin_lights, bin_big_lights (COUNT)  per light (a work-item each; a work-group each for the
+ *                         big ones): each tile of its rectangle tested against the tile's depth
+ *                         range, tile_count[t]++
  *      exclusive_scan     tile_offset = exclusive prefix sum of tile_count; total
- *      bin_lights (FILL)  the same traversal, writing light indices into the tile light list
+ *      bin_lights, bin_big_lights (FILL)  the same traversal, writing light indices into the
+ *                         tile light list
  *      sort_bins          each tile's list in light index order (the fill's order is the
  *                         scheduler's: sorted, a pixel sums its lights alike on every run)
  *   3. shade_tiled        per pixel: loop over its tile's list with the one shading function
@@ -85,28 +88,87 @@ __kernel void tile_depth_bounds(__global const float *gb_depth, int width, int h
 
 /* ---- 2. light binning --------------------------------------------------------------------- */
 
-/* One work-group per light; its work-items share the tiles of the light's screen rectangle, so a
- * light covering the whole screen is not binned by a single work-item.
- * fill == 0: count into tile_count; fill == 1: append to the tile lists (ts_bin_light). */
-__kernel void bin_lights(__global const float4 *light_pos_range,
-                         __global const float4 *light_spot, int light_count, float4 camera,
-                         float znear, __global const float4 *tile_depth, int fill,
-                         __global uint *tile_count, __global const uint *tile_offset,
-                         __global uint *tile_cursor, __global uint *tile_lights, uint capacity) {
-  int light = get_group_id(0);
+/* Per light: its volume's tile rectangle, then the rectangle's tiles tested against their depth
+ * ranges, twice (count, then fill). One work-item per light, not the first form's work-group of
+ * 64 per light, whose every work-item computed the volume's screen bounds (1.8 us per light and
+ * pass on PoCL at 64k lights; bench/RESULTS.md, "Binning at 1k-256k lights"). */
+
+static inline int rect_tiles(int4 r) { return r.z < r.x ? 0 : (r.z - r.x + 1) * (r.w - r.y + 1); }
+
+/* light_tile_rects: per light the tile rectangle (x0, y0, x1, y1) of its volume's screen bounds
+ * (empty: x1 < x0), computed once for both passes, in a kernel of its own: straight-line code
+ * that the CPU compiler vectorises across work-items (inside the binning loop it cost 3x more).
+ * A light of more than `alone_tiles` tiles is appended to big_lights (big_count zeroed by the
+ * host first; their order does not matter: sort_bins orders every list) and binned by a whole
+ * work-group (bin_big_lights), so on a GPU one screen-covering light does not hold a work-item,
+ * and its wave, for every tile. The host sets the threshold per device (TileLightGrid). */
+__kernel void light_tile_rects(__global const float4 *light_pos_range,
+                               __global const float4 *light_spot, int light_count, float4 camera,
+                               float znear, int alone_tiles, __global int4 *light_rect,
+                               __global uint *big_lights, __global uint *big_count) {
+  int light = get_global_id(0);
   if (light >= light_count) return;
-  int width = (int)camera.z;
-  int tiles_x = (width + TILE_W - 1) / TILE_W;
   ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, (uint)light);
   int x0, y0, x1, y1;
-  if (!ts_light_tile_rect(&v, camera, znear, &x0, &y0, &x1, &y1)) return;
-  int rect_w = x1 - x0 + 1, rect_tiles = rect_w * (y1 - y0 + 1);
-  for (int i = get_local_id(0); i < rect_tiles; i += get_local_size(0)) {
-    int tx = x0 + i % rect_w, ty = y0 + i / rect_w;
-    int tile = ty * tiles_x + tx;
-    if (ts_light_meets_split_bin(&v, tx, ty, tile_depth[tile], camera))
-      ts_bin_light((uint)light, tile, fill, tile_count, tile_offset, tile_cursor, tile_lights,
-                   capacity);
+  int on = ts_light_tile_rect(&v, camera, znear, &x0, &y0, &x1, &y1);
+  int4 r = on ? (int4)(x0, y0, x1, y1) : (int4)(0, 0, -1, -1);
+  light_rect[light] = r;
+  if (rect_tiles(r) > alone_tiles) big_lights[atomic_inc(big_count)] = (uint)light;
+}
+
+/* Tile (tx, ty) of light volume v's rectangle: tested against the tile's depth ranges, then
+ * counted (fill == 0) or appended (fill == 1) by ts_bin_light. */
+static inline void bin_light_tile(const ts_light_volume *v, uint light, int tx, int ty,
+                                  int tiles_x, float4 camera, __global const float4 *tile_depth,
+                                  int fill, __global uint *tile_count,
+                                  __global const uint *tile_offset, __global uint *tile_cursor,
+                                  __global uint *tile_lights, uint capacity) {
+  int tile = ty * tiles_x + tx;
+  if (ts_light_meets_split_bin(v, tx, ty, tile_depth[tile], camera))
+    ts_bin_light(light, tile, fill, tile_count, tile_offset, tile_cursor, tile_lights, capacity);
+}
+
+/* bin_lights: one work-item per light of at most `alone_tiles` tiles, which tests them all.
+ * No barrier and no local memory: on PoCL a kernel with a barrier (a local queue of the big
+ * lights, the first form of this split) binned 3.5x slower. */
+__kernel void bin_lights(__global const float4 *light_pos_range,
+                         __global const float4 *light_spot, int light_count, float4 camera,
+                         int alone_tiles, __global const int4 *light_rect,
+                         __global const float4 *tile_depth, int fill, __global uint *tile_count, __global const uint *tile_offset,
+                         __global uint *tile_cursor, __global uint *tile_lights, uint capacity) {
+  int light = get_global_id(0);
+  if (light >= light_count) return;
+  int4 r = light_rect[light];
+  int n = rect_tiles(r);
+  if (n == 0 || n > alone_tiles) return;
+  int tiles_x = ((int)camera.z + TILE_W - 1) / TILE_W;
+  ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, (uint)light);
+  for (int ty = r.y; ty <= r.w; ++ty)
+    for (int tx = r.x; tx <= r.z; ++tx)
+      bin_light_tile(&v, (uint)light, tx, ty, tiles_x, camera, tile_depth, fill, tile_count,
+                     tile_offset, tile_cursor, tile_lights, capacity);
+}
+
+/* bin_big_lights: the lights above `alone_tiles`, one at a time per work-group (a fixed number
+ * of groups, as many as the host launches, striding over the list), its work-items sharing the
+ * light's tiles. */
+__kernel void bin_big_lights(__global const float4 *light_pos_range,
+                             __global const float4 *light_spot, float4 camera,
+                             __global const int4 *light_rect, __global const uint *big_lights,
+                             __global const uint *big_count, __global const float4 *tile_depth,
+                             int fill, __global uint *tile_count, __global const uint *tile_offset,
+                             __global uint *tile_cursor, __global uint *tile_lights,
+                             uint capacity) {
+  int tiles_x = ((int)camera.z + TILE_W - 1) / TILE_W;
+  uint big = big_count[0];
+  for (uint b = get_group_id(0); b < big; b += get_num_groups(0)) {
+    uint light = big_lights[b];
+    int4 r = light_rect[light];
+    int w = r.z - r.x + 1, n = rect_tiles(r);
+    ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, light);
+    for (int i = get_local_id(0); i < n; i += get_local_size(0))
+      bin_light_tile(&v, light, r.x + i % w, r.y + i / w, tiles_x, camera, tile_depth, fill,
+                     tile_count, tile_offset, tile_cursor, tile_lights, capacity);
   }
 }
 

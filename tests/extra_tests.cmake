@@ -117,6 +117,10 @@ foreach(lanes 1 16)
     $<TARGET_FILE:tileshade> render ${TILESHADE_OCLGRIND_FRAME} --technique all --lanes ${lanes}
     --tile 24x8)
 endforeach()
+# tiled's binning on both of its paths (a work-item per light, a work-group per big light; the
+# default run above takes one path per device), its lists against the host's.
+tileshade_oclgrind_test(tiled.binning-paths "--data-races ${TILESHADE_OCLGRIND_NOOPT}"
+  $<TARGET_FILE:tileshade_tests> --gtest_filter=TileLightGrid.TinyFrame*)
 # The test binary under Oclgrind: its kernels, and its exit (the process-wide context used to be
 # released after the OpenCL runtime's exit handlers, an abort at exit).
 tileshade_oclgrind_test(tests.exit "--data-races ${TILESHADE_OCLGRIND_NOOPT}" $<TARGET_FILE:tileshade_tests>

@@ -87,21 +87,28 @@ void enqueueBinning(ClContext& cl, const BinningKernels& kernels, int lightCount
                     const cl::Buffer& counts, int bins, const cl::Buffer& offsets,
                     const cl::Buffer& total, const cl::Buffer& list, size_t capacity,
                     FrameTimer& timer) {
-  cl::CommandQueue& queue = cl.queue();
-  cl::Kernel &bin = kernels.bin, &scan = kernels.scan, &sort = kernels.sort;
+  cl::Kernel& bin = kernels.bin;
   const size_t group = fitGroup(64, 1, groupLimit(cl, bin)).x;  // work-items sharing a light's bins
-  const size_t scanGroup = powerOfTwoGroup(256, groupLimit(cl, scan));
   auto binPass = [&](int fill, const char* name) {
-    if (lightCount == 0) return;  // OpenCL refuses an empty NDRange
     bin.setArg(kernels.fillArg, fill);
-    queue.enqueueNDRangeKernel(bin, cl::NullRange, cl::NDRange(size_t(lightCount) * group),
-                               cl::NDRange(group), nullptr, timer.next(name));
+    cl.queue().enqueueNDRangeKernel(bin, cl::NullRange, cl::NDRange(size_t(lightCount) * group),
+                                    cl::NDRange(group), nullptr, timer.next(name));
   };
-  binPass(0, "bin_count");
+  enqueueBinningPasses(cl, binPass, kernels.scan, kernels.sort, lightCount, counts, bins, offsets,
+                       total, list, capacity, timer);
+}
+
+void enqueueBinningPasses(ClContext& cl, const BinPass& binPass, cl::Kernel& scan, cl::Kernel& sort,
+                          int lightCount, const cl::Buffer& counts, int bins,
+                          const cl::Buffer& offsets, const cl::Buffer& total,
+                          const cl::Buffer& list, size_t capacity, FrameTimer& timer) {
+  cl::CommandQueue& queue = cl.queue();
+  const size_t scanGroup = powerOfTwoGroup(256, groupLimit(cl, scan));
+  if (lightCount > 0) binPass(0, "bin_count");  // OpenCL refuses an empty NDRange
   KernelArgs(scan).add(counts).add(bins).add(offsets).add(total).done();
   queue.enqueueNDRangeKernel(scan, cl::NullRange, cl::NDRange(scanGroup), cl::NDRange(scanGroup),
                              nullptr, timer.next("scan"));
-  binPass(1, "bin_fill");
+  if (lightCount > 0) binPass(1, "bin_fill");
   if (lightCount == 0 || bins == 0) return;  // every list is empty
   KernelArgs(sort).add(counts).add(offsets).add(bins).add(list).add(cl_uint(capacity)).done();
   const size_t sortGroup = fitGroup(64, 1, groupLimit(cl, sort)).x;

@@ -68,6 +68,14 @@ void enqueueBinning(ClContext& cl, const BinningKernels& kernels, int lightCount
                     const cl::Buffer& counts, int bins, const cl::Buffer& offsets,
                     const cl::Buffer& total, const cl::Buffer& list, size_t capacity,
                     FrameTimer& timer);
+// The same passes with the caller's own count and fill launches: `binPass(fill, name)` enqueues
+// one pass (fill 0: count, 1: fill), its launches profiled under `name`; called only when there
+// are lights.
+using BinPass = std::function<void(int fill, const char* name)>;
+void enqueueBinningPasses(ClContext& cl, const BinPass& binPass, cl::Kernel& scan, cl::Kernel& sort,
+                          int lightCount, const cl::Buffer& counts, int bins,
+                          const cl::Buffer& offsets, const cl::Buffer& total,
+                          const cl::Buffer& list, size_t capacity, FrameTimer& timer);
 
 // The light index list buffer of a binned technique, `capacity` entries: grows `list` to at least
 // `entries` (contents are not kept: the list is rebuilt every frame).

@@ -11,9 +11,12 @@ namespace ts {
 TileLightGrid::TileLightGrid(ClContext& cl, const cl::Program& program)
     : cl_(cl),
       depthBounds_(program, "tile_depth_bounds"),
+      rects_(program, "light_tile_rects"),
       bin_(program, "bin_lights"),
+      binBig_(program, "bin_big_lights"),
       scan_(program, "exclusive_scan"),
-      sort_(program, "sort_bins") {}
+      sort_(program, "sort_bins"),
+      aloneTiles_(cl.isGpu() ? kGpuAloneTiles : kNoBigLights) {}
 
 bool TileLightGrid::allocate(int width, int height, int tileW, int tileH) {
   TileGrid grid(width, height, tileW, tileH);
@@ -28,6 +31,7 @@ bool TileLightGrid::allocate(int width, int height, int tileW, int tileH) {
   offset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(uint32_t));
   cursor_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, tiles * sizeof(uint32_t));
   total_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(uint32_t));
+  bigCount_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(uint32_t));
   reserveList(cl_, lights_, capacity_, tiles * 8);
   return true;
 }
@@ -65,13 +69,44 @@ void TileLightGrid::enqueueWholeDepthRange(float znear, float zfar, FrameTimer& 
 }
 
 void TileLightGrid::enqueueBinning(const DeviceFrame& frame, FrameTimer& timer) {
-  cl_uint fillArg = 0;
+  const int lights = frame.lightCount();
+  const size_t perLight = std::max<size_t>(size_t(lights), 1);
+  if (perLight > lightCapacity_) {  // per light: its rectangle, and room to list it as big
+    lightCapacity_ = perLight;
+    rect_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE, perLight * sizeof(cl_int4));
+    bigLights_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE, perLight * sizeof(uint32_t));
+  }
+  auto& q = cl_.queue();
+  const cl_float4 camera = toCl(frame.camera.kernelCamera());
+  const uint32_t zero = 0;
+  q.enqueueFillBuffer(bigCount_, zero, 0, sizeof(uint32_t), nullptr, timer.next("clear"));
+  // One work-item per light, in groups from the device's limits (the kernels take any size).
+  const size_t group = fitGroup(64, 1, groupLimit(cl_, bin_)).x;
+  const cl::NDRange perLightRange(roundUp(size_t(lights), group));
+  if (lights > 0) {  // OpenCL refuses an empty NDRange
+    KernelArgs(rects_)
+        .add(frame.lightPositionRange)
+        .add(frame.lightSpot)
+        .add(lights)
+        .add(camera)
+        .add(frame.camera.znear)
+        .add(cl_int(aloneTiles_))
+        .add(rect_)
+        .add(bigLights_)
+        .add(bigCount_)
+        .done();
+    const size_t rectGroup = fitGroup(64, 1, groupLimit(cl_, rects_)).x;
+    q.enqueueNDRangeKernel(rects_, cl::NullRange, cl::NDRange(roundUp(size_t(lights), rectGroup)),
+                           cl::NDRange(rectGroup), nullptr, timer.next("bin_rects"));
+  }
+  cl_uint fillArg = 0, bigFillArg = 0;
   KernelArgs(bin_)
       .add(frame.lightPositionRange)
       .add(frame.lightSpot)
-      .add(frame.lightCount())
-      .add(toCl(frame.camera.kernelCamera()))
-      .add(frame.camera.znear)
+      .add(lights)
+      .add(camera)
+      .add(cl_int(aloneTiles_))
+      .add(rect_)
       .add(depth_)
       .later(fillArg)
       .add(count_)
@@ -80,8 +115,36 @@ void TileLightGrid::enqueueBinning(const DeviceFrame& frame, FrameTimer& timer) 
       .add(lights_)
       .add(cl_uint(capacity_))
       .done();
-  ts::enqueueBinning(cl_, {bin_, fillArg, scan_, sort_}, frame.lightCount(), count_, grid_.count(),
-                     offset_, total_, lights_, capacity_, timer);
+  KernelArgs(binBig_)
+      .add(frame.lightPositionRange)
+      .add(frame.lightSpot)
+      .add(camera)
+      .add(rect_)
+      .add(bigLights_)
+      .add(bigCount_)
+      .add(depth_)
+      .later(bigFillArg)
+      .add(count_)
+      .add(offset_)
+      .add(cursor_)
+      .add(lights_)
+      .add(cl_uint(capacity_))
+      .done();
+  // The big lights' groups stride over their list, whose length only the device knows: a few
+  // groups per compute unit keep every unit busy without a read-back.
+  const size_t bigGroup = fitGroup(64, 1, groupLimit(cl_, binBig_)).x;
+  const size_t bigGroups = size_t(std::max(cl_.info().computeUnits, 1)) * 4;
+  auto binPass = [&](int fill, const char* name) {
+    bin_.setArg(fillArg, fill);
+    q.enqueueNDRangeKernel(bin_, cl::NullRange, perLightRange, cl::NDRange(group), nullptr,
+                           timer.next(name));
+    if (aloneTiles_ == kNoBigLights) return;  // none listed
+    binBig_.setArg(bigFillArg, fill);
+    q.enqueueNDRangeKernel(binBig_, cl::NullRange, cl::NDRange(bigGroups * bigGroup),
+                           cl::NDRange(bigGroup), nullptr, timer.next(name));
+  };
+  enqueueBinningPasses(cl_, binPass, scan_, sort_, lights, count_, grid_.count(), offset_, total_,
+                       lights_, capacity_, timer);
 }
 
 uint32_t TileLightGrid::runUntilListFits(const std::function<void()>& enqueueFrame,

@@ -29,6 +29,16 @@ class TileLightGrid {
   void enqueueWholeDepthRange(float znear, float zfar, FrameTimer& timer);
   void enqueueBinning(const DeviceFrame& frame, FrameTimer& timer);
 
+  // Lights whose tile rectangle holds more than `tiles` tiles are binned by a whole work-group
+  // each, the others by one work-item each (kernels/tiled.cl). The default: on a GPU
+  // kGpuAloneTiles, so a big light does not hold up a wave; on a CPU none (kNoBigLights), where a
+  // work-group's items run one after another anyway and the work-group path cost 3x the binning
+  // of street with 64k lights (bench/RESULTS.md). The lists are the same whichever path a light
+  // takes.
+  static constexpr int kGpuAloneTiles = 32;
+  static constexpr int kNoBigLights = INT32_MAX;
+  void setAloneTiles(int tiles) { aloneTiles_ = tiles; }
+
   // runUntilListFits on this grid's list: `enqueueFrame` clears the timer and enqueues the whole
   // frame, grid included. Returns the list's total entries.
   uint32_t runUntilListFits(const std::function<void()>& enqueueFrame,
@@ -40,6 +50,9 @@ class TileLightGrid {
   const cl::Buffer& offsets() const { return offset_; }
   const cl::Buffer& lights() const { return lights_; }
   cl_uint capacity() const { return cl_uint(capacity_); }
+  // Per tile its depth ranges (zmin, near_max, far_min, zmax; kernels/tiled.cl), what binning
+  // tested the lights against.
+  const cl::Buffer& depthBounds() const { return depth_; }
 
   // Host copies, after the queue has finished the frame.
   std::vector<uint32_t> readCounts() const;
@@ -48,10 +61,14 @@ class TileLightGrid {
 
  private:
   ClContext& cl_;
-  cl::Kernel depthBounds_, bin_, scan_, sort_;
+  cl::Kernel depthBounds_, rects_, bin_, binBig_, scan_, sort_;
   TileGrid grid_;
   cl::Buffer depth_, count_, offset_, cursor_, total_, lights_;
   size_t capacity_ = 0;
+  // Per light its tile rectangle (light_tile_rects), and the lights binned by whole work-groups.
+  cl::Buffer rect_, bigLights_, bigCount_;
+  size_t lightCapacity_ = 0;
+  int aloneTiles_;
 };
 
 }  // namespace ts

@@ -501,16 +501,18 @@ TEST(BenchRun, UnknownDeviceWritesNothing) {
   fs::remove_all(dir);
 }
 
-// bench/plot.py on a small generated CSV, when a python3 with matplotlib is available.
-TEST(BenchPlot, PlotScriptRunsOnASmallCsv) {
-  std::string python;
+// A python3 with matplotlib ("" when there is none).
+static std::string plotPython() {
   for (const char* candidate : {"python3", "/usr/bin/python3"}) {
     std::string probe = std::string(candidate) + " -c 'import matplotlib' >/dev/null 2>&1";
-    if (std::system(probe.c_str()) == 0) {
-      python = candidate;
-      break;
-    }
+    if (std::system(probe.c_str()) == 0) return candidate;
   }
+  return "";
+}
+
+// bench/plot.py on a small generated CSV, when a python3 with matplotlib is available.
+TEST(BenchPlot, PlotScriptRunsOnASmallCsv) {
+  std::string python = plotPython();
   if (python.empty()) GTEST_SKIP() << "no python3 with matplotlib";
   std::string script = ts::test::sourceDir() + "/bench/plot.py";
   ASSERT_TRUE(fs::exists(script)) << script;
@@ -567,6 +569,58 @@ TEST(BenchPlot, PlotScriptRunsOnASmallCsv) {
   for (const auto& e : fs::directory_iterator(dir + "/plots"))
     png += e.path().extension() == ".png";
   EXPECT_GE(png, 2u) << log;
+  fs::remove_all(dir);
+}
+
+// A light-count sweep gets the log-log scaling figure (frame and binning time against lights):
+// one per panel, a binning line only for the technique with binning kernels.
+TEST(BenchPlot, LightCountSweepGetsTheScalingFigure) {
+  std::string python = plotPython();
+  if (python.empty()) GTEST_SKIP() << "no python3 with matplotlib";
+  std::string script = ts::test::sourceDir() + "/bench/plot.py";
+  std::string dir = tempDir("plot-scaling");
+  std::ofstream csv(dir + "/bench.csv");
+  auto cols = ts::benchCsvColumns();
+  csv << ts::csvLine(cols) << "\n";
+  for (const char* technique : {"tiled", "brute"})
+    for (int lights : {1000, 4000, 16000}) {
+      const double bin = 0.001 * lights, shade = 0.002 * lights;
+      std::map<std::string, std::string> v = {
+          {"config_id", technique + std::to_string(lights)},
+          {"device", "cpu"},
+          {"scene", "builtin:street"},
+          {"light_set", "many"},
+          {"light_count", std::to_string(lights)},
+          {"light_range", "3"},
+          {"resolution", "64x36"},
+          {"technique", technique},
+          {"tile", "16x16"},
+          {"device_name", "Test / cpu"},
+          {"frame", "0"},
+          {"lights", std::to_string(lights)},
+          {"total_ms", std::to_string(technique[0] == 't' ? bin + shade : 2 * shade)},
+          {"kernels", technique[0] == 't'
+                          ? "bin_count=" + std::to_string(bin) + ";shade=" + std::to_string(shade)
+                          : "shade=" + std::to_string(2 * shade)}};
+      std::vector<std::string> fields;
+      for (const auto& c : cols) fields.push_back(v.count(c) ? v[c] : "");
+      csv << ts::csvLine(fields) << "\n";
+    }
+  csv.close();
+  std::string cmd = python + " '" + script + "' '" + dir + "/bench.csv' --out '" + dir +
+                    "/plots' >'" + dir + "/log.txt' 2>&1";
+  int rc = std::system(cmd.c_str());
+  std::ifstream logIn(dir + "/log.txt");
+  std::string log((std::istreambuf_iterator<char>(logIn)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(rc, 0) << log;
+  size_t scaling = 0;
+  for (const auto& e : fs::directory_iterator(dir + "/plots"))
+    scaling +=
+        e.path().extension() == ".png" && e.path().filename().string().rfind("scaling_", 0) == 0;
+  EXPECT_EQ(scaling, 1u) << log;
+  std::ifstream reportIn(dir + "/plots/report.md");
+  std::string report((std::istreambuf_iterator<char>(reportIn)), std::istreambuf_iterator<char>());
+  EXPECT_NE(report.find("Scaling with the number of lights"), std::string::npos) << report;
   fs::remove_all(dir);
 }
 
