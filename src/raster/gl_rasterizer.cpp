@@ -47,6 +47,7 @@
 #include "raster/draw_batches.h"
 #include "raster/egl_context.h"
 #include "raster/gl_program.h"
+#include "raster/gl_targets.h"
 #include "raster/scene_validation.h"
 #include "shaders/material_planes.h"
 #include "util/error.h"
@@ -139,17 +140,14 @@ struct GlRasterizer::State {
   std::vector<DrawBatch> draws;
   GLuint program = 0, vao = 0, vertexBuffer = 0, indexBuffer = 0;
   std::vector<GLuint> textures;  // per scene texture; 0 for an empty one (sampled as 1)
-  GLuint framebuffer = 0, depthBuffer = 0;
-  GLuint targets[kTargets] = {};
-  int width = 0, height = 0;  // of the framebuffer's attachments
-  GLint maxSize = 0;          // largest width/height the implementation renders
+  gl::Targets gbufferTargets;    // kTargets colour targets in Target order, float depth
+  GLint maxSize = 0;             // largest width/height the implementation renders
   Uniforms u{};
   // The forward passes (built on first use: they need OpenGL 4.3, the G-buffer pass 3.3).
   GLuint forwardProgram = 0, depthProgram = 0;
   Uniforms fu{}, du{};
   // image, pre-pass depth, batch ids
-  GLuint forwardFramebuffer = 0, forwardDepth = 0, forwardTargets[3] = {};
-  int forwardWidth = 0, forwardHeight = 0;
+  gl::Targets forwardTargets;  // ensureForwardFramebuffer's three
   GLuint storage[kForwardStorages] = {};
   GLuint timer = 0;
 
@@ -162,8 +160,8 @@ struct GlRasterizer::State {
     } catch (const Error&) {
       return;
     }
-    releaseFramebuffer();
-    releaseForwardFramebuffer();
+    gbufferTargets.release();
+    forwardTargets.release();
     if (forwardProgram) {
       glDeleteProgram(forwardProgram);
       glDeleteProgram(depthProgram);
@@ -175,15 +173,6 @@ struct GlRasterizer::State {
     glDeleteBuffers(1, &indexBuffer);
     glDeleteVertexArrays(1, &vao);
     glDeleteProgram(program);
-  }
-
-  void releaseFramebuffer() {
-    if (!framebuffer) return;
-    glDeleteFramebuffers(1, &framebuffer);
-    glDeleteRenderbuffers(1, &depthBuffer);
-    glDeleteTextures(kTargets, targets);
-    framebuffer = depthBuffer = 0;
-    width = height = 0;
   }
 
   void upload() {
@@ -244,36 +233,9 @@ struct GlRasterizer::State {
   }
 
   void ensureFramebuffer(int w, int h) {
-    if (framebuffer && w == width && h == height) return;
-    releaseFramebuffer();
-    glGenFramebuffers(1, &framebuffer);
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    glGenTextures(kTargets, targets);
-    const GLenum formats[kTargets] = {GL_R32F,    GL_RGBA32F, GL_RGBA32F,
-                                      GL_RGBA32F, GL_RGBA32F, GL_R32I};
-    for (int t = 0; t < kTargets; ++t) {
-      glBindTexture(GL_TEXTURE_2D, targets[t]);
-      glTexStorage2D(GL_TEXTURE_2D, 1, formats[t], w, h);
-      glFramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + t), GL_TEXTURE_2D,
-                             targets[t], 0);
-    }
-    glGenRenderbuffers(1, &depthBuffer);
-    glBindRenderbuffer(GL_RENDERBUFFER, depthBuffer);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depthBuffer);
-    gl::checkErrors("creating a " + std::to_string(w) + "x" + std::to_string(h) +
-                    " G-buffer framebuffer");
-    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-      char code[16];
-      std::snprintf(code, sizeof code, "0x%04x", unsigned(status));
-      releaseFramebuffer();
-      throw Error(std::string("OpenGL framebuffer of five float targets, an integer target and a "
-                              "float depth buffer is incomplete (status ") +
-                  code + ")");
-    }
-    width = w;
-    height = h;
+    gbufferTargets.ensure(
+        w, h, {GL_R32F, GL_RGBA32F, GL_RGBA32F, GL_RGBA32F, GL_RGBA32F, GL_R32I},
+        "G-buffer framebuffer (five float targets, an integer target, float depth)");
   }
 
   void setMaterial(const Uniforms& u, const Material& m, bool metallicRoughness) {
@@ -296,7 +258,7 @@ struct GlRasterizer::State {
   }
 
   void draw(const SceneCamera& camera, const CameraIntrinsics& in, const RasterOptions& options) {
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glBindFramebuffer(GL_FRAMEBUFFER, gbufferTargets.framebuffer);
     GLenum buffers[kTargets];
     for (int t = 0; t < kTargets; ++t) buffers[t] = GLenum(GL_COLOR_ATTACHMENT0 + t);
     if (!options.triangleIds) buffers[kTriangle] = GL_NONE;
@@ -373,48 +335,17 @@ struct GlRasterizer::State {
     gl::checkErrors("setting up the forward programs");
   }
 
-  void releaseForwardFramebuffer() {
-    if (!forwardFramebuffer) return;
-    glDeleteFramebuffers(1, &forwardFramebuffer);
-    glDeleteRenderbuffers(1, &forwardDepth);
-    glDeleteTextures(3, forwardTargets);
-    forwardFramebuffer = forwardDepth = 0;
-    forwardWidth = forwardHeight = 0;
-  }
-
   // Colour 0: the shaded image (RGBA32F); colour 1: the pre-pass's linear depth (R32F); colour 2:
   // the draw batch of each pixel's surface (R32I, forward and forward-single); the reversed float
   // depth buffer of the G-buffer pass.
   void ensureForwardFramebuffer(int w, int h) {
-    if (forwardFramebuffer && w == forwardWidth && h == forwardHeight) return;
-    releaseForwardFramebuffer();
-    glGenFramebuffers(1, &forwardFramebuffer);
-    glBindFramebuffer(GL_FRAMEBUFFER, forwardFramebuffer);
-    glGenTextures(3, forwardTargets);
-    const GLenum formats[3] = {GL_RGBA32F, GL_R32F, GL_R32I};
-    for (int t = 0; t < 3; ++t) {
-      glBindTexture(GL_TEXTURE_2D, forwardTargets[t]);
-      glTexStorage2D(GL_TEXTURE_2D, 1, formats[t], w, h);
-      glFramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + t), GL_TEXTURE_2D,
-                             forwardTargets[t], 0);
-    }
-    glGenRenderbuffers(1, &forwardDepth);
-    glBindRenderbuffer(GL_RENDERBUFFER, forwardDepth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, forwardDepth);
-    gl::checkErrors("creating a " + std::to_string(w) + "x" + std::to_string(h) +
-                    " forward framebuffer");
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-      releaseForwardFramebuffer();
-      throw Error("OpenGL forward framebuffer (RGBA32F, R32F, R32I, float depth) is incomplete");
-    }
-    forwardWidth = w;
-    forwardHeight = h;
+    forwardTargets.ensure(w, h, {GL_RGBA32F, GL_R32F, GL_R32I},
+                          "forward framebuffer (RGBA32F, R32F, R32I, float depth)");
   }
 
   // The fixed-function state of a pass over the scene (as draw() sets it for the G-buffer).
   void passState(const CameraIntrinsics& in) {
-    glBindFramebuffer(GL_FRAMEBUFFER, forwardFramebuffer);
+    glBindFramebuffer(GL_FRAMEBUFFER, forwardTargets.framebuffer);
     glViewport(0, 0, in.width, in.height);
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glEnable(GL_DEPTH_TEST);
@@ -527,11 +458,11 @@ struct GlRasterizer::State {
   void readForward(ForwardImage& out, int w, int h, size_t tiles, bool batchIds = false) {
     out.image.resize(size_t(w) * size_t(h));
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glBindTexture(GL_TEXTURE_2D, forwardTargets[0]);
+    glBindTexture(GL_TEXTURE_2D, forwardTargets.colour[0]);
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out.image.data());
     if (batchIds) {
       out.pixelBatch.resize(out.image.size());
-      glBindTexture(GL_TEXTURE_2D, forwardTargets[2]);
+      glBindTexture(GL_TEXTURE_2D, forwardTargets.colour[2]);
       glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_INT, out.pixelBatch.data());
     }
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -562,7 +493,7 @@ struct GlRasterizer::State {
     // glGetTexImage of the attachment: on llvmpipe ~8x faster than glReadPixels (which takes a
     // generic conversion path for float formats), and the same bytes.
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glBindTexture(GL_TEXTURE_2D, targets[target]);
+    glBindTexture(GL_TEXTURE_2D, gbufferTargets.colour[size_t(target)]);
     glGetTexImage(GL_TEXTURE_2D, 0, format, type, out.data());
   }
 
@@ -666,7 +597,7 @@ std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int wid
   gl::checkErrors("the depth pre-pass of scene '" + s.scene.name + "'");
   std::vector<float> depth(size_t(width) * size_t(height));
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glBindTexture(GL_TEXTURE_2D, s.forwardTargets[1]);
+  glBindTexture(GL_TEXTURE_2D, s.forwardTargets.colour[1]);
   glGetTexImage(GL_TEXTURE_2D, 0, GL_RED, GL_FLOAT, depth.data());
   gl::checkErrors("reading back the pre-pass depth");
   return depth;
@@ -684,7 +615,7 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
     throw Error("tiled forward: the light grid does not match the " + std::to_string(width) + "x" +
                 std::to_string(height) + " frame");
   State& s = beginForward(width, height);
-  if (depthEqual && (s.forwardWidth != width || s.forwardHeight != height))
+  if (depthEqual && (s.forwardTargets.width != width || s.forwardTargets.height != height))
     throw Error("tiled forward with depth EQUAL needs a depth pre-pass of the same size first");
   s.ensureForwardFramebuffer(width, height);
 
