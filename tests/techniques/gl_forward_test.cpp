@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 
+#include "gl_frame.h"
 #include "raster/egl_context.h"
 #include "raster/gl_program.h"
 #include "raster/raster_backend.h"
@@ -63,31 +64,7 @@ const Scene& testScene(const std::string& name) {
       .first->second;
 }
 
-// A frame of `scene` rasterized by OpenGL with its scene to draw; lives as long as its parts.
-struct GlFrame {
-  SceneRasterizer rasterizer;
-  SceneFeatures features;
-  PreparedFrame prepared;
-  std::unique_ptr<ForwardScene> forward;
-
-  GlFrame(const Scene& scene, int frame, int w, int h)
-      : rasterizer(scene, RasterBackend::Gl),
-        features(analyzeScene(scene, nativeShadingModel(scene))),
-        prepared(prepareFrame(rasterizer, frame, w, h, GBufferFormat::FP32, features)),
-        forward(rasterizer.forwardScene(prepared.camera, w, h)) {}
-
-  FrameResult render(const std::string& technique, const ViewLights& lights) {
-    DeviceFrame frame = DeviceFrame::upload(test::context(), prepared.encoded, prepared.intrinsics,
-                                            lights, prepared.ambient);
-    frame.forward = forward.get();
-    TechniqueConfig config;
-    config.features = features;
-    FrameRequest request;
-    request.wantAssignment = true;
-    return createTechnique(technique, test::context(), config)->render(frame, request);
-  }
-  FrameResult render(const std::string& technique) { return render(technique, prepared.lights); }
-};
+using test::GlFrame;
 
 bool hasRow(const FrameResult& r, const std::string& name) {
   return std::any_of(r.kernels.begin(), r.kernels.end(),

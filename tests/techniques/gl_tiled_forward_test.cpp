@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 
+#include "gl_frame.h"
 #include "raster/egl_context.h"
 #include "raster/raster_backend.h"
 #include "reference_check.h"
@@ -46,20 +47,10 @@ const Scene& forwardScene(const std::string& name) {
 
 void checkForward(const std::string& technique, const std::string& name) {
   SCOPED_TRACE(technique + " on " + name);
-  const Scene& scene = forwardScene(name);
-  SceneRasterizer rasterizer(scene, RasterBackend::Gl);
-  const SceneFeatures features = analyzeScene(scene, nativeShadingModel(scene));
-  const PreparedFrame f = prepareFrame(rasterizer, 1, 96, 54, GBufferFormat::FP32, features);
-  std::unique_ptr<ForwardScene> forward = rasterizer.forwardScene(f.camera, 96, 54);
-  ASSERT_NE(forward, nullptr);
-  DeviceFrame frame = f.upload(test::context());
-  frame.forward = forward.get();
-  TechniqueConfig config;
-  config.features = features;
-  std::unique_ptr<Technique> t = createTechnique(technique, test::context(), config);
-  FrameRequest request;
-  request.wantAssignment = true;
-  const FrameResult r = t->render(frame, request);
+  test::GlFrame g(forwardScene(name), 1, 96, 54);
+  ASSERT_NE(g.forward, nullptr);
+  const PreparedFrame& f = g.prepared;
+  const FrameResult r = g.render(technique);
   const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
   ASSERT_GT(ref.peak, 0.0);
   const ErrorStats e = compareToReference(r.image, ref, kForwardBound * ref.peak);
@@ -94,19 +85,12 @@ TEST(TiledForward, MatchesTheReferenceOfTheSameRasterization) {
 // every fragment that passes the depth test at its turn is shaded.
 TEST(TiledForward, PrepassShadesNoMoreThanTheSinglePass) {
   REQUIRE_GL();
-  const Scene& scene = test::builtinScene("street", "few");
-  SceneRasterizer rasterizer(scene, RasterBackend::Gl);
-  const PreparedFrame f = prepareFrame(rasterizer, 0, 96, 54, GBufferFormat::FP32,
-                                       SceneFeatures::general(ShadingModel::BlinnPhong));
-  std::unique_ptr<ForwardScene> forward = rasterizer.forwardScene(f.camera, 96, 54);
-  DeviceFrame frame = f.upload(test::context());
-  frame.forward = forward.get();
+  test::GlFrame g(test::builtinScene("street", "few"), 0, 96, 54,
+                  SceneFeatures::general(ShadingModel::BlinnPhong));
   uint64_t counts[2] = {0, 0};
   int i = 0;
   for (const char* technique : {"tiled-forward", "tiled-forward-prez"})
-    counts[i++] = createTechnique(technique, test::context(), TechniqueConfig{})
-                      ->render(frame, FrameRequest{})
-                      .counters.lightingComputations;
+    counts[i++] = g.render(technique).counters.lightingComputations;
   EXPECT_LE(counts[1], counts[0]);
 }
 

@@ -9,7 +9,7 @@
 #include <cstring>
 #include <string>
 
-#include "raster/raster_backend.h"
+#include "gl_frame.h"
 #include "render/frame_setup.h"
 #include "techniques/technique.h"
 #include "reference_check.h"
@@ -65,20 +65,15 @@ TEST(Repeatability, ListsLongerThanTheLocalChunkSameBitsOnEveryRun) {
 // per pixel by the API, so this holds on any conformant one).
 TEST(Repeatability, ForwardTechniquesSameBitsOnEveryRun) {
   REQUIRE_GL();
-  const Scene& scene = test::builtinScene("atrium", "mixed");
-  SceneRasterizer rasterizer(scene, RasterBackend::Gl);
-  const PreparedFrame f = prepareFrame(rasterizer, 0, 96, 54, GBufferFormat::FP32,
-                                       SceneFeatures::general(ShadingModel::BlinnPhong));
-  std::unique_ptr<ForwardScene> forward = rasterizer.forwardScene(f.camera, 96, 54);
-  ASSERT_NE(forward, nullptr);
-  DeviceFrame frame = f.upload(test::context());
-  frame.forward = forward.get();
+  test::GlFrame g(test::builtinScene("atrium", "mixed"), 0, 96, 54,
+                  SceneFeatures::general(ShadingModel::BlinnPhong));
+  ASSERT_NE(g.forward, nullptr);
   for (const TechniqueInfo& info : techniqueRegistry()) {
     if (!info.drawsScene) continue;
-    std::unique_ptr<Technique> t = createTechnique(info.name, test::context(), TechniqueConfig{});
-    const FrameResult first = t->render(frame, FrameRequest{});
+    std::unique_ptr<Technique> t = createTechnique(info.name, test::context(), g.config());
+    const FrameResult first = g.render(*t);
     for (int run = 1; run < kRuns; ++run)
-      EXPECT_TRUE(sameBits(first.image, t->render(frame, FrameRequest{}).image))
+      EXPECT_TRUE(sameBits(first.image, g.render(*t).image))
           << info.name << ", run " << run + 1 << " differs from run 1";
   }
 }
