@@ -179,6 +179,8 @@ class Checker {
     numbers(m, "emissiveFactor", at, 3, kAny);
     for (const char* t : {"emissiveTexture", "normalTexture", "occlusionTexture"})
       textureInfo(m, t, at);
+    object(m, "normalTexture", at,
+           [&](const json& t, const std::string& tat) { number(t, "scale", tat, kAny); });
     boolean(m, "doubleSided", at);
     object(m, "extensions", at, [&](const json& e, const std::string& eat) {
       object(e, "KHR_materials_specular", eat, [&](const json& s, const std::string& sat) {
