@@ -153,6 +153,7 @@ SceneFeatures featuresOf(const EncodedGBuffer& e, const ViewLights& lights) {
   f.point = f.spot = false;
   for (size_t i = 0; i < lights.size(); ++i) (lights.isSpot(i) ? f.spot : f.point) = true;
   f.directional = lights.directionalCount() > 0;
+  f.normalMaps = false;  // nothing was rasterized
   return f;
 }
 

@@ -22,7 +22,9 @@
 //    so fragments beyond zfar fail the test (the software rasterizer rejects them per pixel).
 //  - Pixel centres at +0.5 and single-sample rasterization: OpenGL's defaults.
 //  - Normals, facing, materials, textures: shaders/gbuffer.frag (the same rules as resolve(); the
-//    material planes from the shared shaders/material_planes.h). Textures are RGBA32F copies of
+//    material planes from the shared shaders/material_planes.h, normal maps from the shared
+//    shaders/normal_mapping.h, with the tangents as vertex attribute 3 only for a scene that has
+//    normal maps: TS_NORMAL_MAPS). Textures are RGBA32F copies of
 //    ts::Texture (linear, no sRGB conversion on either side), without mipmaps, with the texture's
 //    wrap modes and filter (GL_LINEAR: bilinear with texel centres at half-integers; GL_NEAREST),
 //    as Texture::sample.
@@ -85,7 +87,11 @@ struct Uniforms {
   GLint diffuse, specular, shininess, baseColor, metallic, roughness, emissive;
   GLint doubleSided, metallicRoughness, firstTriangle;
   GLint texture[TS_TEXTURE_SLOTS], hasTexture[TS_TEXTURE_SLOTS];
+  GLint viewRotation, normalTexture, hasNormalTexture, normalScale;  // programs with normal maps
 };
+
+// The texture unit of a material's normal map (after the material planes' slots).
+constexpr int kNormalTextureUnit = TS_TEXTURE_SLOTS;
 
 // Looks the uniforms up and points texture slot s at texture unit s (leaves `program` in use).
 Uniforms uniformsOf(GLuint program) {
@@ -104,7 +110,12 @@ Uniforms uniformsOf(GLuint program) {
   u.doubleSided = at("u_doubleSided");
   u.metallicRoughness = at("u_metallicRoughness");
   u.firstTriangle = at("u_firstTriangle");
+  u.viewRotation = at("u_viewRotation");
+  u.normalTexture = at("u_normalTexture");
+  u.hasNormalTexture = at("u_hasNormalTexture");
+  u.normalScale = at("u_normalScale");
   glUseProgram(program);
+  glUniform1i(u.normalTexture, kNormalTextureUnit);
   for (int s = 0; s < TS_TEXTURE_SLOTS; ++s) {
     u.texture[s] = at("u_texture[" + std::to_string(s) + "]");
     u.hasTexture[s] = at("u_hasTexture[" + std::to_string(s) + "]");
@@ -137,7 +148,10 @@ struct Draw {
 struct GlRasterizer::State {
   const Scene& scene;
   std::vector<Draw> draws;
-  GLuint program = 0, vao = 0, vertexBuffer = 0, indexBuffer = 0;
+  // The programs are built with the normal-map code only for a scene that has normal maps
+  // (TS_NORMAL_MAPS; a scene without pays nothing), whose tangents go to attribute 3.
+  bool normalMaps = false;
+  GLuint program = 0, vao = 0, vertexBuffer = 0, indexBuffer = 0, tangentBuffer = 0;
   std::vector<GLuint> textures;  // per scene texture; 0 for an empty one (sampled as 1)
   GLuint framebuffer = 0, depthBuffer = 0;
   GLuint targets[kTargets] = {};
@@ -172,6 +186,7 @@ struct GlRasterizer::State {
     if (!textures.empty()) glDeleteTextures(GLsizei(textures.size()), textures.data());
     glDeleteBuffers(1, &vertexBuffer);
     glDeleteBuffers(1, &indexBuffer);
+    if (tangentBuffer) glDeleteBuffers(1, &tangentBuffer);
     glDeleteVertexArrays(1, &vao);
     glDeleteProgram(program);
   }
@@ -215,6 +230,14 @@ struct GlRasterizer::State {
     glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
                           reinterpret_cast<const void*>(offsetof(Vertex, uv)));
     for (GLuint a = 0; a < 3; ++a) glEnableVertexAttribArray(a);
+    if (normalMaps) {
+      glGenBuffers(1, &tangentBuffer);
+      glBindBuffer(GL_ARRAY_BUFFER, tangentBuffer);
+      glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(scene.tangents.size() * sizeof(glm::vec4)),
+                   scene.tangents.data(), GL_STATIC_DRAW);
+      glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, sizeof(glm::vec4), nullptr);
+      glEnableVertexAttribArray(3);
+    }
     glGenBuffers(1, &indexBuffer);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(scene.indices.size() * sizeof(uint32_t)),
@@ -250,8 +273,13 @@ struct GlRasterizer::State {
     }
   }
 
+  // The programs' TS_NORMAL_MAPS.
+  std::string defines() const {
+    return std::string("#define TS_NORMAL_MAPS ") + (normalMaps ? "1" : "0") + "\n";
+  }
+
   void buildProgram() {
-    program = gl::buildProgram("gbuffer.vert", "gbuffer.frag");
+    program = gl::buildProgram("gbuffer.vert", "gbuffer.frag", defines());
     u = uniformsOf(program);
     // Locations 0..5 of the fragment outputs are fixed in the shader (layout qualifiers).
     gl::checkErrors("setting up the G-buffer program");
@@ -290,7 +318,9 @@ struct GlRasterizer::State {
     height = h;
   }
 
-  void setMaterial(const Uniforms& u, const Material& m, bool metallicRoughness) {
+  // applyNormalMaps: RasterOptions::normalMaps (SceneFeatures::normalMaps of forward passes).
+  void setMaterial(const Uniforms& u, const Material& m, bool metallicRoughness,
+                   bool applyNormalMaps) {
     glUniform3fv(u.diffuse, 1, &m.diffuse.x);
     glUniform3fv(u.specular, 1, &m.specular.x);
     glUniform1f(u.shininess, m.shininess);
@@ -305,6 +335,14 @@ struct GlRasterizer::State {
       const GLuint texture = index >= 0 ? textures[size_t(index)] : 0;
       glUniform1i(u.hasTexture[s], texture != 0 ? 1 : 0);
       glActiveTexture(GLenum(GL_TEXTURE0 + s));
+      glBindTexture(GL_TEXTURE_2D, texture);
+    }
+    if (normalMaps) {
+      const GLuint texture =
+          applyNormalMaps && m.normalTexture >= 0 ? textures[size_t(m.normalTexture)] : 0;
+      glUniform1i(u.hasNormalTexture, texture != 0 ? 1 : 0);
+      glUniform1f(u.normalScale, m.normalScale);
+      glActiveTexture(GLenum(GL_TEXTURE0 + kNormalTextureUnit));
       glBindTexture(GL_TEXTURE_2D, texture);
     }
   }
@@ -338,14 +376,17 @@ struct GlRasterizer::State {
     glClearBufferfv(GL_DEPTH, 0, &farDepth);
 
     glUseProgram(program);
-    drawScene(u, camera, in, options.model == ShadingModel::MetallicRoughness);
+    drawScene(u, camera, in, options.model == ShadingModel::MetallicRoughness, options.normalMaps);
     gl::checkErrors("drawing scene '" + scene.name + "'");
   }
 
   // Every draw of the scene with `u`'s program in use: the camera, then per draw its material.
   void drawScene(const Uniforms& u, const SceneCamera& camera, const CameraIntrinsics& in,
-                 bool metallicRoughness) {
+                 bool metallicRoughness, bool applyNormalMaps) {
     const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(camera.viewFromWorld)));
+    // Tangents lie in the surface: the view's rotation, as the software rasterizer's.
+    const glm::mat3 viewRotation{glm::dmat3(camera.viewFromWorld)};
+    glUniformMatrix3fv(u.viewRotation, 1, GL_FALSE, &viewRotation[0][0]);
     const glm::mat4 projection = clipFromView(in);
     // GL transforms in float (the software rasterizer in double; docs/opengl.md).
     const glm::mat4 viewFromWorld(camera.viewFromWorld);
@@ -354,7 +395,7 @@ struct GlRasterizer::State {
     glUniformMatrix4fv(u.clipFromView, 1, GL_FALSE, &projection[0][0]);
     glBindVertexArray(vao);
     for (const Draw& d : draws) {
-      setMaterial(u, *d.material, metallicRoughness);
+      setMaterial(u, *d.material, metallicRoughness, applyNormalMaps);
       glUniform1i(u.firstTriangle, GLint(d.firstTriangle));
       glDrawElements(GL_TRIANGLES, GLsizei(d.triangles * 3), GL_UNSIGNED_INT,
                      reinterpret_cast<const void*>(size_t(d.firstTriangle) * 3 * sizeof(uint32_t)));
@@ -369,9 +410,9 @@ struct GlRasterizer::State {
     if (epoxy_gl_version() < 43)
       throw Error("OpenGL " + EglContext::shared().version() +
                   " has no shader storage buffers (OpenGL 4.3), which forward shading needs");
-    depthProgram = gl::buildProgram("gbuffer.vert", "depth_only.frag");
+    depthProgram = gl::buildProgram("gbuffer.vert", "depth_only.frag", defines());
     du = uniformsOf(depthProgram);
-    forwardProgram = gl::buildProgram("gbuffer.vert", "tiled_forward.frag");
+    forwardProgram = gl::buildProgram("gbuffer.vert", "tiled_forward.frag", defines());
     fu = uniformsOf(forwardProgram);
     glGenBuffers(kForwardStorages, storage);
     glGenQueries(1, &timer);
@@ -503,6 +544,8 @@ GlRasterizer::GlRasterizer(const Scene& scene) : state_(std::make_unique<State>(
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
   state_->maxSize = std::min({viewport[0], viewport[1], renderbuffer, texture});
   state_->buildDraws();
+  if (!scene.tangents.empty())
+    for (const Draw& d : state_->draws) state_->normalMaps |= d.material->normalTexture >= 0;
   try {
     state_->buildProgram();
     state_->upload();
@@ -558,7 +601,7 @@ std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int wid
   glDepthFunc(GL_GREATER);
   glUseProgram(s.depthProgram);
   double queryMs = 0.0;
-  ms = s.timed([&] { s.drawScene(s.du, camera, in, false); }, queryMs);
+  ms = s.timed([&] { s.drawScene(s.du, camera, in, false, false); }, queryMs);
   gl::checkErrors("the depth pre-pass of scene '" + s.scene.name + "'");
   std::vector<float> depth(size_t(width) * size_t(height));
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
@@ -636,7 +679,8 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
     s.clearDepth(in);
     glDepthFunc(GL_GREATER);
   }
-  out.drawMs = s.timed([&] { s.drawScene(s.fu, camera, in, metallicRoughness); }, out.queryMs);
+  out.drawMs =
+      s.timed([&] { s.drawScene(s.fu, camera, in, metallicRoughness, f.normalMaps); }, out.queryMs);
   glDepthMask(GL_TRUE);
   gl::checkErrors("the tiled forward pass of scene '" + s.scene.name + "'");
 

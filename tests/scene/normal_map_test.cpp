@@ -1,6 +1,6 @@
 // glTF normal maps on the scene side: normalTexture (index, texCoord, scale) and the tangents
 // (the file's TANGENT, else generated from the UVs: generateTangents, not MikkTSpace), the note
-// where neither is possible, bad input and the export.
+// where neither is possible, bad input, the export and the `normal_maps` scene feature.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +8,7 @@
 
 #include "gltf_builder.h"
 #include "png_bytes.h"
+#include "scene/scene_features.h"
 #include "scene/scene_loader.h"
 #include "scene/tangents.h"
 #include "util/error.h"
@@ -30,9 +31,9 @@ Loaded load(const json& doc) {
   return r;
 }
 
-#define REQUIRE_PNG(uri)                                                \
-  do {                                                                  \
-    if ((uri).empty()) GTEST_SKIP() << "built without OpenImageIO";     \
+#define REQUIRE_PNG(uri)                                            \
+  do {                                                              \
+    if ((uri).empty()) GTEST_SKIP() << "built without OpenImageIO"; \
   } while (0)
 
 // ---- generateTangents ------------------------------------------------------------------------
@@ -177,10 +178,30 @@ TEST(NormalMapGltf, ExportWritesTheMapItsScaleAndTheTangentsBack) {
   ASSERT_GE(back.materials[0].normalTexture, 0);
   EXPECT_FLOAT_EQ(back.materials[0].normalScale, 0.6f);
   const Texture& map = back.textures[size_t(back.materials[0].normalTexture)];
-  EXPECT_EQ(map.texels[0], original.textures[size_t(original.materials[0].normalTexture)].texels[0]);
+  EXPECT_EQ(map.texels[0],
+            original.textures[size_t(original.materials[0].normalTexture)].texels[0]);
   ASSERT_EQ(back.tangents.size(), back.vertices.size());
   for (size_t i = 0; i < back.vertices.size(); ++i)  // the exporter's vertex order is the file's
     EXPECT_EQ(back.tangents[i], original.tangents[i]);
+}
+
+// ---- the scene feature -----------------------------------------------------------------------
+
+TEST(NormalMapFeature, IsOnOnlyForAScenesNormalMapsAndCannotBeLeftOut) {
+  const std::string uri = test::uniformPngUri(2, 2, {230, 64, 220});
+  REQUIRE_PNG(uri);
+  const Scene mapped = load(test::normalMappedQuad(uri, 1.0)).scene;
+  const SceneFeatures need = analyzeScene(mapped, ShadingModel::MetallicRoughness);
+  EXPECT_TRUE(need.normalMaps);
+  EXPECT_NE(need.describe().find("normal_maps"), std::string::npos);
+  EXPECT_EQ(need.kernelDefines().find("NORMAL"), std::string::npos);  // no kernel branches on it
+  EXPECT_THROW(chooseFeatures("specular,textures,point", need), Error);
+  EXPECT_TRUE(chooseFeatures("specular,textures,point,normal_maps", need).normalMaps);
+
+  SceneOptions plain;
+  const Scene street = loadScene("builtin:street", plain);
+  EXPECT_FALSE(analyzeScene(street, ShadingModel::BlinnPhong).normalMaps);
+  EXPECT_TRUE(street.tangents.empty());
 }
 
 }  // namespace
