@@ -89,6 +89,13 @@ int main(int argc, char** argv) {
   renderCmd->add_option("--variant", render.variant,
                         "built-in scene variants, a comma list of: " +
                             joined(ts::builtinVariants()) + " (scenes/README.md)");
+  std::string normalMaps = "on";
+  renderCmd
+      ->add_option("--normal-maps", normalMaps,
+                   "apply the glTF materials' normal maps (normalTexture): on, off (the "
+                   "interpolated vertex normals)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"on", "off"}));
   renderCmd
       ->add_option("--shading-model", render.shadingModel,
                    "auto (the scene's own: metallic-roughness for glTF, blinn-phong for the "
@@ -169,7 +176,7 @@ int main(int argc, char** argv) {
   // An imported G-buffer brings its own scene, size, frame, lights and shading model.
   for (const char* name :
        {"--lights", "--light-count", "--light-range", "--light-threshold", "--seed", "--width",
-        "--height", "--frame", "--variant", "--shading-model"})
+        "--height", "--frame", "--variant", "--normal-maps", "--shading-model"})
     gbufferInOpt->excludes(renderCmd->get_option(name));
   gbufferInOpt->excludes(sceneOpt);
   gbufferInOpt->excludes(rasterOpt);
@@ -217,6 +224,7 @@ int main(int argc, char** argv) {
       render.spotCulling = ts::spotCullingNames().parseOption("--spot-culling", spotCulling);
       render.math = ts::mathModeNames().parseOption("--math", math);
       render.lanes = ts::laneNames().parseOption("--lanes", lanes);
+      render.normalMaps = normalMaps == "on";
       render.keepInputLayout = gbufferOpt->count() == 0;
       ts::runRender(render);
     } else if (*bench.command) {

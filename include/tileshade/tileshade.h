@@ -159,6 +159,7 @@ struct SceneRequest {
   float lightRange = 0.0f;               // > 0 overrides every light's range
   float lightThreshold = 0.0f;           // > 0: ranges from the attenuation threshold
   std::string variant;                   // built-in variants, a comma list
+  bool normalMaps = true;                // apply the scene's normal maps (glTF normalTexture)
   std::string shadingModel = "auto";
   std::string features = "auto";
   uint32_t seed = 1;

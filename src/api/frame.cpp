@@ -279,6 +279,7 @@ Frame Frame::fromScene(Device& device, const SceneRequest& r) {
     o.lightRange = r.lightRange;
     o.lightThreshold = r.lightThreshold;
     o.variant = r.variant;
+    o.normalMaps = r.normalMaps;
     o.shadingModel = r.shadingModel;
     o.features = r.features;
     o.seed = r.seed;

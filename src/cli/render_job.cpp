@@ -106,6 +106,7 @@ Frame loadFrame(Device& device, const RenderOptions& o) {
   r.lightRange = o.lightRange;
   r.lightThreshold = o.lightThreshold;
   r.variant = o.variant;
+  r.normalMaps = o.normalMaps;
   r.shadingModel = o.shadingModel;
   r.features = o.features;
   r.seed = o.seed;
@@ -302,6 +303,7 @@ void runRender(const RenderOptions& options) {
       {"features", info.features},
       {"kernel_options", kernelOptions},
       {"variant", o.variant},
+      {"normal_maps", o.normalMaps},
       {"geometry_pixels", info.geometryPixels},
       {"tile", {o.tileWidth, o.tileHeight}},
       {"culling", toString(o.culling)},

@@ -24,6 +24,7 @@ SceneOptions PipelineOptions::sceneOptions() const {
   s.lightCount = lightCount;
   s.lightRange = lightRange;
   s.variant = variant;
+  s.normalMaps = normalMaps;
   return s;
 }
 

@@ -156,6 +156,10 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
   if (options.lightRange > 0.0f)
     for (auto& l : scene.lights)
       if (l.hasRange()) l.range = options.lightRange;
+  if (!options.normalMaps) {
+    for (Material& m : scene.materials) m.normalTexture = -1;
+    scene.tangents.clear();
+  }
   return scene;
 }
 

@@ -1,10 +1,13 @@
 // Normal maps in the software rasterizer's G-buffer (shaders/normal_mapping.h through
 // resolve()): a flat map or scale 0 gives the interpolated normal bit for bit, a tilted map the
-// normal of glTF's tangent frame computed here analytically. The OpenGL rasterizer against this one:
+// normal of glTF's tangent frame computed here analytically, `--normal-maps off` and
+// RasterOptions::normalMaps = false the plain normals. The OpenGL rasterizer against this one:
 // tests/raster/gl_raster_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "gltf_builder.h"
 #include "png_bytes.h"
@@ -106,6 +109,23 @@ TEST(NormalMapRaster, TheFilesTangentsAndTheirSignOrientTheMap) {
   forCoveredPixels(draw(s), draw(s, false), [&](glm::vec3 mapped, glm::vec3) {
     EXPECT_LT(angle(glm::dvec3(mapped), expected), 1e-5);
   });
+}
+
+TEST(NormalMapRaster, NormalMapsOffGivesThePlainNormals) {
+  const std::string uri = test::uniformPngUri(2, 2, {230, 64, 220});
+  if (uri.empty()) GTEST_SKIP() << "built without OpenImageIO";
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "tileshade_normal_maps_off.gltf").string();
+  std::ofstream(path) << test::normalMappedQuad(uri, 1.0).dump();
+  SceneOptions off;
+  off.normalMaps = false;
+  const Scene plain = loadScene(path, off), mapped = loadScene(path, SceneOptions{});
+  std::filesystem::remove(path);
+  EXPECT_TRUE(plain.tangents.empty());
+  EXPECT_EQ(plain.materials[0].normalTexture, -1);
+  const GBuffer a = draw(plain), b = draw(mapped, false), c = draw(mapped);
+  EXPECT_EQ(a.normal, b.normal);
+  EXPECT_NE(a.normal, c.normal);
 }
 
 }  // namespace
