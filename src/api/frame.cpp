@@ -42,6 +42,7 @@ FrameInfo describeFrame(const RenderInput& input) {
   info.lights = f.lights.size() + f.lights.directionalCount();
   info.directionalLights = f.lights.directionalCount();
   info.lightSummary = input.lightSummary;
+  info.shadowCastingLights = input.shadowCasters;
   info.rasterMs = f.rasterMs;
   info.rasterSetupMs = input.rasterSetupMs;
   return info;
@@ -280,6 +281,7 @@ Frame Frame::fromScene(Device& device, const SceneRequest& r) {
     o.lightThreshold = r.lightThreshold;
     o.variant = r.variant;
     o.normalMaps = r.normalMaps;
+    o.shadows = r.shadows;
     o.shadingModel = r.shadingModel;
     o.features = r.features;
     o.seed = r.seed;

@@ -25,6 +25,7 @@ SceneOptions PipelineOptions::sceneOptions() const {
   s.lightRange = lightRange;
   s.variant = variant;
   s.normalMaps = normalMaps;
+  s.shadows = shadows;
   return s;
 }
 

@@ -26,6 +26,7 @@ struct PipelineOptions {
   std::string variant;                // built-in scene variants, a comma list (scene_loader.h);
                                       // "" = none
   bool normalMaps = true;             // the scene's normal maps applied (--normal-maps)
+  std::string shadows;                // shadow-casting lights (--shadows; shadow_casters.h)
   std::string shadingModel = "auto";  // auto (the scene's own) or a shadingModelNames() name
   std::string features = "auto";      // auto (the scene's needs), general, or a list
                                       // (chooseFeatures, scene_features.h)

@@ -324,6 +324,9 @@ void exportGltf(const Scene& scene, const std::string& path) {
       light.spot.innerConeAngle = std::min(double(l.innerConeAngle), kHalfPi);
       light.spot.outerConeAngle = std::min(double(l.outerConeAngle), kHalfPi);
     }
+    if (l.castsShadow)
+      light.extras =
+          tinygltf::Value(tinygltf::Value::Object{{"castsShadow", tinygltf::Value(true)}});
     m.lights.push_back(light);
     tinygltf::Node node;
     node.name = "light" + std::to_string(i);

@@ -109,6 +109,13 @@ class Checker {
       object(e, "KHR_lights_punctual", eat,
              [&](const json& k, const std::string& kat) { index(k, "light", kat, lightCount()); });
     });
+    castsShadow(n, at);
+  }
+
+  // extras may be anything; an object's castsShadow (a light's or its node's) is a boolean.
+  void castsShadow(const json& obj, const std::string& at) {
+    const json* extras = get(obj, "extras");
+    if (extras && extras->is_object()) boolean(*extras, "castsShadow", at + ".extras");
   }
 
   // byteOffset + byteLength within the buffer's declared byteLength (which tinygltf makes the size
@@ -202,6 +209,7 @@ class Checker {
       number(s, "innerConeAngle", sat, kAny);
       number(s, "outerConeAngle", sat, kAny);
     });
+    castsShadow(l, at);
   }
 
   // ---- rules ----------------------------------------------------------------------------------

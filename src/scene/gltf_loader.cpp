@@ -1071,7 +1071,16 @@ void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
   if (const auto* ext = extension(node.extensions, "KHR_lights_punctual")) {
     int li = int(number(ext, "light", -1.0));
     if (li < 0 || size_t(li) >= m_.lights.size()) read_.fail(what + ": bad light index");
+    const size_t lightsBefore = scene_.lights.size();  // a light of an unknown type adds none
     addLight(m_.lights[size_t(li)], world, what + " light " + std::to_string(li));
+    // extras.castsShadow on the light or on its node (a boolean: checked in the JSON).
+    auto marked = [](const tinygltf::Value& extras) {
+      return extras.IsObject() && extras.Has("castsShadow") && extras.Get("castsShadow").IsBool() &&
+             extras.Get("castsShadow").Get<bool>();
+    };
+    if (scene_.lights.size() > lightsBefore)
+      scene_.lights.back().castsShadow =
+          marked(m_.lights[size_t(li)].extras) || marked(node.extras);
   }
 
   if (node.camera >= 0) {

@@ -17,6 +17,9 @@ struct SceneOptions {
   // false (`--normal-maps off`): the materials' normal maps and the tangents are dropped, so the
   // scene renders with its interpolated normals, as before tileshade read normal maps.
   bool normalMaps = true;
+  // Which lights cast shadows (chooseShadowCasters, scene/shadow_casters.h): "" keeps the
+  // scene's own marks. Recorded only: nothing shades shadows yet.
+  std::string shadows;
 };
 
 // The built-in scenes' variants, for measuring what a scene's needs cost (scenes/README.md):
