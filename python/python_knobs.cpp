@@ -102,6 +102,11 @@ const std::map<std::string, SceneKnob>& sceneKnobs() {
       {"light_threshold",
        [](R& r, py::handle v, const std::string& n) { r.lightThreshold = floatValue(v, n); }},
       {"variant", [](R& r, py::handle v, const std::string& n) { r.variant = listText(v, n); }},
+      {"normal_maps",
+       [](R& r, py::handle v, const std::string& n) {
+         if (!py::isinstance<py::bool_>(v)) wrongType(v, n, "a bool");
+         r.normalMaps = v.cast<bool>();
+       }},
       {"shading_model",
        [](R& r, py::handle v, const std::string& n) { r.shadingModel = textValue(v, n); }},
       {"features", [](R& r, py::handle v, const std::string& n) { r.features = listText(v, n); }},

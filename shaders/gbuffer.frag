@@ -2,7 +2,8 @@
 // The OpenGL rasterizer's fragment stage (src/raster/gl_rasterizer.cpp): writes the G-buffer
 // planes of src/gbuffer/gbuffer.h into five render targets (and the triangle id into a sixth).
 // The rules mirror the software rasterizer's resolve() (src/raster/rasterizer.cpp); the material
-// planes come from the one shared definition in material_planes.h.
+// planes come from the one shared definition in material_planes.h, normal maps (TS_NORMAL_MAPS,
+// set by gl_rasterizer.cpp for scenes that have them) from normal_mapping.h.
 
 in vec3 v_viewPosition;  // perspective-correct ("smooth")
 in vec3 v_normal;
@@ -39,10 +40,24 @@ uniform bool u_hasTexture[4];
 
 #include "surface_normal.h"
 
+#if TS_NORMAL_MAPS
+in vec4 v_tangent;
+uniform sampler2D u_normalTexture;
+uniform bool u_hasNormalTexture;
+uniform float u_normalScale;
+#include "normal_mapping.h"
+#endif
+
 void main() {
   // Derivatives outside any branch (undefined in non-uniform control flow).
   vec3 faceNormal = cross(dFdx(v_viewPosition), dFdy(v_viewPosition));
-  vec3 n = ts_surface_normal(v_normal, faceNormal, v_viewPosition, u_doubleSided);
+  vec3 n = ts_surface_normal(v_normal, faceNormal, v_viewPosition, false);
+#if TS_NORMAL_MAPS
+  // Before the double-sided flip (normal_mapping.h); textureLod: non-uniform control flow.
+  if (u_hasNormalTexture)
+    n = ts_normal_mapped(n, v_tangent, textureLod(u_normalTexture, v_uv, 0.0).rgb, u_normalScale);
+#endif
+  if (u_doubleSided && !gl_FrontFacing) n = -n;
 
   TsMaterialPlanes planes = ts_material_planes(u_metallicRoughness, u_material);
   o_depth = -v_viewPosition.z;

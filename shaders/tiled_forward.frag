@@ -40,6 +40,14 @@ uniform bool u_hasTexture[4];
 #define TS_SAMPLE(slot) (u_hasTexture[slot] ? textureLod(u_texture[slot], v_uv, 0.0) : vec4(1.0))
 #include "material_planes.h"
 #include "surface_normal.h"
+
+#if TS_NORMAL_MAPS
+in vec4 v_tangent;
+uniform sampler2D u_normalTexture;
+uniform bool u_hasNormalTexture;
+uniform float u_normalScale;
+#include "normal_mapping.h"
+#endif
 #include "opencl_as_glsl.h"
 #include "kernels/shading.h"
 
@@ -70,7 +78,13 @@ uniform bool u_baseTerms;
 
 void main() {
   vec3 faceNormal = cross(dFdx(v_viewPosition), dFdy(v_viewPosition));
-  vec3 N = ts_surface_normal(v_normal, faceNormal, v_viewPosition, u_doubleSided);
+  vec3 N = ts_surface_normal(v_normal, faceNormal, v_viewPosition, false);
+#if TS_NORMAL_MAPS
+  // Before the double-sided flip (normal_mapping.h); textureLod: non-uniform control flow.
+  if (u_hasNormalTexture)
+    N = ts_normal_mapped(N, v_tangent, textureLod(u_normalTexture, v_uv, 0.0).rgb, u_normalScale);
+#endif
+  if (u_doubleSided && !gl_FrontFacing) N = -N;
   TsMaterialPlanes planes = ts_material_planes(u_metallicRoughness, u_material);
   // The position interpolated from the vertices (forward shading's own), not rebuilt from depth.
   vec3 P = v_viewPosition;

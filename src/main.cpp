@@ -89,6 +89,17 @@ int main(int argc, char** argv) {
   renderCmd->add_option("--variant", render.variant,
                         "built-in scene variants, a comma list of: " +
                             joined(ts::builtinVariants()) + " (scenes/README.md)");
+  std::string normalMaps = "on";
+  renderCmd
+      ->add_option("--normal-maps", normalMaps,
+                   "apply the glTF materials' normal maps (normalTexture): on, off (the "
+                   "interpolated vertex normals)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"on", "off"}));
+  renderCmd->add_option("--shadows", render.shadows,
+                        "which lights cast shadows: none, all, or N (the N lights of largest "
+                        "range); default the scene's own (glTF extras castsShadow). Recorded "
+                        "only: no technique shades shadows yet");
   renderCmd
       ->add_option("--shading-model", render.shadingModel,
                    "auto (the scene's own: metallic-roughness for glTF, blinn-phong for the "
@@ -169,7 +180,7 @@ int main(int argc, char** argv) {
   // An imported G-buffer brings its own scene, size, frame, lights and shading model.
   for (const char* name :
        {"--lights", "--light-count", "--light-range", "--light-threshold", "--seed", "--width",
-        "--height", "--frame", "--variant", "--shading-model"})
+        "--height", "--frame", "--variant", "--normal-maps", "--shadows", "--shading-model"})
     gbufferInOpt->excludes(renderCmd->get_option(name));
   gbufferInOpt->excludes(sceneOpt);
   gbufferInOpt->excludes(rasterOpt);
@@ -180,11 +191,13 @@ int main(int argc, char** argv) {
   // scene export
   auto* sceneCmd = app.add_subcommand("scene", "scene tools");
   sceneCmd->require_subcommand(1);
-  std::string exportSpec, exportPath, exportLights;
+  std::string exportSpec, exportPath, exportLights, exportShadows;
   auto* exportCmd = sceneCmd->add_subcommand("export", "write a scene (with its lights) as glTF");
   exportCmd->add_option("scene", exportSpec, "scene spec, e.g. builtin:street")->required();
   exportCmd->add_option("path", exportPath, "output .gltf (buffers embedded) or .glb")->required();
   exportCmd->add_option("--lights", exportLights, "light set");
+  exportCmd->add_option("--shadows", exportShadows,
+                        "mark shadow-casting lights (extras castsShadow): none, all or N");
 
   // bench (src/bench/)
   ts::CliCommand bench = ts::addBenchCommand(app);
@@ -217,6 +230,7 @@ int main(int argc, char** argv) {
       render.spotCulling = ts::spotCullingNames().parseOption("--spot-culling", spotCulling);
       render.math = ts::mathModeNames().parseOption("--math", math);
       render.lanes = ts::laneNames().parseOption("--lanes", lanes);
+      render.normalMaps = normalMaps == "on";
       render.keepInputLayout = gbufferOpt->count() == 0;
       ts::runRender(render);
     } else if (*bench.command) {
@@ -229,6 +243,7 @@ int main(int argc, char** argv) {
       ts::checkExportPath(exportPath);  // before the scene is built
       ts::SceneOptions so;
       so.lightSet = exportLights;
+      so.shadows = exportShadows;
       ts::Scene scene = ts::outOfMemoryAs("loading scene " + exportSpec,
                                           [&] { return ts::loadScene(exportSpec, so); });
       ts::exportGltf(scene, exportPath);

@@ -159,6 +159,9 @@ struct SceneRequest {
   float lightRange = 0.0f;               // > 0 overrides every light's range
   float lightThreshold = 0.0f;           // > 0: ranges from the attenuation threshold
   std::string variant;                   // built-in variants, a comma list
+  bool normalMaps = true;                // apply the scene's normal maps (glTF normalTexture)
+  std::string shadows;  // which lights cast shadows: "" (the scene's marks), none, all or N
+                        // (recorded only: nothing shades shadows yet)
   std::string shadingModel = "auto";
   std::string features = "auto";
   uint32_t seed = 1;
@@ -182,7 +185,8 @@ struct FrameInfo {
   uint64_t bytesPerPixel = 0;
   uint64_t geometryPixels = 0;
   uint64_t lights = 0, directionalLights = 0;  // lights counts directional ones too
-  std::string lightSummary;  // "924 lights", "12 lights: 6 point, 5 spot, 1 directional"
+  std::string lightSummary;          // "924 lights", "12 lights: 6 point, 5 spot, 1 directional"
+  uint64_t shadowCastingLights = 0;  // marked to cast a shadow (recorded, not shaded yet)
   double rasterMs = 0.0, rasterSetupMs = 0.0;  // 0 where nothing was rasterized
   // A scene rasterized with raster "gl": the techniques that draw the scene (forward) can shade
   // it, through the same OpenGL context (TechniqueDescription::drawsScene).

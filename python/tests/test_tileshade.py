@@ -229,6 +229,8 @@ def test_unknown_or_mistyped_keywords_name_the_knob(device):
         tileshade.render(width=W, height=H, tile_size=8)
     with pytest.raises(TypeError, match=r"width: expected an int, got str"):
         tileshade.render(width="64", height=H)
+    with pytest.raises(TypeError, match=r"normal_maps: expected a bool, got str"):
+        tileshade.render(width=W, height=H, normal_maps="off")
     with pytest.raises(TypeError, match=r"unexpected keyword argument 'width'"):
         tileshade.Renderer(device, "tiled", width=64)  # a scene knob, not a technique's
     with pytest.raises(ValueError, match=r"tile: 'sixteen' is no tile size"):

@@ -42,6 +42,7 @@ FrameInfo describeFrame(const RenderInput& input) {
   info.lights = f.lights.size() + f.lights.directionalCount();
   info.directionalLights = f.lights.directionalCount();
   info.lightSummary = input.lightSummary;
+  info.shadowCastingLights = input.shadowCasters;
   info.rasterMs = f.rasterMs;
   info.rasterSetupMs = input.rasterSetupMs;
   return info;
@@ -153,6 +154,7 @@ SceneFeatures featuresOf(const EncodedGBuffer& e, const ViewLights& lights) {
   f.point = f.spot = false;
   for (size_t i = 0; i < lights.size(); ++i) (lights.isSpot(i) ? f.spot : f.point) = true;
   f.directional = lights.directionalCount() > 0;
+  f.normalMaps = false;  // nothing was rasterized
   return f;
 }
 
@@ -278,6 +280,8 @@ Frame Frame::fromScene(Device& device, const SceneRequest& r) {
     o.lightRange = r.lightRange;
     o.lightThreshold = r.lightThreshold;
     o.variant = r.variant;
+    o.normalMaps = r.normalMaps;
+    o.shadows = r.shadows;
     o.shadingModel = r.shadingModel;
     o.features = r.features;
     o.seed = r.seed;

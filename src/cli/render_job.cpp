@@ -106,6 +106,8 @@ Frame loadFrame(Device& device, const RenderOptions& o) {
   r.lightRange = o.lightRange;
   r.lightThreshold = o.lightThreshold;
   r.variant = o.variant;
+  r.normalMaps = o.normalMaps;
+  r.shadows = o.shadows;
   r.shadingModel = o.shadingModel;
   r.features = o.features;
   r.seed = o.seed;
@@ -305,6 +307,9 @@ void runRender(const RenderOptions& options) {
       {"features", info.features},
       {"kernel_options", kernelOptions},
       {"variant", o.variant},
+      {"normal_maps", o.normalMaps},
+      {"shadows", o.shadows.empty() ? "scene" : o.shadows},
+      {"shadow_casting_lights", info.shadowCastingLights},
       {"geometry_pixels", info.geometryPixels},
       {"tile", {o.tileWidth, o.tileHeight}},
       {"culling", toString(o.culling)},

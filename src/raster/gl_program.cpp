@@ -33,8 +33,10 @@ std::string oneLine(std::string log) {
   return out;
 }
 
-GLuint compile(GLenum stage, const std::string& file) {
-  const std::string text = shaderSource(file);
+GLuint compile(GLenum stage, const std::string& file, const std::string& defines) {
+  std::string text = shaderSource(file);
+  // After the #version line, which must come first.
+  if (!defines.empty()) text.insert(std::min(text.find('\n'), text.size() - 1) + 1, defines);
   GLuint shader = glCreateShader(stage);
   const char* src = text.c_str();
   glShaderSource(shader, 1, &src, nullptr);
@@ -86,11 +88,12 @@ std::string shaderSource(const std::string& name) {
   return out;
 }
 
-GLuint buildProgram(const std::string& vertexFile, const std::string& fragmentFile) {
-  GLuint vs = compile(GL_VERTEX_SHADER, vertexFile);
+GLuint buildProgram(const std::string& vertexFile, const std::string& fragmentFile,
+                    const std::string& defines) {
+  GLuint vs = compile(GL_VERTEX_SHADER, vertexFile, defines);
   GLuint fs = 0;
   try {
-    fs = compile(GL_FRAGMENT_SHADER, fragmentFile);
+    fs = compile(GL_FRAGMENT_SHADER, fragmentFile, defines);
   } catch (...) {
     glDeleteShader(vs);
     throw;

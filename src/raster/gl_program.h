@@ -16,9 +16,11 @@ std::string shaderDir();
 // kernelDir()), so a shader compiles the very header the kernels do (kernels/shading.h).
 std::string shaderSource(const std::string& name);
 
-// Compiles and links a vertex + fragment program from shaderDir() files. Throws ts::Error
-// naming the file and quoting the log on one line.
-GLuint buildProgram(const std::string& vertexFile, const std::string& fragmentFile);
+// Compiles and links a vertex + fragment program from shaderDir() files, with `defines` (lines
+// such as "#define TS_NORMAL_MAPS 1\n") after each one's #version line. Throws ts::Error naming
+// the file and quoting the log on one line.
+GLuint buildProgram(const std::string& vertexFile, const std::string& fragmentFile,
+                    const std::string& defines = "");
 
 // Throws ts::Error "OpenGL error GL_INVALID_OPERATION (and …) after WHERE" when glGetError
 // reports any.

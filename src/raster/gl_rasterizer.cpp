@@ -22,7 +22,9 @@
 //    so fragments beyond zfar fail the test (the software rasterizer rejects them per pixel).
 //  - Pixel centres at +0.5 and single-sample rasterization: OpenGL's defaults.
 //  - Normals, facing, materials, textures: shaders/gbuffer.frag (the same rules as resolve(); the
-//    material planes from the shared shaders/material_planes.h). Textures are RGBA32F copies of
+//    material planes from the shared shaders/material_planes.h, normal maps from the shared
+//    shaders/normal_mapping.h, with the tangents as vertex attribute 3 only for a scene that has
+//    normal maps: TS_NORMAL_MAPS). Textures are RGBA32F copies of
 //    ts::Texture (linear, no sRGB conversion on either side), without mipmaps, with the texture's
 //    wrap modes and filter (GL_LINEAR: bilinear with texel centres at half-integers; GL_NEAREST),
 //    as Texture::sample.
@@ -88,7 +90,11 @@ struct Uniforms {
   GLint diffuse, specular, shininess, baseColor, metallic, roughness, emissive;
   GLint doubleSided, metallicRoughness, firstTriangle, batch;
   GLint texture[TS_TEXTURE_SLOTS], hasTexture[TS_TEXTURE_SLOTS];
+  GLint viewRotation, normalTexture, hasNormalTexture, normalScale;  // programs with normal maps
 };
+
+// The texture unit of a material's normal map (after the material planes' slots).
+constexpr int kNormalTextureUnit = TS_TEXTURE_SLOTS;
 
 // Looks the uniforms up and points texture slot s at texture unit s (leaves `program` in use).
 Uniforms uniformsOf(GLuint program) {
@@ -108,7 +114,12 @@ Uniforms uniformsOf(GLuint program) {
   u.metallicRoughness = at("u_metallicRoughness");
   u.firstTriangle = at("u_firstTriangle");
   u.batch = at("u_batch");
+  u.viewRotation = at("u_viewRotation");
+  u.normalTexture = at("u_normalTexture");
+  u.hasNormalTexture = at("u_hasNormalTexture");
+  u.normalScale = at("u_normalScale");
   glUseProgram(program);
+  glUniform1i(u.normalTexture, kNormalTextureUnit);
   for (int s = 0; s < TS_TEXTURE_SLOTS; ++s) {
     u.texture[s] = at("u_texture[" + std::to_string(s) + "]");
     u.hasTexture[s] = at("u_hasTexture[" + std::to_string(s) + "]");
@@ -138,7 +149,10 @@ constexpr int kWorkTile = 16;
 struct GlRasterizer::State {
   const Scene& scene;
   std::vector<DrawBatch> draws;
-  GLuint program = 0, vao = 0, vertexBuffer = 0, indexBuffer = 0;
+  // The programs are built with the normal-map code only for a scene that has normal maps
+  // (TS_NORMAL_MAPS; a scene without pays nothing), whose tangents go to attribute 3.
+  bool normalMaps = false;
+  GLuint program = 0, vao = 0, vertexBuffer = 0, indexBuffer = 0, tangentBuffer = 0;
   std::vector<GLuint> textures;  // per scene texture; 0 for an empty one (sampled as 1)
   gl::Targets gbufferTargets;    // kTargets colour targets in Target order, float depth
   GLint maxSize = 0;             // largest width/height the implementation renders
@@ -171,6 +185,7 @@ struct GlRasterizer::State {
     if (!textures.empty()) glDeleteTextures(GLsizei(textures.size()), textures.data());
     glDeleteBuffers(1, &vertexBuffer);
     glDeleteBuffers(1, &indexBuffer);
+    if (tangentBuffer) glDeleteBuffers(1, &tangentBuffer);
     glDeleteVertexArrays(1, &vao);
     glDeleteProgram(program);
   }
@@ -190,6 +205,14 @@ struct GlRasterizer::State {
     glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
                           reinterpret_cast<const void*>(offsetof(Vertex, uv)));
     for (GLuint a = 0; a < 3; ++a) glEnableVertexAttribArray(a);
+    if (normalMaps) {
+      glGenBuffers(1, &tangentBuffer);
+      glBindBuffer(GL_ARRAY_BUFFER, tangentBuffer);
+      glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(scene.tangents.size() * sizeof(glm::vec4)),
+                   scene.tangents.data(), GL_STATIC_DRAW);
+      glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, sizeof(glm::vec4), nullptr);
+      glEnableVertexAttribArray(3);
+    }
     glGenBuffers(1, &indexBuffer);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(scene.indices.size() * sizeof(uint32_t)),
@@ -225,8 +248,13 @@ struct GlRasterizer::State {
     }
   }
 
+  // The programs' TS_NORMAL_MAPS.
+  std::string defines() const {
+    return std::string("#define TS_NORMAL_MAPS ") + (normalMaps ? "1" : "0") + "\n";
+  }
+
   void buildProgram() {
-    program = gl::buildProgram("gbuffer.vert", "gbuffer.frag");
+    program = gl::buildProgram("gbuffer.vert", "gbuffer.frag", defines());
     u = uniformsOf(program);
     // Locations 0..5 of the fragment outputs are fixed in the shader (layout qualifiers).
     gl::checkErrors("setting up the G-buffer program");
@@ -238,7 +266,9 @@ struct GlRasterizer::State {
         "G-buffer framebuffer (five float targets, an integer target, float depth)");
   }
 
-  void setMaterial(const Uniforms& u, const Material& m, bool metallicRoughness) {
+  // applyNormalMaps: RasterOptions::normalMaps (SceneFeatures::normalMaps of forward passes).
+  void setMaterial(const Uniforms& u, const Material& m, bool metallicRoughness,
+                   bool applyNormalMaps) {
     glUniform3fv(u.diffuse, 1, &m.diffuse.x);
     glUniform3fv(u.specular, 1, &m.specular.x);
     glUniform1f(u.shininess, m.shininess);
@@ -253,6 +283,14 @@ struct GlRasterizer::State {
       const GLuint texture = index >= 0 ? textures[size_t(index)] : 0;
       glUniform1i(u.hasTexture[s], texture != 0 ? 1 : 0);
       glActiveTexture(GLenum(GL_TEXTURE0 + s));
+      glBindTexture(GL_TEXTURE_2D, texture);
+    }
+    if (normalMaps) {
+      const GLuint texture =
+          applyNormalMaps && m.normalTexture >= 0 ? textures[size_t(m.normalTexture)] : 0;
+      glUniform1i(u.hasNormalTexture, texture != 0 ? 1 : 0);
+      glUniform1f(u.normalScale, m.normalScale);
+      glActiveTexture(GLenum(GL_TEXTURE0 + kNormalTextureUnit));
       glBindTexture(GL_TEXTURE_2D, texture);
     }
   }
@@ -286,21 +324,24 @@ struct GlRasterizer::State {
     glClearBufferfv(GL_DEPTH, 0, &farDepth);
 
     glUseProgram(program);
-    drawScene(u, camera, in, options.model == ShadingModel::MetallicRoughness);
+    drawScene(u, camera, in, options.model == ShadingModel::MetallicRoughness, options.normalMaps);
     gl::checkErrors("drawing scene '" + scene.name + "'");
   }
 
   // Every draw of the scene with `u`'s program in use: the camera, then per draw its material.
   void drawScene(const Uniforms& u, const SceneCamera& camera, const CameraIntrinsics& in,
-                 bool metallicRoughness) {
+                 bool metallicRoughness, bool applyNormalMaps) {
     setCamera(u, camera, in);
     glBindVertexArray(vao);
-    for (size_t b = 0; b < draws.size(); ++b) drawBatch(u, b, metallicRoughness);
+    for (size_t b = 0; b < draws.size(); ++b) drawBatch(u, b, metallicRoughness, applyNormalMaps);
     glBindVertexArray(0);
   }
 
   void setCamera(const Uniforms& u, const SceneCamera& camera, const CameraIntrinsics& in) {
     const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(camera.viewFromWorld)));
+    // Tangents lie in the surface: the view's rotation, as the software rasterizer's.
+    const glm::mat3 viewRotation{glm::dmat3(camera.viewFromWorld)};
+    glUniformMatrix3fv(u.viewRotation, 1, GL_FALSE, &viewRotation[0][0]);
     const glm::mat4 projection = clipFromView(in);
     // GL transforms in float (the software rasterizer in double; docs/opengl.md).
     const glm::mat4 viewFromWorld(camera.viewFromWorld);
@@ -310,9 +351,9 @@ struct GlRasterizer::State {
   }
 
   // Draw batch b (the vertex array bound): its material, then its triangles.
-  void drawBatch(const Uniforms& u, size_t b, bool metallicRoughness) {
+  void drawBatch(const Uniforms& u, size_t b, bool metallicRoughness, bool applyNormalMaps) {
     const DrawBatch& d = draws[b];
-    setMaterial(u, *d.material, metallicRoughness);
+    setMaterial(u, *d.material, metallicRoughness, applyNormalMaps);
     glUniform1i(u.firstTriangle, GLint(d.firstTriangle));
     glUniform1i(u.batch, GLint(b));
     glDrawElements(GL_TRIANGLES, GLsizei(d.triangles * 3), GL_UNSIGNED_INT,
@@ -326,9 +367,9 @@ struct GlRasterizer::State {
     if (epoxy_gl_version() < 43)
       throw Error("OpenGL " + EglContext::shared().version() +
                   " has no shader storage buffers (OpenGL 4.3), which forward shading needs");
-    depthProgram = gl::buildProgram("gbuffer.vert", "depth_only.frag");
+    depthProgram = gl::buildProgram("gbuffer.vert", "depth_only.frag", defines());
     du = uniformsOf(depthProgram);
-    forwardProgram = gl::buildProgram("gbuffer.vert", "tiled_forward.frag");
+    forwardProgram = gl::buildProgram("gbuffer.vert", "tiled_forward.frag", defines());
     fu = uniformsOf(forwardProgram);
     glGenBuffers(kForwardStorages, storage);
     glGenQueries(1, &timer);
@@ -523,6 +564,8 @@ GlRasterizer::GlRasterizer(const Scene& scene) : state_(std::make_unique<State>(
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
   state_->maxSize = std::min({viewport[0], viewport[1], renderbuffer, texture});
   state_->draws = drawBatches(scene);
+  if (!scene.tangents.empty())
+    for (const DrawBatch& d : state_->draws) state_->normalMaps |= d.material->normalTexture >= 0;
   try {
     state_->buildProgram();
     state_->upload();
@@ -593,7 +636,7 @@ std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int wid
   glDepthFunc(GL_GREATER);
   glUseProgram(s.depthProgram);
   double queryMs = 0.0;
-  ms = s.timed([&] { s.drawScene(s.du, camera, in, false); }, queryMs);
+  ms = s.timed([&] { s.drawScene(s.du, camera, in, false, false); }, queryMs);
   gl::checkErrors("the depth pre-pass of scene '" + s.scene.name + "'");
   std::vector<float> depth(size_t(width) * size_t(height));
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
@@ -645,7 +688,9 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
     s.clearDepth(in);
     glDepthFunc(GL_GREATER);
   }
-  out.drawMs = s.timed([&] { s.drawScene(s.fu, camera, in, metallicRoughness); }, out.queryMs);
+  out.drawMs = s.timed(
+      [&] { s.drawScene(s.fu, camera, in, metallicRoughness, lighting.features.normalMaps); },
+      out.queryMs);
   out.draws = s.draws.size();
   glDepthMask(GL_TRUE);
   gl::checkErrors("the tiled forward pass of scene '" + s.scene.name + "'");
@@ -691,7 +736,9 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
   glDepthFunc(GL_GREATER);
   glUniform1i(baseTerms, 1);
   glUniform2ui(list, 0, 0);
-  out.baseMs = s.timed([&] { s.drawScene(s.fu, camera, in, metallicRoughness); }, out.baseQueryMs);
+  out.baseMs = s.timed(
+      [&] { s.drawScene(s.fu, camera, in, metallicRoughness, lighting.features.normalMaps); },
+      out.baseQueryMs);
   out.draws = s.draws.size();
   gl::checkErrors("the forward base pass of scene '" + s.scene.name + "'");
 
@@ -715,7 +762,7 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
           const uint32_t light = passLights[p];
           for (uint32_t k = 0; k < lightBatches.counts[light]; ++k)
             s.drawBatch(s.fu, lightBatches.items[lightBatches.offsets[light] + k],
-                        metallicRoughness);
+                        metallicRoughness, lighting.features.normalMaps);
         }
         glBindVertexArray(0);
       },
@@ -765,7 +812,7 @@ ForwardImage GlRasterizer::singlePassForward(const SceneCamera& camera, int widt
         glBindVertexArray(s.vao);
         for (size_t b = 0; b < s.draws.size(); ++b) {
           glUniform2ui(list, batchLights.offsets[b], batchLights.counts[b]);
-          s.drawBatch(s.fu, b, metallicRoughness);
+          s.drawBatch(s.fu, b, metallicRoughness, lighting.features.normalMaps);
         }
         glBindVertexArray(0);
       },

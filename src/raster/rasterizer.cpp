@@ -47,6 +47,10 @@
 // viewer, as glTF specifies), for single-sided materials it is kept as the vertex data says. A
 // vertex-normal interpolation of (near) zero length is replaced by the geometric normal.
 //
+// Normal maps (a material's normalTexture, with the scene's tangents; RasterOptions::normalMaps):
+// ts_normal_mapped in shaders/normal_mapping.h perturbs the interpolated normal before the
+// double-sided flip, with the perspective-correct interpolation of the view-space tangents.
+//
 // Material planes: ts_material_planes in shaders/material_planes.h, the one definition the OpenGL
 // rasterizer (src/raster/gl_rasterizer.cpp, shaders/gbuffer.frag) compiles as GLSL; these notes'
 // conventions are mirrored there, convention by convention (docs/opengl.md).
@@ -63,6 +67,7 @@
 #include "gbuffer/plane_alloc.h"
 #include "raster/scene_validation.h"
 #include "shaders/material_planes.h"
+#include "shaders/normal_mapping.h"
 #include "util/error.h"
 
 namespace ts {
@@ -225,6 +230,7 @@ class Rasterizer {
                                    : int(std::max(1u, std::thread::hardware_concurrency()));
     workers_ = std::min(workers_, kMaxWorkers);
     validateForRaster(scene_);
+    normalMaps_ = options.normalMaps && !scene_.tangents.empty();
   }
 
   GBuffer run() {
@@ -265,6 +271,10 @@ class Rasterizer {
     plane_alloc::adviseHugePages(viewNormal_.data(), n * sizeof(glm::vec3));
     viewPosition_.resize(n);
     viewNormal_.resize(n);
+    // Tangents only for a scene with normal maps that are applied (a scene without pays nothing).
+    const glm::mat3 rotation{
+        glm::dmat3(view)};  // tangents lie in the surface: not the normal matrix
+    if (normalMaps_) viewTangent_.resize(n);
     parallelRanges(n, n < 4096 ? 1 : workers_, [&](size_t b, size_t e, int) {
       for (size_t i = b; i < e; ++i) {
         const Vertex& v = scene_.vertices[i];
@@ -272,6 +282,10 @@ class Rasterizer {
         glm::vec3 nv = normalMatrix * v.normal;
         float len2 = glm::dot(nv, nv);
         viewNormal_[i] = len2 > 0.0f ? nv / std::sqrt(len2) : glm::vec3(0.0f);
+        if (normalMaps_) {
+          const glm::vec4& t = scene_.tangents[i];
+          viewTangent_[i] = glm::vec4(rotation * glm::vec3(t), t.w);
+        }
       }
     });
   }
@@ -578,24 +592,35 @@ class Rasterizer {
           double gl = glm::length(gn);
           n = gl > 0.0 ? gn / gl : glm::dvec3(0.0, 0.0, 1.0);
         }
-        if (m.doubleSided && t.backFacing) n = -n;
 
         // Textures are sampled at the pixel's interpolated UV (one set per vertex), only those
         // the model reads (shaders/material_planes.h, shared with the OpenGL rasterizer).
+        auto uvAt = [&] {
+          const Vertex &v0 = scene_.vertices[i0], &v1 = scene_.vertices[i1],
+                       &v2 = scene_.vertices[i2];
+          return glm::vec2(B[0] * glm::dvec2(v0.uv) + B[1] * glm::dvec2(v1.uv) +
+                           B[2] * glm::dvec2(v2.uv));
+        };
         auto sample = [&](int slot) {
           const int texture = materialTexture(m, slot);
           if (texture < 0) return glm::vec4(1.0f);
-          const Vertex &v0 = scene_.vertices[i0], &v1 = scene_.vertices[i1],
-                       &v2 = scene_.vertices[i2];
-          glm::dvec2 uv =
-              B[0] * glm::dvec2(v0.uv) + B[1] * glm::dvec2(v1.uv) + B[2] * glm::dvec2(v2.uv);
-          return scene_.textures[size_t(texture)].sample(glm::vec2(uv));
+          return scene_.textures[size_t(texture)].sample(uvAt());
         };
         const TsMaterialPlanes planes =
             ts_material_planes(options_.model == ShadingModel::MetallicRoughness, m, sample);
 
+        glm::vec3 normal(n);
+        if (normalMaps_ && m.normalTexture >= 0) {
+          const glm::vec4 tangent =
+              glm::vec4(B[0] * glm::dvec4(viewTangent_[i0]) + B[1] * glm::dvec4(viewTangent_[i1]) +
+                        B[2] * glm::dvec4(viewTangent_[i2]));
+          const glm::vec4 texel = scene_.textures[size_t(m.normalTexture)].sample(uvAt());
+          normal = ts_normal_mapped(normal, tangent, glm::vec3(texel), m.normalScale);
+        }
+        if (m.doubleSided && t.backFacing) normal = -normal;
+
         g.depth[gi] = float(1.0 / sc.invDepth[p]);
-        g.normal[gi] = glm::vec4(glm::vec3(n), 0.0f);
+        g.normal[gi] = glm::vec4(normal, 0.0f);
         g.diffuse[gi] = planes.diffuse;
         g.specular[gi] = planes.specular;
         g.emissive[gi] = planes.emissive;
@@ -610,6 +635,8 @@ class Rasterizer {
   int workers_ = 1;
   std::vector<glm::dvec3> viewPosition_;
   std::vector<glm::vec3> viewNormal_;
+  std::vector<glm::vec4> viewTangent_;  // xyz view space, w the bitangent's sign; normalMaps_ only
+  bool normalMaps_ = false;             // the scene's normal maps are applied
   std::vector<WorkerOutput> outputs_;
 };
 

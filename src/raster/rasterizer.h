@@ -11,6 +11,8 @@ struct RasterOptions {
   ShadingModel model = ShadingModel::BlinnPhong;  // whose material terms the planes hold
   int threads = 0;              // 0 = all hardware threads (at most 256); same output for any
                                 // count
+  bool normalMaps = true;       // apply the materials' normal maps (SceneFeatures::normalMaps);
+                                // false: the interpolated normals, no tangent work
   bool triangleIds = false;     // fill GBuffer::triangleId
   bool fragmentCounts = false;  // fill GBuffer::fragmentCount
 };

@@ -21,9 +21,12 @@ void validateForRaster(const Scene& s) {
     if (m >= s.materials.size())
       throw Error("scene '" + s.name + "': material index " + std::to_string(m) +
                   " out of range (" + std::to_string(s.materials.size()) + " materials)");
+  if (!s.tangents.empty() && s.tangents.size() != s.vertices.size())
+    throw Error("scene '" + s.name + "': " + std::to_string(s.tangents.size()) + " tangents for " +
+                std::to_string(s.vertices.size()) + " vertices");
   for (const Material& m : s.materials)
-    for (int t :
-         {m.diffuseTexture, m.baseColorTexture, m.metallicRoughnessTexture, m.emissiveTexture})
+    for (int t : {m.diffuseTexture, m.baseColorTexture, m.metallicRoughnessTexture,
+                  m.emissiveTexture, m.normalTexture})
       if (t >= int(s.textures.size()))
         throw Error("scene '" + s.name + "': material '" + m.name + "' uses texture " +
                     std::to_string(t) + " of " + std::to_string(s.textures.size()));

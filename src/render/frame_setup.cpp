@@ -43,6 +43,7 @@ PreparedFrame prepareFrame(SceneRasterizer& rasterizer, int frame, int width, in
   f.features = features;
   RasterOptions raster;
   raster.model = features.model;
+  raster.normalMaps = features.normalMaps;
   f.gbuffer = rasterizer.rasterize(f.camera, width, height, raster);
   f.raster = rasterizer.backend();
   f.rasterMs =

@@ -26,6 +26,7 @@ ImportedFrame importGBuffer(const std::string& dirOrFile, std::optional<GBufferF
   f.features.point = f.features.spot = false;
   for (const auto& s : f.lights.spot) (s.w < -0.5f ? f.features.point : f.features.spot) = true;
   f.features.directional = f.lights.directionalCount() > 0;
+  f.features.normalMaps = false;  // the files' normals are taken as they are
   return out;
 }
 

@@ -24,6 +24,8 @@ SceneOptions PipelineOptions::sceneOptions() const {
   s.lightCount = lightCount;
   s.lightRange = lightRange;
   s.variant = variant;
+  s.normalMaps = normalMaps;
+  s.shadows = shadows;
   return s;
 }
 

@@ -25,6 +25,8 @@ struct PipelineOptions {
   float lightThreshold = 0.0f;        // > 0: ranges from the attenuation threshold (light_range.h)
   std::string variant;                // built-in scene variants, a comma list (scene_loader.h);
                                       // "" = none
+  bool normalMaps = true;             // the scene's normal maps applied (--normal-maps)
+  std::string shadows;                // shadow-casting lights (--shadows; shadow_casters.h)
   std::string shadingModel = "auto";  // auto (the scene's own) or a shadingModelNames() name
   std::string features = "auto";      // auto (the scene's needs), general, or a list
                                       // (chooseFeatures, scene_features.h)

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "render/imported_frame.h"
+#include "scene/shadow_casters.h"
 #include "scene/light_range.h"
 #include "scene/scene_loader.h"
 
@@ -39,6 +40,7 @@ RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
   input.frame = prepareFrame(rasterizer, frame, o.width, o.height, o.format, features);
   input.forward = rasterizer.forwardScene(input.frame.camera, o.width, o.height);
   input.lightSummary = describeLights(scene.lights);
+  input.shadowCasters = shadowCasterCount(scene.lights);
   input.sceneName = scene.name;
   input.triangles = scene.triangleCount();
   input.raster = toString(rasterizer.backend());

@@ -215,6 +215,8 @@ void exportGltf(const Scene& scene, const std::string& path) {
     } else {
       g.emissiveFactor = {mat.emissive.x, mat.emissive.y, mat.emissive.z};
     }
+    g.normalTexture.index = textureIndex(mat.normalTexture);  // with the TANGENT attribute below
+    g.normalTexture.scale = mat.normalScale;
     g.doubleSided = mat.doubleSided;
     m.materials.push_back(g);
   }
@@ -233,7 +235,7 @@ void exportGltf(const Scene& scene, const std::string& path) {
   std::vector<uint32_t> remap(scene.vertices.size(), UINT32_MAX);
   for (size_t mi = 0; mi < byMaterial.size(); ++mi) {
     if (byMaterial[mi].empty()) continue;
-    std::vector<float> pos, nrm, uv;
+    std::vector<float> pos, nrm, uv, tan;
     std::vector<uint32_t> idx, used;
     for (uint32_t t : byMaterial[mi]) {
       for (int k = 0; k < 3; ++k) {
@@ -245,6 +247,10 @@ void exportGltf(const Scene& scene, const std::string& path) {
           pos.insert(pos.end(), {vx.position.x, vx.position.y, vx.position.z});
           nrm.insert(nrm.end(), {vx.normal.x, vx.normal.y, vx.normal.z});
           uv.insert(uv.end(), {vx.uv.x, vx.uv.y});
+          if (!scene.tangents.empty()) {
+            const glm::vec4& t4 = scene.tangents[v];
+            tan.insert(tan.end(), {t4.x, t4.y, t4.z, t4.w});
+          }
         }
         idx.push_back(remap[v]);
       }
@@ -258,6 +264,9 @@ void exportGltf(const Scene& scene, const std::string& path) {
                                         TINYGLTF_TARGET_ARRAY_BUFFER);
     p.attributes["TEXCOORD_0"] = w.accessor(
         uv, 2, TINYGLTF_TYPE_VEC2, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
+    if (!tan.empty())  // the tangents as loaded or generated, so that they come back as they were
+      p.attributes["TANGENT"] = w.accessor(
+          tan, 4, TINYGLTF_TYPE_VEC4, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
     p.indices = w.accessor(idx, 1, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
                            TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     mesh.primitives.push_back(p);
@@ -315,6 +324,9 @@ void exportGltf(const Scene& scene, const std::string& path) {
       light.spot.innerConeAngle = std::min(double(l.innerConeAngle), kHalfPi);
       light.spot.outerConeAngle = std::min(double(l.outerConeAngle), kHalfPi);
     }
+    if (l.castsShadow)
+      light.extras =
+          tinygltf::Value(tinygltf::Value::Object{{"castsShadow", tinygltf::Value(true)}});
     m.lights.push_back(light);
     tinygltf::Node node;
     node.name = "light" + std::to_string(i);

@@ -109,6 +109,13 @@ class Checker {
       object(e, "KHR_lights_punctual", eat,
              [&](const json& k, const std::string& kat) { index(k, "light", kat, lightCount()); });
     });
+    castsShadow(n, at);
+  }
+
+  // extras may be anything; an object's castsShadow (a light's or its node's) is a boolean.
+  void castsShadow(const json& obj, const std::string& at) {
+    const json* extras = get(obj, "extras");
+    if (extras && extras->is_object()) boolean(*extras, "castsShadow", at + ".extras");
   }
 
   // byteOffset + byteLength within the buffer's declared byteLength (which tinygltf makes the size
@@ -179,6 +186,8 @@ class Checker {
     numbers(m, "emissiveFactor", at, 3, kAny);
     for (const char* t : {"emissiveTexture", "normalTexture", "occlusionTexture"})
       textureInfo(m, t, at);
+    object(m, "normalTexture", at,
+           [&](const json& t, const std::string& tat) { number(t, "scale", tat, kAny); });
     boolean(m, "doubleSided", at);
     object(m, "extensions", at, [&](const json& e, const std::string& eat) {
       object(e, "KHR_materials_specular", eat, [&](const json& s, const std::string& sat) {
@@ -200,6 +209,7 @@ class Checker {
       number(s, "innerConeAngle", sat, kAny);
       number(s, "outerConeAngle", sat, kAny);
     });
+    castsShadow(l, at);
   }
 
   // ---- rules ----------------------------------------------------------------------------------

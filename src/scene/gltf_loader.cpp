@@ -26,6 +26,7 @@
 #include "scene/gltf_mapping.h"
 #include "scene/light_range.h"
 #include "scene/scene_loader.h"
+#include "scene/tangents.h"
 #include "util/checked_size.h"
 #include "util/error.h"
 #include "util/file_read.h"
@@ -514,6 +515,9 @@ class GltfLoader {
   void visit(int node, const glm::dmat4& parent, int depth);
   void failOnCycles() const;
   void addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& world, const std::string& what);
+  void addTangents(const tinygltf::Primitive& p, const glm::dmat4& world, bool mirror, size_t first,
+                   bool fromNormals, size_t fileVertices, const std::vector<uint32_t>& corners,
+                   bool hasUVs, const std::string& what);
   void requireTexCoords(const tinygltf::Primitive& p, const tinygltf::Material& mat, int index,
                         const std::string& what) const;
   uint32_t material(int gltfMaterial);
@@ -548,6 +552,11 @@ class GltfLoader {
   std::vector<std::string> warnings_;        // printed by the caller once the file has loaded
   int skippedPrimitives_ = 0;
   size_t degenerateNormals_ = 0;  // zero-length normals replaced by +Y
+  // Per scene vertex (kept in Scene::tangents only when some primitive is normal-mapped).
+  std::vector<glm::vec4> tangents_;
+  bool normalMapped_ = false;
+  std::vector<std::string> normalMapsWithoutUVs_;  // primitives whose normal map is ignored
+  size_t verticesWithoutFrame_ = 0;                // of normal-mapped primitives: no tangent frame
   int otherLights_ = 0, orthographic_ = 0, extraCameras_ = 0;
   bool haveCamera_ = false;
   SceneCamera camera_;
@@ -611,6 +620,15 @@ uint32_t GltfLoader::material(int index) {
                   at + ".pbrMetallicRoughness.metallicRoughnessTexture", what);
     if (mat.emissiveTexture.index >= 0)
       out.emissiveTexture = texture(mat.emissiveTexture, true, at + ".emissiveTexture", what);
+    if (mat.normalTexture.index >= 0) {
+      // Linear data, as metallic-roughness; `scale` is within float's range (checked in the JSON).
+      tinygltf::TextureInfo info;
+      info.index = mat.normalTexture.index;
+      info.texCoord = mat.normalTexture.texCoord;
+      info.extensions = mat.normalTexture.extensions;
+      out.normalTexture = texture(info, false, at + ".normalTexture", what);
+      out.normalScale = float(mat.normalTexture.scale);
+    }
   }
   fillBlinnPhongTerms(out, dielectricF0);
   // tileshade's exporter marks materials written for Blinn-Phong (their Blinn-Phong terms come
@@ -731,8 +749,9 @@ void GltfLoader::noteUnmodelledSampling(const tinygltf::TextureInfo& info, const
                                " (magFilter " + (nearestMag ? "NEAREST" : "LINEAR") + ")");
 }
 
-// Decodes every image a material uses (base colour and emissive as sRGB, metallic-roughness as
-// linear data), on up to 4 threads (PNG decoding dominates the load time of textured scenes).
+// Decodes every image a material uses (base colour and emissive as sRGB, metallic-roughness and
+// normal maps as linear data), on up to 4 threads (PNG decoding dominates the load time of textured
+// scenes).
 void GltfLoader::decodeImages() {
   std::vector<std::pair<int, bool>> wanted;
   auto want = [&](int t, bool srgb) {
@@ -747,6 +766,7 @@ void GltfLoader::decodeImages() {
     want(mat.pbrMetallicRoughness.baseColorTexture.index, true);
     want(mat.pbrMetallicRoughness.metallicRoughnessTexture.index, false);
     want(mat.emissiveTexture.index, true);
+    want(mat.normalTexture.index, false);
   }
   std::vector<DecodedImage> results(wanted.size());
   std::atomic<size_t> next{0};
@@ -917,6 +937,7 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
   auto uv = [&](uint32_t i) {
     return UV.empty() ? glm::vec2(0.0f) : glm::vec2(float(UV[2 * i]), float(UV[2 * i + 1]));
   };
+  const size_t first = scene_.vertices.size();
   if (!N.empty()) {
     uint32_t base = uint32_t(scene_.vertices.size());
     for (uint32_t i = 0; i < n; ++i) {
@@ -960,6 +981,65 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
       scene_.triangleMaterial.push_back(mat);
     }
   }
+  if (scene_.materials[mat].normalTexture >= 0)
+    addTangents(p, world, mirror, first, !N.empty(), n, tris, !UV.empty(), what);
+  tangents_.resize(scene_.vertices.size(), glm::vec4(0.0f));  // none: not normal-mapped
+}
+
+// The tangents of a normal-mapped primitive's vertices scene_.vertices[first..]: its TANGENT
+// attribute (xyz by the node's matrix, w flipped by a mirroring one) when it has normals
+// (without, glTF's flat normals replace them and any TANGENT is ignored), else generated from its
+// UVs (generateTangents: not MikkTSpace), else none, with a note (load()): the map is ignored.
+// fileVertices: the primitive's vertex count; corners: its triangles in file indices.
+void GltfLoader::addTangents(const tinygltf::Primitive& p, const glm::dmat4& world, bool mirror,
+                             size_t first, bool fromNormals, size_t fileVertices,
+                             const std::vector<uint32_t>& corners, bool hasUVs,
+                             const std::string& what) {
+  normalMapped_ = true;
+  tangents_.resize(scene_.vertices.size(), glm::vec4(0.0f));
+  const size_t count = scene_.vertices.size() - first;
+  auto tangent = p.attributes.find("TANGENT");
+  if (fromNormals && tangent != p.attributes.end()) {
+    std::vector<double> T = read_.read(tangent->second, 4, what + " TANGENT");
+    if (T.size() / 4 != fileVertices) read_.fail(what + ": TANGENT count differs from POSITION");
+    const glm::dmat3 linear(world);
+    for (size_t i = 0; i < count; ++i) {
+      for (int c = 0; c < 4; ++c)
+        if (!(std::fabs(T[4 * i + size_t(c)]) <= double(std::numeric_limits<float>::max())))
+          read_.fail(what + " TANGENT: element " + std::to_string(i) + " holds " +
+                     shortText(T[4 * i + size_t(c)]) + " (NaN, inf or beyond float's range)");
+      const glm::dvec3 t = linear * glm::dvec3(T[4 * i], T[4 * i + 1], T[4 * i + 2]);
+      const double length = glm::length(t);
+      if (!(length > 0.0) || !std::isfinite(length)) {
+        ++verticesWithoutFrame_;
+        continue;
+      }
+      // The bitangent, cross(N, T) w, follows the transform only with w flipped by a mirror.
+      const double w = (T[4 * i + 3] < 0.0) != mirror ? -1.0 : 1.0;
+      tangents_[first + i] = glm::vec4(glm::vec3(t / length), float(w));
+    }
+    return;
+  }
+  if (!hasUVs) {
+    normalMapsWithoutUVs_.push_back(what);
+    return;
+  }
+  std::vector<glm::vec3> positions(count), normals(count);
+  std::vector<glm::vec2> uvs(count);
+  for (size_t i = 0; i < count; ++i) {
+    const Vertex& v = scene_.vertices[first + i];
+    positions[i] = v.position;
+    normals[i] = v.normal;
+    uvs[i] = v.uv;
+  }
+  // The primitive's triangles in its own vertex numbering, as added to scene_.indices.
+  std::vector<uint32_t> local(scene_.indices.end() - long(corners.size() / 3 * 3),
+                              scene_.indices.end());
+  for (uint32_t& i : local) i -= uint32_t(first);
+  size_t without = 0;
+  std::vector<glm::vec4> generated = generateTangents(positions, normals, uvs, local, &without);
+  verticesWithoutFrame_ += without;
+  std::copy(generated.begin(), generated.end(), tangents_.begin() + long(first));
 }
 
 void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
@@ -991,7 +1071,16 @@ void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {
   if (const auto* ext = extension(node.extensions, "KHR_lights_punctual")) {
     int li = int(number(ext, "light", -1.0));
     if (li < 0 || size_t(li) >= m_.lights.size()) read_.fail(what + ": bad light index");
+    const size_t lightsBefore = scene_.lights.size();  // a light of an unknown type adds none
     addLight(m_.lights[size_t(li)], world, what + " light " + std::to_string(li));
+    // extras.castsShadow on the light or on its node (a boolean: checked in the JSON).
+    auto marked = [](const tinygltf::Value& extras) {
+      return extras.IsObject() && extras.Has("castsShadow") && extras.Get("castsShadow").IsBool() &&
+             extras.Get("castsShadow").Get<bool>();
+    };
+    if (scene_.lights.size() > lightsBefore)
+      scene_.lights.back().castsShadow =
+          marked(m_.lights[size_t(li)].extras) || marked(node.extras);
   }
 
   if (node.camera >= 0) {
@@ -1182,6 +1271,15 @@ Scene GltfLoader::load() {
   if (!clampedFactors_.empty())
     warn("clamped " + std::to_string(clampedFactors_.size()) +
          " material factor(s) outside glTF's [0, 1] to it: " + listed(clampedFactors_));
+  if (!normalMapsWithoutUVs_.empty())
+    warn("normal map(s) ignored on " + std::to_string(normalMapsWithoutUVs_.size()) +
+         " primitive(s) without TANGENT or texture coordinates (no tangent frame can be made): " +
+         listed(normalMapsWithoutUVs_));
+  if (verticesWithoutFrame_ > 0)
+    warn(std::to_string(verticesWithoutFrame_) +
+         " vertex(es) of normal-mapped primitives have no tangent frame (degenerate UVs, or a "
+         "TANGENT of zero length): the normal map is not applied there");
+  if (normalMapped_) scene_.tangents = std::move(tangents_);
   if (degenerateNormals_ > 0)
     warn(std::to_string(degenerateNormals_) +
          " vertex normal(s) of zero length (or under a "

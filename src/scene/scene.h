@@ -56,6 +56,11 @@ struct Material {
   // Both
   glm::vec3 emissive{0.0f};  // ke, multiplied by emissiveTexture when present
   int emissiveTexture = -1;
+  // glTF normalTexture: a tangent-space normal map (linear data) perturbing the shading normal
+  // through the vertices' tangent frames (Scene::tangents; shaders/normal_mapping.h), its x and y
+  // scaled by normalScale.
+  int normalTexture = -1;
+  float normalScale = 1.0f;
   bool doubleSided = false;  // normals of back faces are flipped towards the viewer
 };
 
@@ -84,6 +89,9 @@ struct SceneLight {
   float innerConeAngle = 0.0f;           // spot, radians: 0 <= inner < outer <= pi/2 (a float
                                          // of pi/2 is 4.4e-8 above it: taken as pi/2)
   float outerConeAngle = 0.7853981634f;  // spot, radians (glTF's default pi/4)
+  // Marked to cast a shadow (glTF extras "castsShadow", or --shadows). Recorded only: no
+  // technique shades shadows yet.
+  bool castsShadow = false;
 
   static SceneLight point(glm::dvec3 position, glm::vec3 color, float range);
   static SceneLight spot(glm::dvec3 position, glm::vec3 direction, glm::vec3 color, float range,
@@ -126,6 +134,10 @@ struct Scene {
   std::vector<Vertex> vertices;
   std::vector<uint32_t> indices;           // three per triangle
   std::vector<uint32_t> triangleMaterial;  // one per triangle, index into materials
+  // Per vertex, only for scenes with normal maps (else empty): the world-space unit tangent
+  // (xyz, along +u) and the bitangent's sign w (bitangent = cross(normal, tangent) * w, glTF's
+  // TANGENT); (0, 0, 0, 0) where a vertex has no tangent frame (its normal map is not applied).
+  std::vector<glm::vec4> tangents;
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<SceneLight> lights;       // every type; see Light

@@ -28,10 +28,13 @@ struct Flag {
   const char* name;
   bool SceneFeatures::*member;
 };
-const Flag kFlags[] = {
-    {"specular", &SceneFeatures::specular}, {"emissive", &SceneFeatures::emissive},
-    {"textures", &SceneFeatures::textures}, {"point", &SceneFeatures::point},
-    {"spot", &SceneFeatures::spot},         {"directional", &SceneFeatures::directional}};
+const Flag kFlags[] = {{"specular", &SceneFeatures::specular},
+                       {"emissive", &SceneFeatures::emissive},
+                       {"textures", &SceneFeatures::textures},
+                       {"point", &SceneFeatures::point},
+                       {"spot", &SceneFeatures::spot},
+                       {"directional", &SceneFeatures::directional},
+                       {"normal_maps", &SceneFeatures::normalMaps}};
 
 std::string flagNames() {
   std::string s;
@@ -89,7 +92,7 @@ SceneFeatures analyzeScene(const Scene& scene, ShadingModel model) {
   SceneFeatures f;
   f.model = model;
   f.specular = f.emissive = f.textures = false;
-  f.point = f.spot = f.directional = false;
+  f.point = f.spot = f.directional = f.normalMaps = false;
   std::vector<bool> used = usedMaterials(scene);
   for (size_t i = 0; i < used.size(); ++i) {
     if (!used[i]) continue;
@@ -101,6 +104,10 @@ SceneFeatures analyzeScene(const Scene& scene, ShadingModel model) {
       f.specular |= nonZero(m.specular);
       f.textures |= m.diffuseTexture >= 0;
     }
+    // A normal map needs the scene's tangents (the loaders give them with the map).
+    const bool normalMap = m.normalTexture >= 0 && !scene.tangents.empty();
+    f.normalMaps |= normalMap;
+    f.textures |= normalMap;
     f.emissive |= nonZero(m.emissive);
     f.textures |= nonZero(m.emissive) && m.emissiveTexture >= 0;
   }

@@ -17,11 +17,15 @@ struct SceneFeatures {
   bool point = true;         // point lights
   bool spot = false;         // spot lights: cone falloff in the shading, cone culling
   bool directional = false;  // directional lights: applied to every pixel, never culled
+  bool normalMaps = false;   // "normal_maps": some material's normal map is applied by the
+                             // rasterizers (no kernel branches on it; without, the G-buffer
+                             // passes do no tangent work)
 
   // Everything on, for `model`: the general pipeline of comparisons.
   static SceneFeatures general(ShadingModel model);
 
-  // "metallic-roughness specular emissive textures point spot directional" (the terms that are on).
+  // "metallic-roughness specular emissive textures point spot directional normal_maps" (the terms
+  // that are on).
   std::string describe() const;
   // OpenCL build options: -DTS_SHADING=… -DTS_HAS_SPECULAR=… -DTS_HAS_EMISSIVE=…
   // -DTS_HAS_SPOT=… -DTS_HAS_DIRECTIONAL=…
@@ -45,8 +49,8 @@ SceneFeatures analyzeScene(const Scene& scene, ShadingModel model);
 // The user's choice against the analysis `need`:
 //   "auto"       need itself
 //   "general"    everything on (SceneFeatures::general(need.model))
-//   "a,b,…"      exactly these of specular, emissive, textures, point, spot, directional (the
-//                model stays need.model)
+//   "a,b,…"      exactly these of specular, emissive, textures, point, spot, directional,
+//                normal_maps (the model stays need.model)
 // Throws ts::Error for an unknown name, or for a list that leaves out a term the scene needs
 // (it would render it wrong), naming what is missing.
 SceneFeatures chooseFeatures(const std::string& spec, const SceneFeatures& need);

@@ -1,5 +1,6 @@
 // Scene spec dispatch ("builtin:NAME" or a .gltf/.glb path) and the light-count/range options.
 #include "scene/scene_loader.h"
+#include "scene/shadow_casters.h"
 
 #include <algorithm>
 #include <cctype>
@@ -156,6 +157,11 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
   if (options.lightRange > 0.0f)
     for (auto& l : scene.lights)
       if (l.hasRange()) l.range = options.lightRange;
+  chooseShadowCasters(scene.lights, options.shadows);
+  if (!options.normalMaps) {
+    for (Material& m : scene.materials) m.normalTexture = -1;
+    scene.tangents.clear();
+  }
   return scene;
 }
 

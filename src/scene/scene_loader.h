@@ -14,6 +14,12 @@ struct SceneOptions {
   float lightRange = 0.0f;  // > 0 overrides every light's range
   // Built-in scenes only: a comma list of variants (applyVariants), "" = the scene as designed.
   std::string variant;
+  // false (`--normal-maps off`): the materials' normal maps and the tangents are dropped, so the
+  // scene renders with its interpolated normals, as before tileshade read normal maps.
+  bool normalMaps = true;
+  // Which lights cast shadows (chooseShadowCasters, scene/shadow_casters.h): "" keeps the
+  // scene's own marks. Recorded only: nothing shades shadows yet.
+  std::string shadows;
 };
 
 // The built-in scenes' variants, for measuring what a scene's needs cost (scenes/README.md):

@@ -76,6 +76,7 @@ TEST(HostileOptions, NumbersThatMakeNoSenseAreRefusedWithOneLine) {
       {"--heatmap", "--heatmap needs --check"},
       {"--width 0", "--width"},
       {"--height 100000", "--height"},
+      {"--normal-maps maybe", "--normal-maps"},
   };
   for (const auto& [args, needle] : cases) expectOneErrorLine("render " + args + common, {needle});
   // Once "stoul" was the whole message.

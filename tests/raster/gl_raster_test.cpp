@@ -25,6 +25,10 @@
 #include "scene/scene_features.h"
 #include "shaders/material_planes.h"
 #include "util/error.h"
+#include "util/pi.h"
+#include "gltf_builder.h"
+#include "png_bytes.h"
+#include "scene/scene_loader.h"
 
 namespace ts {
 namespace {
@@ -45,16 +49,17 @@ constexpr double kFloatRel = 8.0 * 1.1920929e-7;
 
 // What the bound needs to know about one triangle, from the scene and the camera (double).
 struct TriangleBound {
-  bool valid = false;         // false: not bounded (degenerate on screen)
-  double baryError = 0.0;     // bound on the barycentric difference
-  double invDepthRange = 0;   // max 1/d_i - min 1/d_i over the (near-clipped) vertices
-  double depthRatio = 1.0;    // max d_i / min d_i: amplifies float rounding in OpenGL's
-                              // perspective division (a/w and 1/w planes, then their ratio)
-  double worldScale = 0.0;    // largest |coordinate| entering the float view transform
-  double normalSpread = 0.0;  // largest angle between the vertex normals (view space)
-  double normalGain = 1.0;    // 1 / shortest interpolated vertex-normal length
-  double uvSpread = 0.0;      // largest |uv_i - uv_j| (max norm)
-  double uvScale = 0.0;       // largest |uv| component
+  bool valid = false;          // false: not bounded (degenerate on screen)
+  double baryError = 0.0;      // bound on the barycentric difference
+  double invDepthRange = 0;    // max 1/d_i - min 1/d_i over the (near-clipped) vertices
+  double depthRatio = 1.0;     // max d_i / min d_i: amplifies float rounding in OpenGL's
+                               // perspective division (a/w and 1/w planes, then their ratio)
+  double worldScale = 0.0;     // largest |coordinate| entering the float view transform
+  double normalSpread = 0.0;   // largest angle between the vertex normals (view space)
+  double normalGain = 1.0;     // 1 / shortest interpolated vertex-normal length
+  double uvSpread = 0.0;       // largest |uv_i - uv_j| (max norm)
+  double uvScale = 0.0;        // largest |uv| component
+  double tangentSpread = 0.0;  // largest angle between the vertex tangents (normal maps)
 };
 
 TriangleBound boundOf(const Scene& scene, const SceneCamera& camera, const CameraIntrinsics& in,
@@ -119,6 +124,17 @@ TriangleBound boundOf(const Scene& scene, const SceneCamera& camera, const Camer
     }
   }
   b.normalGain = minLen > 1e-3 ? 1.0 / minLen : 1e3;
+  if (!scene.tangents.empty())
+    for (int i = 0; i < 3; ++i)
+      for (int j = i + 1; j < 3; ++j) {
+        const glm::dvec3 ti(scene.tangents[scene.indices[3 * t + uint32_t(i)]]),
+            tj(scene.tangents[scene.indices[3 * t + uint32_t(j)]]);
+        const double li = glm::length(ti), lj = glm::length(tj);
+        b.tangentSpread = std::max(
+            b.tangentSpread, li > 0 && lj > 0
+                                 ? std::acos(std::clamp(glm::dot(ti, tj) / (li * lj), -1.0, 1.0))
+                                 : kPiDouble);
+      }
   return b;
 }
 
@@ -135,6 +151,17 @@ double texelLipschitz(const Texture& t) {
         l = std::max({l, double(std::abs(a[c] - r[c])), double(std::abs(a[c] - d[c]))});
     }
   return l;
+}
+
+// The shortest tangent-space normal (2 rgb - 1) (s, s, 1) of a normal map's texels: how much a
+// change of the vector can turn it.
+double shortestMapNormal(const Texture& t, float scale) {
+  double shortest = 1e300;
+  for (const glm::vec4& v : t.texels) {
+    const glm::dvec3 tn((2.0 * v.x - 1.0) * scale, (2.0 * v.y - 1.0) * scale, 2.0 * v.z - 1.0);
+    shortest = std::min(shortest, glm::length(tn));
+  }
+  return shortest;
 }
 
 struct Tolerances {
@@ -172,6 +199,29 @@ Tolerances tolerancesAt(const Scene& scene, const TriangleBound& b, uint32_t t, 
     material = std::max(material, factor * it->second * (texels + 1.0 / 256.0));
   }
   tol.material = material + kFloatRel;
+  // A normal map: its texel moves as a material texture's does (Lipschitz constant times the UV
+  // difference in texels, plus the sampler's weight precision), which moves the tangent-space
+  // normal by 2 |scale| (1 for z) times that per component and turns it by at most pi/2 times that
+  // over its shortest length; the tangent frame turns with the interpolated tangents as the normal
+  // does with the vertex normals.
+  if (m.normalTexture >= 0 && !scene.tangents.empty() &&
+      scene.textures[size_t(m.normalTexture)].width > 0) {
+    const Texture& tex = scene.textures[size_t(m.normalTexture)];
+    auto it = lipschitz.find(m.normalTexture);
+    if (it == lipschitz.end()) it = lipschitz.emplace(m.normalTexture, texelLipschitz(tex)).first;
+    const double size = std::max(tex.width, tex.height);
+    const double texels =
+        size * (b.baryError * b.uvSpread + kFloatRel * b.depthRatio * (1.0 + b.uvScale));
+    const double change = 2.0 * std::max(1.0, double(std::abs(m.normalScale))) * std::sqrt(3.0) *
+                          it->second * (texels + 1.0 / 256.0);
+    // Cached beside the Lipschitz constants, under negative keys (texture indices are >= 0).
+    auto sh = lipschitz.find(-1 - m.normalTexture);
+    if (sh == lipschitz.end())
+      sh = lipschitz.emplace(-1 - m.normalTexture, shortestMapNormal(tex, m.normalScale)).first;
+    const double shortest = std::max(sh->second, 1e-3);
+    tol.normalRad += std::min(kPiDouble, 0.5 * kPiDouble * change / shortest) +
+                     b.baryError * b.tangentSpread * b.normalGain;
+  }
   return tol;
 }
 
@@ -583,6 +633,41 @@ TEST(GlRaster, TexturedDungeonMatchesSoftware) {
   compareScene(scene, {0, int(scene.cameraPath.size() / 3)}, 240, 135, ShadingModel::BlinnPhong,
                "dungeon blinn-phong");
   compareScene(scene, {0}, 200, 113, ShadingModel::MetallicRoughness, "dungeon metallic-roughness");
+}
+
+TEST(GlRaster, NormalMappedQuadsMatchSoftware) {
+  REQUIRE_GL();
+  const std::string uri = test::uniformPngUri(2, 2, {128, 128, 255});
+  if (uri.empty()) GTEST_SKIP() << "built without OpenImageIO";
+  // The builder's quad, generated tangents, its normal map replaced by random texels (bilinear),
+  // seen from its camera and from a grazing one, then with the file's tangents (w = -1).
+  for (bool fileTangents : {false, true}) {
+    std::vector<float> tangents;
+    if (fileTangents)
+      for (int k = 0; k < 4; ++k) tangents.insert(tangents.end(), {0, 0, 1, -1});
+    const std::string text = test::normalMappedQuad(uri, 0.8, true, tangents).dump();
+    std::vector<std::string> warnings;
+    Scene scene = loadGltfFromMemory(reinterpret_cast<const unsigned char*>(text.data()),
+                                     text.size(), "/nonexistent", "normals.gltf", &warnings);
+    Texture& map = scene.textures[size_t(scene.materials[0].normalTexture)];
+    map = randomTexture(8, 8, 18);
+    for (glm::vec4& t : map.texels) t.z = 0.6f + 0.4f * t.z;  // facing out, as real maps do
+    GlRasterizer gl(scene);
+    const std::string label = fileTangents ? "normal-mapped quad, file tangents"
+                                           : "normal-mapped quad, generated tangents";
+    compareFrame(scene, gl, scene.camera(0), 96, 80, ShadingModel::MetallicRoughness, label);
+    const SceneCamera grazing =
+        SceneCamera::lookAt({1.6, 0.5, -0.4}, {0.5, 0.0, 0.5}, {0, 1, 0}, 0.9f, 0.05f, 50.0f);
+    compareFrame(scene, gl, grazing, 96, 80, ShadingModel::MetallicRoughness, label + " grazing");
+    // The map is applied: the normals differ from the plain ones.
+    RasterOptions plain;
+    plain.model = ShadingModel::MetallicRoughness;
+    plain.normalMaps = false;
+    RasterOptions mapped = plain;
+    mapped.normalMaps = true;
+    EXPECT_NE(gl.rasterize(scene.camera(0), 32, 32, plain).normal,
+              gl.rasterize(scene.camera(0), 32, 32, mapped).normal);
+  }
 }
 
 // ---- Shading the OpenGL G-buffer ---------------------------------------------------------------

@@ -594,8 +594,9 @@ TEST(GltfReal, DungeonTexturesLightsAndWarnings) {
   std::string err = ::testing::internal::GetCapturedStderr();
   EXPECT_EQ(s.triangleCount(), 32397u);
   EXPECT_EQ(s.materials.size(), 11u);
-  // 10 materials have a base-colour PNG; all decode to non-constant linear texels.
-  ASSERT_EQ(s.textures.size(), 10u);
+  // 10 materials have a base-colour PNG and a normal map (normalTexture, linear data): all 20
+  // decode to non-constant linear texels.
+  ASSERT_EQ(s.textures.size(), 20u);
   for (const auto& t : s.textures) {
     ASSERT_GT(t.width, 0);
     ASSERT_EQ(t.texels.size(), size_t(t.width) * size_t(t.height));
@@ -611,6 +612,10 @@ TEST(GltfReal, DungeonTexturesLightsAndWarnings) {
   int textured = 0;
   for (const auto& m : s.materials) textured += m.diffuseTexture >= 0;
   EXPECT_EQ(textured, 10);
+  int normalMapped = 0;
+  for (const auto& m : s.materials) normalMapped += m.normalTexture >= 0;
+  EXPECT_EQ(normalMapped, 10);
+  EXPECT_EQ(s.tangents.size(), s.vertices.size());  // generated: the file has no TANGENT
   // One point light instanced on two nodes, one directional light instanced on two nodes.
   ASSERT_EQ(s.lights.size(), 4u);
   int points = 0, directionals = 0;

@@ -69,6 +69,60 @@ inline json triangle(std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0})
   return doc;
 }
 
+// A unit quad in the plane y = 0 facing +y (u along +x, v along +z: glTF's v runs down the
+// image, so the tangent is +x and the bitangent, cross(N, T) w with w = +1, is -z), its
+// material's normalTexture the image at `imageUri` (sampled NEAREST) with `scale`, and a camera
+// 1.4 above it looking down (the quad fills most of the view): the normal-map tests' scene.
+// `tangents` (x y z w per vertex) become a TANGENT attribute when given; withUVs false leaves
+// TEXCOORD_0 out.
+inline json normalMappedQuad(const std::string& imageUri, double scale, bool withUVs = true,
+                             const std::vector<float>& tangents = {}) {
+  std::vector<unsigned char> b;
+  for (float v : {0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1}) put(b, v);  // positions, 0..48
+  for (int k = 0; k < 4; ++k)
+    for (float v : {0, 1, 0}) put(b, v);               // normals, 48..96
+  for (float v : {0, 0, 1, 0, 1, 1, 0, 1}) put(b, v);  // uvs = (x, z), 96..128
+  for (uint16_t i : {0, 3, 2, 0, 2, 1}) put(b, i);     // indices, 128..140
+  for (float v : tangents) put(b, v);                  // 140..204
+  json doc = json::parse(R"({
+    "asset": {"version": "2.0"},
+    "scene": 0,
+    "scenes": [{"nodes": [0, 1]}],
+    "nodes": [{"mesh": 0},
+              {"translation": [0.5, 1.4, 0.5], "rotation": [-0.70710678, 0, 0, 0.70710678],
+               "camera": 0}],
+    "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 3,
+                                "material": 0}]}],
+    "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1]}}],
+    "textures": [{"source": 0, "sampler": 0}],
+    "samplers": [{"magFilter": 9728, "minFilter": 9728}],
+    "accessors": [
+      {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+       "min": [0, 0, 0], "max": [1, 0, 1]},
+      {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+      {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+      {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"},
+      {"bufferView": 4, "componentType": 5126, "count": 4, "type": "VEC4"}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                    {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+                    {"buffer": 0, "byteOffset": 96, "byteLength": 32},
+                    {"buffer": 0, "byteOffset": 128, "byteLength": 12},
+                    {"buffer": 0, "byteOffset": 140, "byteLength": 64}]
+  })");
+  if (tangents.empty()) {
+    doc["accessors"].erase(4);
+    doc["bufferViews"].erase(4);
+  } else {
+    doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = 4;
+  }
+  if (withUVs) doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
+  doc["materials"][0]["normalTexture"] = {{"index", 0}, {"scale", scale}};
+  doc["images"] = {{{"uri", imageUri}}};
+  doc["buffers"] = json::array({dataBuffer(b)});
+  return doc;
+}
+
 // The triangle's text with `member` (`"key": value`) added at its top level.
 inline std::string triangleWith(const std::string& member) {
   std::string text = triangle().dump();

@@ -36,6 +36,11 @@ const Scene& forwardScene(const std::string& name) {
   auto it = cache.find(name);
   if (it != cache.end()) return it->second;
   SceneOptions options;
+  if (name == "dungeon") {  // normal maps on 10 of its 11 materials: the forward pass applies them
+    std::vector<std::string> warnings;
+    return cache.emplace(name, loadGltf(test::sharedScene("dungeon/level-dungeon.gltf"), &warnings))
+        .first->second;
+  }
   if (name == "atrium-mr") {
     options.lightSet = "small";
     options.variant = "metallic-roughness,spot,sun";  // spot and directional lights, glTF terms
@@ -79,6 +84,14 @@ TEST(TiledForward, MatchesTheReferenceOfTheSameRasterization) {
   for (const char* name : {"atrium", "street", "atrium-mr"})
     for (const char* technique : {"tiled-forward", "tiled-forward-prez"})
       checkForward(technique, name);
+}
+
+TEST(TiledForward, AppliesNormalMapsAsTheGBufferPassDoes) {
+  REQUIRE_GL();
+  if (test::sharedScene("dungeon/level-dungeon.gltf").empty())
+    GTEST_SKIP() << "../shared/scenes/dungeon absent";
+  ASSERT_TRUE(analyzeScene(forwardScene("dungeon"), ShadingModel::MetallicRoughness).normalMaps);
+  checkForward("tiled-forward", "dungeon");
 }
 
 // The pre-pass shades each pixel once: no more lighting computations than without it, where
