@@ -4,8 +4,12 @@
 #include <memory>
 #include <string>
 
+#include <gtest/gtest.h>
+
 #include "raster/forward_scene.h"
 #include "raster/raster_backend.h"
+#include "reference/error_metrics.h"
+#include "reference/reference.h"
 #include "render/frame_setup.h"
 #include "scene/scene_features.h"
 #include "techniques/technique.h"
@@ -58,5 +62,20 @@ struct GlFrame {
     return render(technique, prepared.lights);
   }
 };
+
+// A forward frame `r` of g against the double reference of g's own G-buffer (the same surfaces):
+// max error <= `bound` of the peak, no NaN, no missed light contribution. Returns the error.
+inline ErrorStats expectMatchesReference(const GlFrame& g, const FrameResult& r, double bound) {
+  const PreparedFrame& f = g.prepared;
+  const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+  EXPECT_GT(ref.peak, 0.0);
+  const ErrorStats e = compareToReference(r.image, ref, bound * ref.peak);
+  EXPECT_LE(e.maxRelPeak, bound);
+  EXPECT_EQ(e.nonfinitePixels, 0u);
+  EXPECT_TRUE(r.assignment.has_value());
+  if (r.assignment)
+    EXPECT_EQ(countMissedContributions(*r.assignment, f.encoded, f.intrinsics, f.lights, 0), 0u);
+  return e;
+}
 
 }  // namespace ts::test

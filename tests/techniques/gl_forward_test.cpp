@@ -75,13 +75,7 @@ void checkAgainstReference(GlFrame& g, const std::string& technique, const std::
   SCOPED_TRACE(technique + " on " + what);
   const PreparedFrame& f = g.prepared;
   const FrameResult r = g.render(technique);
-  const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
-  ASSERT_GT(ref.peak, 0.0);
-  const ErrorStats e = compareToReference(r.image, ref, kForwardBound * ref.peak);
-  EXPECT_LE(e.maxRelPeak, kForwardBound);
-  EXPECT_EQ(e.nonfinitePixels, 0u);
-  ASSERT_TRUE(r.assignment.has_value());
-  EXPECT_EQ(countMissedContributions(*r.assignment, f.encoded, f.intrinsics, f.lights, 0), 0u);
+  const ErrorStats e = test::expectMatchesReference(g, r, kForwardBound);
   EXPECT_GT(r.counters.lightingComputations, 0u);
   EXPECT_TRUE(hasRow(r, "batch_lists"));
   EXPECT_TRUE(hasRow(r, "upload"));

@@ -56,13 +56,7 @@ void checkForward(const std::string& technique, const std::string& name) {
   ASSERT_NE(g.forward, nullptr);
   const PreparedFrame& f = g.prepared;
   const FrameResult r = g.render(technique);
-  const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
-  ASSERT_GT(ref.peak, 0.0);
-  const ErrorStats e = compareToReference(r.image, ref, kForwardBound * ref.peak);
-  EXPECT_LE(e.maxRelPeak, kForwardBound);
-  EXPECT_EQ(e.nonfinitePixels, 0u);
-  ASSERT_TRUE(r.assignment.has_value());
-  EXPECT_EQ(countMissedContributions(*r.assignment, f.encoded, f.intrinsics, f.lights, 0), 0u);
+  const ErrorStats e = test::expectMatchesReference(g, r, kForwardBound);
   // Every geometry pixel is shaded at least once (at least its tile's list), so the count is at
   // least the tiled count over geometry pixels; the passes have their own rows.
   EXPECT_GT(r.counters.lightingComputations, 0u);
