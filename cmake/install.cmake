@@ -41,7 +41,7 @@ set(CPACK_PACKAGE_CONTACT "tileshade developers")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
     "tiled shading of a G-buffer in OpenCL, and a lab that measures light-culling techniques")
 set(CPACK_PACKAGE_DESCRIPTION
-    "Renders a G-buffer and shades it with light-culling techniques (tiled, tiled-single, clustered, deferred, deferred-stencil, brute force in OpenCL; tiled forward with and without a depth pre-pass in OpenGL on the same OpenCL light grid), checks each against a double-precision reference and measures speed and error. Includes the C++ library (libtileshade, find_package(tileshade)) and the Python module.")
+    "Renders a G-buffer and shades it with light-culling techniques (tiled, tiled-single, clustered, deferred, deferred-stencil, brute force in OpenCL; tiled forward with and without a depth pre-pass in OpenGL on the same OpenCL light grid, multi-pass and single-pass forward on per-batch light lists), checks each against a double-precision reference and measures speed and error. Includes the C++ library (libtileshade, find_package(tileshade)) and the Python module.")
 set(CPACK_RESOURCE_FILE_LICENSE ${CMAKE_SOURCE_DIR}/LICENSE)
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
