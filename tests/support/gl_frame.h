@@ -73,8 +73,9 @@ inline ErrorStats expectMatchesReference(const GlFrame& g, const FrameResult& r,
   EXPECT_LE(e.maxRelPeak, bound);
   EXPECT_EQ(e.nonfinitePixels, 0u);
   EXPECT_TRUE(r.assignment.has_value());
-  if (r.assignment)
+  if (r.assignment) {
     EXPECT_EQ(countMissedContributions(*r.assignment, f.encoded, f.intrinsics, f.lights, 0), 0u);
+  }
   return e;
 }
 
