@@ -1,5 +1,6 @@
 #pragma once
-// What `forward` and `forward-single` share: the scene to draw (or the one-line refusal), the
+// What `forward` and `forward-single` share (and, for the scene to draw, the tiled forward
+// techniques): the scene to draw (or the one-line refusal), the
 // per-batch light lists found on the host (their own row, batch_lists) and the counters and
 // light assignment those lists give.
 #include <string>

@@ -10,6 +10,7 @@
 // in the per-kernel table, as are the OpenGL passes (timer queries): depth_prepass, forward.
 #include <chrono>
 
+#include "techniques/forward_batches.h"
 #include "techniques/techniques.h"
 #include "techniques/tile_light_grid.h"
 #include "util/error.h"
@@ -31,15 +32,12 @@ class TiledForwardTechnique : public Technique {
   std::string name() const override { return prez_ ? "tiled-forward-prez" : "tiled-forward"; }
 
   FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
-    if (!frame.forward)
-      throw Error(name() +
-                  " draws the scene: it needs a frame rasterized with --raster gl (not the "
-                  "software rasterizer or an imported G-buffer)");
+    ForwardScene& scene = sceneToDraw(frame, name());
     allocate(frame);
     FrameResult result;
     double prepassMs = 0.0;
     if (prez_) {
-      const std::vector<float> depth = frame.forward->depthPrepass(prepassMs);
+      const std::vector<float> depth = scene.depthPrepass(prepassMs);
       cl_.queue().enqueueWriteBuffer(prepassDepth_, CL_TRUE, 0, depth.size() * sizeof(float),
                                      depth.data());
     }
@@ -66,8 +64,8 @@ class TiledForwardTechnique : public Technique {
     grid.lights = grid_.readLights(total);
     const double readMs = msSince(copyStart);
 
-    const ForwardImage drawn = frame.forward->tiledForward(*frame.lights, frame.ambient, features(),
-                                                           int(config_.rangeModel), grid, prez_);
+    const ForwardImage drawn = scene.tiledForward(*frame.lights, frame.ambient, features(),
+                                                  int(config_.rangeModel), grid, prez_);
     if (prez_) result.kernels.push_back({"depth_prepass", prepassMs, 1});
     result.kernels.push_back({"grid_copy", readMs + drawn.uploadMs, 1});
     result.kernels.push_back({"forward", drawn.drawMs, 1});
