@@ -510,6 +510,17 @@ static std::string plotPython() {
   return "";
 }
 
+// Runs `script` (bench/plot.py) on DIR/bench.csv into DIR/plots; `log` gets its output.
+static int runPlot(const std::string& python, const std::string& script, const std::string& dir,
+                   std::string& log) {
+  std::string cmd = python + " '" + script + "' '" + dir + "/bench.csv' --out '" + dir +
+                    "/plots' >'" + dir + "/log.txt' 2>&1";
+  int rc = std::system(cmd.c_str());
+  std::ifstream logIn(dir + "/log.txt");
+  log.assign((std::istreambuf_iterator<char>(logIn)), std::istreambuf_iterator<char>());
+  return rc;
+}
+
 // bench/plot.py on a small generated CSV, when a python3 with matplotlib is available.
 TEST(BenchPlot, PlotScriptRunsOnASmallCsv) {
   std::string python = plotPython();
@@ -558,11 +569,8 @@ TEST(BenchPlot, PlotScriptRunsOnASmallCsv) {
         csv << ts::csvLine(fields) << "\n";
       }
   csv.close();
-  std::string cmd = python + " '" + script + "' '" + dir + "/bench.csv' --out '" + dir +
-                    "/plots' >'" + dir + "/log.txt' 2>&1";
-  int rc = std::system(cmd.c_str());
-  std::ifstream logIn(dir + "/log.txt");
-  std::string log((std::istreambuf_iterator<char>(logIn)), std::istreambuf_iterator<char>());
+  std::string log;
+  int rc = runPlot(python, script, dir, log);
   ASSERT_EQ(rc, 0) << log;
   EXPECT_TRUE(fs::exists(dir + "/plots/report.md")) << log;
   size_t png = 0;
@@ -607,11 +615,8 @@ TEST(BenchPlot, LightCountSweepGetsTheScalingFigure) {
       csv << ts::csvLine(fields) << "\n";
     }
   csv.close();
-  std::string cmd = python + " '" + script + "' '" + dir + "/bench.csv' --out '" + dir +
-                    "/plots' >'" + dir + "/log.txt' 2>&1";
-  int rc = std::system(cmd.c_str());
-  std::ifstream logIn(dir + "/log.txt");
-  std::string log((std::istreambuf_iterator<char>(logIn)), std::istreambuf_iterator<char>());
+  std::string log;
+  int rc = runPlot(python, script, dir, log);
   ASSERT_EQ(rc, 0) << log;
   size_t scaling = 0;
   for (const auto& e : fs::directory_iterator(dir + "/plots"))
