@@ -2,7 +2,8 @@
  * Single-kernel tiled deferred shading (Andersson 2009, Lauritzen 2010), host side in
  * src/techniques/tiled_single.cpp. One work-group per tile does everything in local memory:
  *   1. reduce the tile's geometry depth to [zmin, zmax] (background pixels left out);
- *   2. test every light of the frame against the tile, appending accepted lights to a list in
+ *   2. test every light of the frame against the tile (a cheap pre-test first, culling.h's
+ *      ts_light_may_meet_tile, so most lights skip the full test), appending accepted lights to a list in
  *      local memory, in light index order: each batch of tests sets one bit per accepted light
  *      (atomic_or: the result does not depend on the order) and a light's slot is the count of
  *      accepted lights before it, so the list, and each pixel's sum, is the same on every run
