@@ -296,6 +296,40 @@ static inline int ts_light_meets_tile(const ts_light_volume *v, int mode, int px
   return 1;
 }
 
+/* ---- A cheap pre-test of the rectangle and depth-range tests (tiled_single.cl) --------------
+ * Every tile of the single-kernel technique tests every light; building the volume and its
+ * screen bounds (above) costs a few hundred instructions per (tile, light), for the ~95% of
+ * lights that miss the tile. This test is a sphere against the tile's side planes and depth range
+ * (branch-free: the CPU compiler vectorises it across work-items), and never says 0 where the
+ * full tests would say 1: the sphere, (pos_range.xyz, TS_PRETEST_REACH * pos_range.w), holds every
+ * form of the volume's bounding sphere and box (a cone's bounding sphere lies within sqrt(2)
+ * ranges of its apex); the rectangle's slopes are those of points of that bounding sphere, so a
+ * tile inside the rectangle lies, on each axis alone, between the planes of both its sides that
+ * the sphere reaches. `s` and `n` are the tile's slopes, widened by a pixel against rounding
+ * (ts_pretest_slopes), and their planes' normal lengths; (zmin, zmax) its depth range. */
+#define TS_PRETEST_REACH 1.001
+#define TS_PRETEST_CONE_REACH 1.4152 /* sqrt(2) * 1.0007 */
+
+static inline TS_REAL4 ts_pretest_slopes(int px0, int py0, int px1, int py1, int width,
+                                         int height, TS_REAL tan_x, TS_REAL tan_y) {
+  return ts_tile_slopes(px0 - 1, py0 - 1, px1 + 1, py1 + 1, width, height, tan_x, tan_y);
+}
+
+static inline TS_REAL4 ts_pretest_norms(TS_REAL4 s) {
+  return TS_MAKE4(sqrt(TS_LIT(1.0) + s.x * s.x), sqrt(TS_LIT(1.0) + s.y * s.y),
+                  sqrt(TS_LIT(1.0) + s.z * s.z), sqrt(TS_LIT(1.0) + s.w * s.w));
+}
+
+static inline int ts_light_may_meet_tile(TS_REAL4 pos_range, TS_REAL4 spot, TS_REAL4 s,
+                                         TS_REAL4 n, TS_REAL zmin, TS_REAL zmax) {
+  TS_REAL R = pos_range.w * (spot.w > TS_LIT(0.0) ? TS_LIT(TS_PRETEST_CONE_REACH)
+                                                   : TS_LIT(TS_PRETEST_REACH));
+  TS_REAL w = -pos_range.z;
+  return (w + R >= zmin) & (w - R <= zmax) & (pos_range.x - s.x * w >= -R * n.x) &
+         (s.z * w - pos_range.x >= -R * n.z) & (pos_range.y - s.y * w >= -R * n.y) &
+         (s.w * w - pos_range.y >= -R * n.w);
+}
+
 /* Whether the light lights surface point P at all (what a stencil test of the light volume
  * decides): inside the range and, for a spot light, inside the cone. The same arithmetic as
  * kernels/shading.h's range cut and angular term, so no point it lights is rejected. */

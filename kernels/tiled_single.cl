@@ -2,7 +2,8 @@
  * Single-kernel tiled deferred shading (Andersson 2009, Lauritzen 2010), host side in
  * src/techniques/tiled_single.cpp. One work-group per tile does everything in local memory:
  *   1. reduce the tile's geometry depth to [zmin, zmax] (background pixels left out);
- *   2. test every light of the frame against the tile, appending accepted lights to a list in
+ *   2. test every light of the frame against the tile (a cheap pre-test first, culling.h's
+ *      ts_light_may_meet_tile, so most lights skip the full test), appending accepted lights to a list in
  *      local memory, in light index order: each batch of tests sets one bit per accepted light
  *      (atomic_or: the result does not depend on the order) and a light's slot is the count of
  *      accepted lights before it, so the list, and each pixel's sum, is the same on every run
@@ -46,6 +47,27 @@ static int light_meets_tile(const ts_light_volume *v, int tx, int ty, float2 zr,
   if (!ts_light_tile_rect(v, camera, znear, &x0, &y0, &x1, &y1)) return 0;
   if (tx < x0 || tx > x1 || ty < y0 || ty > y1) return 0;
   return ts_light_meets_bin(v, tx, ty, zr, camera);
+}
+
+/* The work-group's depth range from each work-item's (lmin, lmax, written before a barrier), in
+ * two barrier regions: the first work-item of each row reduces its row into the row's first
+ * entry, then every work-item reduces those GROUP_H entries. PoCL runs every barrier region as a
+ * loop over the work-items: a tree took log2(GROUP_SIZE) regions. */
+static float2 group_depth_range(__local float *lmin, __local float *lmax) {
+  int row = get_local_id(1);
+  if (get_local_id(0) == 0) {
+    float lo = lmin[row * GROUP_W], hi = lmax[row * GROUP_W];
+    for (int i = 1; i < GROUP_W; ++i) {
+      lo = fmin(lo, lmin[row * GROUP_W + i]);
+      hi = fmax(hi, lmax[row * GROUP_W + i]);
+    }
+    lmin[row * GROUP_W] = lo;
+    lmax[row * GROUP_W] = hi;
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  float2 zr = (float2)(FLT_MAX, 0.0f);
+  for (int r = 0; r < GROUP_H; ++r) zr = (float2)(fmin(zr.x, lmin[r * GROUP_W]), fmax(zr.y, lmax[r * GROUP_W]));
+  return zr;
 }
 
 /* Screen position of the k-th pixel owned by this work-item; returns 0 when it is off the tile
@@ -207,17 +229,7 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   lmin[lid] = zmin;
   lmax[lid] = zmax;
   barrier(CLK_LOCAL_MEM_FENCE);
-  /* Tree reduction that also handles group sizes that are not powers of two. */
-  for (int active = GROUP_SIZE; active > 1;) {
-    int half_up = (active + 1) / 2;
-    if (lid + half_up < active) {
-      lmin[lid] = fmin(lmin[lid], lmin[lid + half_up]);
-      lmax[lid] = fmax(lmax[lid], lmax[lid + half_up]);
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-    active = half_up;
-  }
-  float2 zr = (float2)(lmin[0], lmax[0]);
+  float2 zr = group_depth_range(lmin, lmax);
 
   /* 2 + 3. Test the lights a batch of GROUP_SIZE at a time; shade and empty the list whenever the
    * next batch might not fit.
@@ -243,6 +255,10 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
    * needs no write. */
   uint list_len = 0, accepted = 0;
   int any_geometry = zr.x <= zr.y;
+  /* The cheap pre-test's planes (culling.h): most lights miss the tile and skip the full test. */
+  float4 pre_slopes = ts_pretest_slopes(tx * TILE_W, ty * TILE_H, (tx + 1) * TILE_W,
+                                        (ty + 1) * TILE_H, width, height, camera.x, camera.y);
+  float4 pre_norms = ts_pretest_norms(pre_slopes);
   for (int base = 0; any_geometry && base < light_count; base += GROUP_SIZE) {
     barrier(CLK_LOCAL_MEM_FENCE); /* the last batch's appends (and bit reads) are done */
     uint n = list_len - accepted;
@@ -266,7 +282,9 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
     barrier(CLK_LOCAL_MEM_FENCE); /* every work-item has read the list; the bits are clear */
     int light = base + lid;
     int accept = 0;
-    if (light < light_count) {
+    if (light < light_count &&
+        ts_light_may_meet_tile(light_pos_range[light], ts_light_spot(light_spot, (uint)light),
+                               pre_slopes, pre_norms, zr.x, zr.y)) {
       ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, (uint)light);
       accept = light_meets_tile(&v, tx, ty, zr, camera, znear);
       if (accept) atomic_or(&accept_bits[lid / 32], 1u << (lid % 32));
