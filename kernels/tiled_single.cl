@@ -3,11 +3,12 @@
  * src/techniques/tiled_single.cpp. One work-group per tile does everything in local memory:
  *   1. reduce the tile's geometry depth to [zmin, zmax] (background pixels left out);
  *   2. test every light of the frame against the tile (a cheap pre-test first, culling.h's
- *      ts_light_may_meet_tile, so most lights skip the full test), appending accepted lights to a list in
- *      local memory, in light index order: each batch of tests sets one bit per accepted light
- *      (atomic_or: the result does not depend on the order) and a light's slot is the count of
- *      accepted lights before it, so the list, and each pixel's sum, is the same on every run
- *      and every device (an atomic_inc cursor gave the order the work-items ran in);
+ *      ts_light_may_meet_tile, so most lights skip the full test), appending accepted lights to
+ *      a list in local memory, in light index order: each batch of tests sets one bit per
+ *      accepted light (atomic_or: the result does not depend on the order) and a light's slot
+ *      is the count of accepted lights before it, so the list, and each pixel's sum, is the
+ *      same on every run and every device (an atomic_inc cursor gave the order the work-items
+ *      ran in);
  *   3. shade the tile's pixels over that list.
  * Every tile repeats the light tests that the multi-kernel variant (tiled.cl) does once per light
  * rectangle: simple, but redundant per-tile work. The per-tile test is the same as tiled.cl's
@@ -66,7 +67,9 @@ static float2 group_depth_range(__local float *lmin, __local float *lmax) {
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   float2 zr = (float2)(FLT_MAX, 0.0f);
-  for (int r = 0; r < GROUP_H; ++r) zr = (float2)(fmin(zr.x, lmin[r * GROUP_W]), fmax(zr.y, lmax[r * GROUP_W]));
+  for (int r = 0; r < GROUP_H; ++r) {
+    zr = (float2)(fmin(zr.x, lmin[r * GROUP_W]), fmax(zr.y, lmax[r * GROUP_W]));
+  }
   return zr;
 }
 
