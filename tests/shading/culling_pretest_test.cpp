@@ -24,8 +24,7 @@ struct Tile {
 
 // ts_light_tile_rect (kernels/light_lists.h) and the depth-range test: what the full test
 // decides before its per-tile test, which can only reject more.
-bool fullTestsAccept(const ts_light_volume& v, const Tile& t, float znear, float tanX,
-                     float tanY) {
+bool fullTestsAccept(const ts_light_volume& v, const Tile& t, float znear, float tanX, float tanY) {
   vec4 b = ts_light_ndc_bounds(&v, znear, tanX, tanY);
   int x0, y0, x1, y1;
   if (!ts_ndc_bounds_to_tiles(b, t.width, t.height, t.tileW, t.tileH, &x0, &y0, &x1, &y1))
@@ -35,8 +34,8 @@ bool fullTestsAccept(const ts_light_volume& v, const Tile& t, float znear, float
 }
 
 bool pretestAccepts(vec4 posRange, vec4 spot, const Tile& t, float tanX, float tanY) {
-  vec4 s = ts_pretest_slopes(t.x * t.tileW, t.y * t.tileH, (t.x + 1) * t.tileW,
-                             (t.y + 1) * t.tileH, t.width, t.height, tanX, tanY);
+  vec4 s = ts_pretest_slopes(t.x * t.tileW, t.y * t.tileH, (t.x + 1) * t.tileW, (t.y + 1) * t.tileH,
+                             t.width, t.height, tanX, tanY);
   return ts_light_may_meet_tile(posRange, spot, s, ts_pretest_norms(s), t.zmin, t.zmax);
 }
 
@@ -74,8 +73,8 @@ TEST(CullingPretest, NeverRejectsWhatTheFullTestsAcceptAndRejectsMostMisses) {
     if (full) {
       ++accepted;
       ASSERT_TRUE(pre) << "light " << i << " at (" << posRange.x << ", " << posRange.y << ", "
-                       << posRange.z << ") range " << posRange.w << " spot w " << spot.w
-                       << " mode " << mode << ", tile " << t.x << "," << t.y;
+                       << posRange.z << ") range " << posRange.w << " spot w " << spot.w << " mode "
+                       << mode << ", tile " << t.x << "," << t.y;
     } else {
       ++missed;
       if (!pre) ++rejectedMisses;
