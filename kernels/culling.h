@@ -300,7 +300,8 @@ static inline int ts_light_meets_tile(const ts_light_volume *v, int mode, int px
  * Every tile of the single-kernel technique tests every light; building the volume and its
  * screen bounds (above) costs a few hundred instructions per (tile, light), for the ~95% of
  * lights that miss the tile. This test is a sphere against the tile's side planes and depth range
- * (branch-free: the CPU compiler vectorises it across work-items), and never says 0 where the
+ * (branch-free, so that a CPU compiler can vectorise it across work-items; PoCL's output for it
+ * has not been read yet), and never says 0 where the
  * full tests would say 1: the sphere, (pos_range.xyz, TS_PRETEST_REACH * pos_range.w), holds every
  * form of the volume's bounding sphere and box (a cone's bounding sphere lies within sqrt(2)
  * ranges of its apex); the rectangle's slopes are those of points of that bounding sphere, so a
