@@ -248,7 +248,8 @@ class Rasterizer {
 
   // The nearest depth per pixel into `target` (rows of `stride` floats), `clear` where none.
   void runDepth(float* target, size_t stride, float clear) {
-    transformVertices();
+    // No vertex pass: a face draws few of the scene's triangles (those its frustum touches), and
+    // many small faces would each pay for every vertex (viewPositionOf transforms per use).
     size_t triangles = triangles_->size();
     int ranges = triangles < 1024 ? 1 : workers_;
     outputs_.assign(size_t(ranges), WorkerOutput{});
@@ -294,7 +295,7 @@ class Rasterizer {
     plane_alloc::adviseHugePages(viewPosition_.data(), n * sizeof(glm::dvec3));
     plane_alloc::adviseHugePages(viewNormal_.data(), n * sizeof(glm::vec3));
     viewPosition_.resize(n);
-    if (!depthOnly_) viewNormal_.resize(n);
+    viewNormal_.resize(n);
     // Tangents only for a scene with normal maps that are applied (a scene without pays nothing).
     const glm::mat3 rotation{
         glm::dmat3(view)};  // tangents lie in the surface: not the normal matrix
@@ -303,7 +304,6 @@ class Rasterizer {
       for (size_t i = b; i < e; ++i) {
         const Vertex& v = scene_.vertices[i];
         viewPosition_[i] = glm::dvec3(view * glm::dvec4(glm::dvec3(v.position), 1.0));
-        if (depthOnly_) continue;
         glm::vec3 nv = normalMatrix * v.normal;
         float len2 = glm::dot(nv, nv);
         viewNormal_[i] = len2 > 0.0f ? nv / std::sqrt(len2) : glm::vec3(0.0f);
@@ -313,6 +313,12 @@ class Rasterizer {
         }
       }
     });
+  }
+
+  // A vertex in view space: from the vertex pass, or computed now (depth only), the same way.
+  glm::dvec3 viewPositionOf(uint32_t i) const {
+    if (!depthOnly_) return viewPosition_[i];
+    return glm::dvec3(view_ * glm::dvec4(glm::dvec3(scene_.vertices[i].position), 1.0));
   }
 
   ClipVertex toClip(const glm::dvec3& p, int corner) const {
@@ -361,9 +367,9 @@ class Rasterizer {
     const double gx = frame_.guardX, gy = frame_.guardY;
     for (size_t item = begin; item < end; ++item) {
       const size_t tri = triangles_ ? size_t((*triangles_)[item]) : item;
-      const glm::dvec3& p0 = viewPosition_[scene_.indices[3 * tri]];
-      const glm::dvec3& p1 = viewPosition_[scene_.indices[3 * tri + 1]];
-      const glm::dvec3& p2 = viewPosition_[scene_.indices[3 * tri + 2]];
+      const glm::dvec3 p0 = viewPositionOf(scene_.indices[3 * tri]);
+      const glm::dvec3 p1 = viewPositionOf(scene_.indices[3 * tri + 1]);
+      const glm::dvec3 p2 = viewPositionOf(scene_.indices[3 * tri + 2]);
       ClipVertex v[3] = {toClip(p0, 0), toClip(p1, 1), toClip(p2, 2)};
 
       bool finite = true;
@@ -603,7 +609,7 @@ class Rasterizer {
         const int by0 = std::max(y0, int(s.y0)), by1 = std::min(y1, int(s.y1));
         double vd[3] = {0.0, 0.0, 0.0};  // the vertices' depths (orthographic)
         if (ortho)
-          for (int k = 0; k < 3; ++k) vd[k] = -viewPosition_[scene_.indices[3 * t.triangle + k]].z;
+          for (int k = 0; k < 3; ++k) vd[k] = -viewPositionOf(scene_.indices[3 * t.triangle + k]).z;
         for (int y = by0; y <= by1; ++y) {
           const int64_t cy = int64_t(y) * kSubOne + kSubHalf;
           for (int x = bx0; x <= bx1; ++x) {
@@ -712,7 +718,7 @@ class Rasterizer {
   const Scene& scene_;
   glm::dmat4 view_;
   const std::vector<uint32_t>* triangles_ = nullptr;  // rasterizeDepth's; null: every triangle
-  bool depthOnly_ = false;                            // positions only, no attributes
+  bool depthOnly_ = false;  // rasterizeDepth: no vertex pass, no attributes
   RasterOptions options_;
   Frame frame_{};
   int workers_ = 1;

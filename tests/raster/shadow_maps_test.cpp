@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "raster/shadow_maps.h"
 #include "scene/mesh_builder.h"
@@ -138,12 +139,17 @@ FaceCheck checkFace(const ShadowAtlas& atlas, const ShadowFace& f) {
   return c;
 }
 
-ShadowAtlas drawFor(const Scene& scene, SceneLight light, int threads = 2) {
-  light.castsShadow = true;
+ShadowAtlas drawFor(const Scene& scene, std::vector<SceneLight> lights, int threads = 2,
+                    int mapSize = 128) {
+  for (SceneLight& l : lights) l.castsShadow = true;
   ts::ShadowAtlasOptions o;
-  o.mapSize = 128;
-  const ts::ShadowAtlasLayout layout = planShadowAtlas({light}, scene.bounds(), scene.camera(0), o);
+  o.mapSize = mapSize;
+  const ts::ShadowAtlasLayout layout = planShadowAtlas(lights, scene.bounds(), scene.camera(0), o);
   return drawShadowAtlas(scene, layout, threads);
+}
+
+ShadowAtlas drawFor(const Scene& scene, const SceneLight& light) {
+  return drawFor(scene, std::vector<SceneLight>{light});
 }
 
 TEST(ShadowMaps, PointLightCubeFacesHoldAnalyticDepths) {
@@ -216,12 +222,20 @@ TEST(ShadowMaps, FacesOutsideTheGeometryStayAtFar) {
     for (int x = 0; x < f.size; ++x) ASSERT_EQ(atlas.at(f.x + x, f.y + y), float(f.view.zfar));
 }
 
+// Big faces are drawn one after another with every thread, small ones (one tile) side by side.
 TEST(ShadowMaps, SameAtlasForAnyThreadCount) {
   const Scene scene = floorAndBox();
-  const SceneLight light = SceneLight::point({0.5, 3.0, 0.25}, glm::vec3(1), 20);
-  const ShadowAtlas one = drawFor(scene, light, 1), three = drawFor(scene, light, 3);
-  ASSERT_EQ(one.depth.size(), three.depth.size());
-  EXPECT_TRUE(one.depth == three.depth);
+  const std::vector<SceneLight> lights = {
+      SceneLight::point({0.5, 3.0, 0.25}, glm::vec3(1), 20),
+      SceneLight::point({-3.0, 2.0, 1.0}, glm::vec3(1), 8),
+      SceneLight::spot({2.0, 4.0, 0.0}, {0.0f, -1.0f, 0.0f}, glm::vec3(1), 20, 0.3f, 0.6f)};
+  for (int size : {128, 32}) {
+    const ShadowAtlas one = drawFor(scene, lights, 1, size),
+                      three = drawFor(scene, lights, 3, size);
+    ASSERT_EQ(one.depth.size(), three.depth.size());
+    EXPECT_TRUE(one.depth == three.depth) << size;
+    EXPECT_TRUE(one.faceTriangles == three.faceTriangles) << size;
+  }
 }
 
 }  // namespace
