@@ -51,6 +51,13 @@
 // ts_normal_mapped in shaders/normal_mapping.h perturbs the interpolated normal before the
 // double-sided flip, with the perspective-correct interpolation of the view-space tangents.
 //
+// Depth only (rasterizeDepth, the shadow maps of raster/shadow_maps.h): the same setup, clipping,
+// binning and fill rule over a list of triangles, without the vertex pass (positions are
+// transformed as the setup reads them: a face draws few of the scene's triangles) and without
+// attributes: a tile keeps the nearest depth per pixel. Orthographic views (directional lights)
+// use clip w = 1, no near clip, and interpolate -Z_view with the barycentrics; depth outside
+// [znear, zfar] is rejected per pixel.
+//
 // Material planes: ts_material_planes in shaders/material_planes.h, the one definition the OpenGL
 // rasterizer (src/raster/gl_rasterizer.cpp, shaders/gbuffer.frag) compiles as GLSL; these notes'
 // conventions are mirrored there, convention by convention (docs/opengl.md).
