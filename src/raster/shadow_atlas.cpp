@@ -63,23 +63,35 @@ ShadowFace perspectiveFace(uint32_t light, int face, const glm::dvec3& eye,
   return f;
 }
 
-// An orthographic face along `direction` around the box's eight corners.
-ShadowFace directionalFace(uint32_t light, const glm::dvec3& direction, const Bounds& geometry) {
+bool empty(const Bounds& b) {
+  return !(b.min.x <= b.max.x && b.min.y <= b.max.y && b.min.z <= b.max.z);
+}
+
+glm::dvec3 corner(const Bounds& b, int c) {
+  return {c & 1 ? b.max.x : b.min.x, c & 2 ? b.max.y : b.min.y, c & 4 ? b.max.z : b.min.z};
+}
+
+// An orthographic face along `direction`: across it around the receivers' eight corners, along it
+// around the scene's (the casters: a caster shadows a receiver only where both project to one
+// texel, so the receivers' extent across suffices).
+ShadowFace directionalFace(uint32_t light, const glm::dvec3& direction, const Bounds& geometry,
+                           const Bounds& receivers) {
   const glm::dvec3 lo(geometry.min), hi(geometry.max);
-  const glm::dvec3 centre = 0.5 * (lo + hi);
   const double radius = 0.5 * glm::length(hi - lo);
-  // The eye outside the box so every depth is positive; a margin of rounding on every side.
+  const glm::dvec3 centre = 0.5 * (glm::dvec3(receivers.min) + glm::dvec3(receivers.max));
+  // The eye beyond every caster so every depth is positive; a margin of rounding on every side.
   const double margin = 1e-3 * std::max(radius, 1e-3);
-  const glm::dvec3 eye = centre - direction * (radius + 2.0 * margin);
+  const double reach = glm::length(centre - 0.5 * (lo + hi)) + radius;
+  const glm::dvec3 eye = centre - direction * (reach + 2.0 * margin);
   ShadowFace f;
   f.light = light;
   f.view.viewFromWorld = glm::lookAt(eye, centre, anyUp(direction));
   f.view.orthographic = true;
   double half = 0.0, dmin = std::numeric_limits<double>::max(), dmax = 0.0;
   for (int c = 0; c < 8; ++c) {
-    const glm::dvec3 corner(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
-    const glm::dvec3 v = glm::dvec3(f.view.viewFromWorld * glm::dvec4(corner, 1.0));
-    half = std::max({half, std::abs(v.x), std::abs(v.y)});
+    const glm::dvec3 r = glm::dvec3(f.view.viewFromWorld * glm::dvec4(corner(receivers, c), 1.0));
+    half = std::max({half, std::abs(r.x), std::abs(r.y)});
+    const glm::dvec3 v = glm::dvec3(f.view.viewFromWorld * glm::dvec4(corner(geometry, c), 1.0));
     dmin = std::min(dmin, -v.z);
     dmax = std::max(dmax, -v.z);
   }
@@ -94,7 +106,7 @@ ShadowFace directionalFace(uint32_t light, const glm::dvec3& direction, const Bo
 
 // The faces of one light, without sizes (in cube order for a point light).
 std::vector<ShadowFace> facesOf(uint32_t index, const SceneLight& l, const Bounds& geometry,
-                                std::vector<std::string>& notes) {
+                                const Bounds& receivers, std::vector<std::string>& notes) {
   std::vector<ShadowFace> faces;
   const glm::dvec3 dir = glm::normalize(glm::dvec3(l.direction));
   switch (l.type) {
@@ -122,11 +134,12 @@ std::vector<ShadowFace> facesOf(uint32_t index, const SceneLight& l, const Bound
       break;
     }
     case SceneLightType::Directional:
-      if (!(geometry.min.x <= geometry.max.x))
+      if (empty(geometry))
         throw Error("shadow maps: light " + std::to_string(index) +
                     " (directional) casts a shadow but the scene has no geometry to fit its "
                     "map to");
-      faces.push_back(directionalFace(index, dir, geometry));
+      faces.push_back(
+          directionalFace(index, dir, geometry, empty(receivers) ? geometry : receivers));
       break;
   }
   return faces;
@@ -145,7 +158,8 @@ void checkShadowAtlasOptions(const ShadowAtlasOptions& o) {
 }
 
 ShadowAtlasLayout planShadowAtlas(const std::vector<SceneLight>& lights, const Bounds& geometry,
-                                  const SceneCamera& camera, const ShadowAtlasOptions& o) {
+                                  const SceneCamera& camera, const ShadowAtlasOptions& o,
+                                  const Bounds& receivers) {
   checkShadowAtlasOptions(o);
   ShadowAtlasLayout layout;
   const glm::dvec3 eye(glm::inverse(camera.viewFromWorld) * glm::dvec4(0.0, 0.0, 0.0, 1.0));
@@ -156,7 +170,7 @@ ShadowAtlasLayout planShadowAtlas(const std::vector<SceneLight>& lights, const B
     ShadowLightMap m;
     m.light = uint32_t(i);
     m.type = l.type;
-    perLight.push_back(facesOf(uint32_t(i), l, geometry, layout.notes));
+    perLight.push_back(facesOf(uint32_t(i), l, geometry, receivers, layout.notes));
     m.faces = int(perLight.back().size());
     if (l.type == SceneLightType::Directional) {
       m.requestedSize = std::min(kDirectionalFactor * o.mapSize, kShadowMaxFaceSize);
@@ -251,6 +265,32 @@ ShadowAtlasLayout planShadowAtlas(const std::vector<SceneLight>& lights, const B
     layout.notes.push_back(note);
   }
   return layout;
+}
+
+Bounds viewGeometryBounds(const GBuffer& g, const SceneCamera& camera) {
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, g.width, g.height);
+  const glm::dmat4 worldFromView = glm::inverse(camera.viewFromWorld);
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  double far = 0.0;
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const double d = g.depth[size_t(y) * size_t(g.width) + size_t(x)];
+      if (!(d > 0.0)) continue;
+      const double nx = 2.0 * (x + 0.5) / g.width - 1.0, ny = 1.0 - 2.0 * (y + 0.5) / g.height;
+      const glm::dvec3 p(worldFromView *
+                         glm::dvec4(nx * in.tanHalfFovX * d, ny * in.tanHalfFovY * d, -d, 1.0));
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+      far = std::max(far, d);
+    }
+  Bounds b;
+  if (far == 0.0) return b;
+  // A pixel centre stands for its whole footprint: half a pixel at the deepest depth, and more.
+  const double footprint =
+      far * std::max(double(in.tanHalfFovX) / g.width, double(in.tanHalfFovY) / g.height) * 2.0;
+  b.extend(glm::vec3(lo - footprint));
+  b.extend(glm::vec3(hi + footprint));
+  return b;
 }
 
 }  // namespace ts

@@ -5,7 +5,9 @@
 //   - a point light has 6 cube faces (+X, -X, +Y, -Y, +Z, -Z: OpenGL's cube-map order and
 //     orientations), 90 degrees each, near = range * 1e-3, far = range;
 //   - a spot light one perspective face over its cone (2 * outerConeAngle, at most 170 degrees);
-//   - a directional light one orthographic face fitted to the scene's bounds along its direction;
+//   - a directional light one orthographic face: across its direction fitted to the view's
+//     geometry (the frame's visible surfaces, the receivers; the scene's bounds when none is
+//     given), along it to the scene's bounds (every caster between the light and them);
 //   - sizes: --shadow-map-size for point and spot faces, 4x that (at most 8192) for directional
 //     ones; while the atlas exceeds --shadow-budget, lights lose resolution in rounds of one
 //     halving each, the least important first (importance: screen coverage x range), never
@@ -18,6 +20,7 @@
 
 #include <glm/glm.hpp>
 
+#include "gbuffer/gbuffer.h"
 #include "raster/rasterizer.h"
 #include "scene/scene.h"
 
@@ -70,11 +73,17 @@ struct ShadowAtlasLayout {
 };
 
 // The atlas for the lights with castsShadow (none: an empty layout, 0x0). `geometry`: the scene's
-// bounds (Scene::bounds()), which directional lights' maps are fitted to; `camera`: the frame's,
-// for the lights' screen coverage. Throws ts::Error (one line) for options out of range, a budget
-// too small for every face at 16x16, or a shadow-casting directional light with no geometry.
+// bounds (Scene::bounds()); `receivers`: the view's geometry (viewGeometryBounds), which
+// directional maps are fitted to across the light (empty: `geometry`); `camera`: the frame's, for
+// the lights' screen coverage. Throws ts::Error (one line) for options out of range, a budget too
+// small for every face at 16x16, or a shadow-casting directional light with no geometry.
 ShadowAtlasLayout planShadowAtlas(const std::vector<SceneLight>& lights, const Bounds& geometry,
-                                  const SceneCamera& camera, const ShadowAtlasOptions& options);
+                                  const SceneCamera& camera, const ShadowAtlasOptions& options,
+                                  const Bounds& receivers = Bounds{});
+
+// The world-space box around the surfaces a G-buffer sees (its pixels with depth > 0, widened by
+// a pixel's footprint at their depth); empty (min > max) when it sees none.
+Bounds viewGeometryBounds(const GBuffer& gbuffer, const SceneCamera& camera);
 
 // Checks --shadow-map-size and --shadow-budget (one-line ts::Error naming the option).
 void checkShadowAtlasOptions(const ShadowAtlasOptions& options);

@@ -45,7 +45,8 @@ RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
   input.shadowCasters = shadowCasterCount(scene.lights);
   if (input.shadowCasters > 0)
     input.shadowAtlas = std::make_shared<ShadowAtlas>(drawShadowAtlas(
-        scene, planShadowAtlas(scene.lights, scene.bounds(), input.frame.camera, shadowOptions)));
+        scene, planShadowAtlas(scene.lights, scene.bounds(), input.frame.camera, shadowOptions,
+                               viewGeometryBounds(input.frame.gbuffer, input.frame.camera))));
   input.sceneName = scene.name;
   input.triangles = scene.triangleCount();
   input.raster = toString(rasterizer.backend());

@@ -157,6 +157,31 @@ TEST(ShadowAtlas, DirectionalMapCoversTheScene) {
   }
 }
 
+// Fitted to the view's geometry across the light (finer texels), to the scene along it (every
+// caster between the light and the receivers within the depth range).
+TEST(ShadowAtlas, DirectionalMapFitsTheReceiversAcrossAndTheSceneAlong) {
+  const Bounds scene = unitScene();
+  Bounds receivers;
+  receivers.extend({2.0f, 0.0f, 1.0f});
+  receivers.extend({5.0f, 1.0f, 3.0f});
+  const ShadowAtlasLayout whole = planShadowAtlas(mixed(), scene, camera(), {});
+  const ShadowAtlasLayout fitted = planShadowAtlas(mixed(), scene, camera(), {}, receivers);
+  const auto& f = fitted.faces.back();
+  ASSERT_TRUE(f.view.orthographic);
+  EXPECT_LT(f.view.halfX, whole.faces.back().view.halfX / 2.0);
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 r(c & 1 ? receivers.max.x : receivers.min.x,
+                       c & 2 ? receivers.max.y : receivers.min.y,
+                       c & 4 ? receivers.max.z : receivers.min.z);
+    const glm::dvec4 rn = f.mapFromWorld * glm::dvec4(r, 1.0);
+    EXPECT_LT(std::abs(rn.x), 1.0) << c;
+    EXPECT_LT(std::abs(rn.y), 1.0) << c;
+    const glm::dvec3 s(c & 1 ? scene.max.x : scene.min.x, c & 2 ? scene.max.y : scene.min.y,
+                       c & 4 ? scene.max.z : scene.min.z);
+    EXPECT_LT(std::abs((f.mapFromWorld * glm::dvec4(s, 1.0)).z), 1.0) << c;
+  }
+}
+
 TEST(ShadowAtlas, DirectionalWithoutGeometryIsAnError) {
   std::vector<SceneLight> lights = {SceneLight::directional({0.0f, -1.0f, 0.0f}, glm::vec3(1.0f))};
   lights[0].castsShadow = true;

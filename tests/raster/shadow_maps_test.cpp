@@ -211,6 +211,52 @@ TEST(ShadowMaps, DirectionalMapCoversTheScene) {
   }
 }
 
+// The view's geometry from a G-buffer: inside the scene, around what the camera sees.
+TEST(ShadowMaps, ViewGeometryBoundsHoldWhatTheCameraSees) {
+  const Scene scene = floorAndBox();
+  // Looking down at the box from close by: the floor's far parts are out of view.
+  const ts::SceneCamera close = ts::SceneCamera::lookAt({0.0, 4.0, 0.5}, {0.0, 0.0, 0.0},
+                                                        {0.0, 0.0, -1.0}, 0.6f, 0.1f, 50.0f);
+  ts::RasterOptions o;
+  o.threads = 2;
+  const ts::GBuffer g = ts::rasterize(scene, close, 64, 64, o);
+  const ts::Bounds b = ts::viewGeometryBounds(g, close);
+  const ts::Bounds all = scene.bounds();
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_GE(b.min[k], all.min[k] - 0.2f) << k;
+    EXPECT_LE(b.max[k], all.max[k] + 0.2f) << k;
+  }
+  EXPECT_LT(b.extent().x, all.extent().x / 2.0f);
+  EXPECT_LT(b.extent().z, all.extent().z / 2.0f);
+  EXPECT_GE(b.max.y, 1.0f);  // the box's top is in view
+  EXPECT_LE(b.min.y, 0.0f);  // and the floor around it
+  // A view of nothing: empty.
+  const ts::SceneCamera up = ts::SceneCamera::lookAt({0.0, 4.0, 0.0}, {0.0, 8.0, 0.0},
+                                                     {0.0, 0.0, -1.0}, 0.6f, 0.1f, 50.0f);
+  const ts::Bounds none = ts::viewGeometryBounds(ts::rasterize(scene, up, 16, 16, o), up);
+  EXPECT_GT(none.min.x, none.max.x);
+}
+
+// A directional map fitted to the receivers holds the same analytic depths, finer.
+TEST(ShadowMaps, DirectionalMapFittedToTheReceivers) {
+  const Scene scene = floorAndBox();
+  SceneLight sun =
+      SceneLight::directional(glm::normalize(glm::vec3(0.4f, -1.0f, 0.3f)), glm::vec3(1));
+  sun.castsShadow = true;
+  ts::Bounds receivers;
+  receivers.extend(glm::vec3(-2.0f, 0.0f, -2.0f));
+  receivers.extend(glm::vec3(2.0f, 1.0f, 2.0f));
+  ts::ShadowAtlasOptions o;
+  o.mapSize = 32;  // 128 for the directional map
+  const ShadowAtlas atlas = drawShadowAtlas(
+      scene, planShadowAtlas({sun}, scene.bounds(), scene.camera(0), o, receivers), 2);
+  const FaceCheck c = checkFace(atlas, atlas.layout.faces[0]);
+  EXPECT_EQ(c.wrong, 0u);
+  EXPECT_EQ(c.empty, 0u);  // the floor extends beyond the receivers on every side
+  EXPECT_GT(c.box, size_t(atlas.layout.faces[0].size) * size_t(atlas.layout.faces[0].size) / 8);
+  EXPECT_EQ(c.boxNearer, c.box);
+}
+
 TEST(ShadowMaps, FacesOutsideTheGeometryStayAtFar) {
   const Scene scene = floorAndBox();
   // A spot light under the floor looking down: the floor's box lies behind it.
