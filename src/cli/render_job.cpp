@@ -84,7 +84,7 @@ void validateRenderOptions(const RenderOptions& o) {
 namespace {
 
 // stats.json's shadow_maps: null without a shadow-casting light.
-nlohmann::json shadowMapsJson(const FrameInfo& info) {
+nlohmann::json shadowMapsJson(const FrameInfo& info, const RenderOptions& o) {
   if (!info.shadowMaps) return nullptr;
   const ShadowMapsInfo& s = *info.shadowMaps;
   nlohmann::json lights = nlohmann::json::array();
@@ -94,7 +94,9 @@ nlohmann::json shadowMapsJson(const FrameInfo& info) {
                       {"faces", l.faces},
                       {"requested_size", l.requestedSize},
                       {"size", l.size}});
-  return {{"faces", s.faces},
+  return {{"map_size", o.shadowMapSize},
+          {"budget_mb", o.shadowBudgetMB},
+          {"faces", s.faces},
           {"atlas_width", s.atlasWidth},
           {"atlas_height", s.atlasHeight},
           {"bytes", s.bytes},
@@ -346,7 +348,7 @@ void runRender(const RenderOptions& options) {
       {"normal_maps", o.normalMaps},
       {"shadows", o.shadows.empty() ? "scene" : o.shadows},
       {"shadow_casting_lights", info.shadowCastingLights},
-      {"shadow_maps", shadowMapsJson(info)},
+      {"shadow_maps", shadowMapsJson(info, o)},
       {"geometry_pixels", info.geometryPixels},
       {"tile", {o.tileWidth, o.tileHeight}},
       {"culling", toString(o.culling)},

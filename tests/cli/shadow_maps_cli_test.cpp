@@ -32,6 +32,8 @@ TEST(ShadowMapsCli, StatsAndDumpHoldTheAtlas) {
   const nlohmann::json stats = nlohmann::json::parse(std::ifstream(tmp / "stats.json"));
   const nlohmann::json& s = stats["shadow_maps"];
   ASSERT_TRUE(s.is_object()) << stats.dump();
+  EXPECT_EQ(s["map_size"], 64);
+  EXPECT_EQ(s["budget_mb"], 64.0);
   ASSERT_EQ(s["lights"].size(), 3u);
   uint64_t faces = 0, area = 0;
   for (const auto& l : s["lights"]) {
