@@ -98,8 +98,19 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"on", "off"}));
   renderCmd->add_option("--shadows", render.shadows,
                         "which lights cast shadows: none, all, or N (the N lights of largest "
-                        "range); default the scene's own (glTF extras castsShadow). Recorded "
-                        "only: no technique shades shadows yet");
+                        "range); default the scene's own (glTF extras castsShadow). Their "
+                        "shadow maps are drawn into one atlas (stats.json shadow_maps, --dump "
+                        "writes it); no technique shades shadows yet (docs/shadows.md)");
+  renderCmd
+      ->add_option("--shadow-map-size", render.shadowMapSize,
+                   "texels a side of a point or spot light's shadow-map face, a power of two "
+                   "16..8192 (directional lights: 4x, at most 8192); lights lose resolution to "
+                   "--shadow-budget, the least important first")
+      ->capture_default_str();
+  renderCmd
+      ->add_option("--shadow-budget", render.shadowBudgetMB,
+                   "the shadow atlas's memory budget in MB (MiB), > 0 and <= 4096")
+      ->capture_default_str();
   renderCmd
       ->add_option("--shading-model", render.shadingModel,
                    "auto (the scene's own: metallic-roughness for glTF, blinn-phong for the "
@@ -176,11 +187,12 @@ int main(int argc, char** argv) {
                       "pixel");
   renderCmd->add_flag("--dump", render.dump,
                       "also write gbuffer.exr (decoded shading inputs), lights.json and "
-                      "gbuffer.json (the descriptor --gbuffer-in reads)");
+                      "gbuffer.json (the descriptor --gbuffer-in reads); with shadow-casting "
+                      "lights, shadow_atlas.exr and shadow_atlas.json");
   // An imported G-buffer brings its own scene, size, frame, lights and shading model.
-  for (const char* name :
-       {"--lights", "--light-count", "--light-range", "--light-threshold", "--seed", "--width",
-        "--height", "--frame", "--variant", "--normal-maps", "--shadows", "--shading-model"})
+  for (const char* name : {"--lights", "--light-count", "--light-range", "--light-threshold",
+                           "--seed", "--width", "--height", "--frame", "--variant", "--normal-maps",
+                           "--shadows", "--shadow-map-size", "--shadow-budget", "--shading-model"})
     gbufferInOpt->excludes(renderCmd->get_option(name));
   gbufferInOpt->excludes(sceneOpt);
   gbufferInOpt->excludes(rasterOpt);

@@ -161,7 +161,9 @@ struct SceneRequest {
   std::string variant;                   // built-in variants, a comma list
   bool normalMaps = true;                // apply the scene's normal maps (glTF normalTexture)
   std::string shadows;  // which lights cast shadows: "" (the scene's marks), none, all or N
-                        // (recorded only: nothing shades shadows yet)
+                        // (their maps are drawn: FrameInfo::shadowMaps; nothing shades them yet)
+  int shadowMapSize = 512;       // per point/spot face, a power of two 16..8192 (directional: 4x)
+  double shadowBudgetMB = 64.0;  // the shadow atlas's budget, MiB (docs/shadows.md)
   std::string shadingModel = "auto";
   std::string features = "auto";
   uint32_t seed = 1;
@@ -169,6 +171,26 @@ struct SceneRequest {
   int frame = 0;  // of the scene's camera path
   std::string layout = "fp32";
   std::string raster = "software";  // or "gl"
+};
+
+// One shadow-casting light's share of the frame's shadow atlas (ShadowMapsInfo).
+struct ShadowMapLight {
+  uint32_t light = 0;               // index into the scene's lights
+  std::string type;                 // "point", "spot" or "directional"
+  int faces = 0;                    // 6 (a cube) or 1
+  int requestedSize = 0, size = 0;  // per face, texels a side: before the budget, as drawn
+};
+
+// The shadow maps of a frame, drawn into one float32 atlas (docs/shadows.md). Nothing shades
+// with them yet.
+struct ShadowMapsInfo {
+  uint64_t faces = 0;
+  int atlasWidth = 0, atlasHeight = 0;
+  uint64_t bytes = 0;           // the atlas's
+  uint64_t trianglesDrawn = 0;  // summed over the faces (each draws what its frustum touches)
+  double drawMs = 0.0;
+  std::vector<ShadowMapLight> lights;
+  std::vector<std::string> notes;  // lights that lost resolution to the budget, wide spot cones
 };
 
 // What a frame holds, for tables and records.
@@ -187,6 +209,7 @@ struct FrameInfo {
   uint64_t lights = 0, directionalLights = 0;  // lights counts directional ones too
   std::string lightSummary;          // "924 lights", "12 lights: 6 point, 5 spot, 1 directional"
   uint64_t shadowCastingLights = 0;  // marked to cast a shadow (recorded, not shaded yet)
+  std::optional<ShadowMapsInfo> shadowMaps;    // their maps; none without a shadow-casting light
   double rasterMs = 0.0, rasterSetupMs = 0.0;  // 0 where nothing was rasterized
   // A scene rasterized with raster "gl": the techniques that draw the scene (forward) can shade
   // it, through the same OpenGL context (TechniqueDescription::drawsScene).

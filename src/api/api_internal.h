@@ -63,6 +63,7 @@ struct Frame::Impl {
   std::unique_ptr<Scene> scene;
   std::unique_ptr<SceneRasterizer> rasterizer;
   std::unique_ptr<ForwardScene> forward;
+  std::shared_ptr<const ShadowAtlas> shadowAtlas;  // Frame::fromScene with shadow casters
 
   // Frame::fromDevice: reads the caller's planes back (for the reference and for dump).
   void readHostPlanes();

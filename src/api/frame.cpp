@@ -43,6 +43,20 @@ FrameInfo describeFrame(const RenderInput& input) {
   info.directionalLights = f.lights.directionalCount();
   info.lightSummary = input.lightSummary;
   info.shadowCastingLights = input.shadowCasters;
+  if (input.shadowAtlas) {
+    const ShadowAtlas& a = *input.shadowAtlas;
+    ShadowMapsInfo s;
+    s.faces = a.layout.faces.size();
+    s.atlasWidth = a.layout.width;
+    s.atlasHeight = a.layout.height;
+    s.bytes = a.layout.bytes();
+    s.trianglesDrawn = a.trianglesDrawn();
+    s.drawMs = a.drawMs;
+    for (const ShadowLightMap& m : a.layout.lights)
+      s.lights.push_back({m.light, toString(m.type), m.faces, m.requestedSize, m.size});
+    s.notes = a.layout.notes;
+    info.shadowMaps = std::move(s);
+  }
   info.rasterMs = f.rasterMs;
   info.rasterSetupMs = input.rasterSetupMs;
   return info;
@@ -57,6 +71,7 @@ std::shared_ptr<Frame::Impl> uploaded(Device& device, RenderInput input) {
   impl->scene = std::move(input.scene);
   impl->rasterizer = std::move(input.rasterizer);
   impl->forward = std::move(input.forward);
+  impl->shadowAtlas = std::move(input.shadowAtlas);
   impl->onDevice.forward = impl->forward.get();
   impl->info.drawsScene = impl->forward != nullptr;
   return impl;
@@ -282,6 +297,8 @@ Frame Frame::fromScene(Device& device, const SceneRequest& r) {
     o.variant = r.variant;
     o.normalMaps = r.normalMaps;
     o.shadows = r.shadows;
+    o.shadowMapSize = r.shadowMapSize;
+    o.shadowBudgetMB = r.shadowBudgetMB;
     o.shadingModel = r.shadingModel;
     o.features = r.features;
     o.seed = r.seed;
@@ -492,6 +509,7 @@ void Frame::dump(const std::string& dir) const {
     impl_->readHostPlanes();
     writeGBufferDump(impl_->device->cl, impl_->onDevice, impl_->prepared, impl_->info.sceneName,
                      impl_->info.source, dir);
+    if (impl_->shadowAtlas) writeShadowAtlasDump(*impl_->shadowAtlas, dir);
   });
 }
 

@@ -83,6 +83,29 @@ void validateRenderOptions(const RenderOptions& o) {
 
 namespace {
 
+// stats.json's shadow_maps: null without a shadow-casting light.
+nlohmann::json shadowMapsJson(const FrameInfo& info, const RenderOptions& o) {
+  if (!info.shadowMaps) return nullptr;
+  const ShadowMapsInfo& s = *info.shadowMaps;
+  nlohmann::json lights = nlohmann::json::array();
+  for (const ShadowMapLight& l : s.lights)
+    lights.push_back({{"light", l.light},
+                      {"type", l.type},
+                      {"faces", l.faces},
+                      {"requested_size", l.requestedSize},
+                      {"size", l.size}});
+  return {{"map_size", o.shadowMapSize},
+          {"budget_mb", o.shadowBudgetMB},
+          {"faces", s.faces},
+          {"atlas_width", s.atlasWidth},
+          {"atlas_height", s.atlasHeight},
+          {"bytes", s.bytes},
+          {"triangles_drawn", s.trianglesDrawn},
+          {"draw_ms", s.drawMs},
+          {"lights", lights},
+          {"notes", s.notes}};
+}
+
 std::string kernelSummary(const ShadeResult& r) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(3);
@@ -108,6 +131,8 @@ Frame loadFrame(Device& device, const RenderOptions& o) {
   r.variant = o.variant;
   r.normalMaps = o.normalMaps;
   r.shadows = o.shadows;
+  r.shadowMapSize = o.shadowMapSize;
+  r.shadowBudgetMB = o.shadowBudgetMB;
   r.shadingModel = o.shadingModel;
   r.features = o.features;
   r.seed = o.seed;
@@ -173,6 +198,10 @@ void runRender(const RenderOptions& options) {
   Device device(options.device);  // a bad --device fails before the scene is loaded
   Frame frame = loadFrame(device, options);
   const FrameInfo& info = frame.info();
+  // Shadow maps that lost resolution to the budget (or cover less than a spot cone): never silent.
+  if (info.shadowMaps)
+    for (const std::string& note : info.shadowMaps->notes)
+      std::cerr << "tileshade: note: " << note << "\n";
   const std::vector<std::string> techniques = expandTechniques(options.techniques, info.drawsScene);
   // The forward techniques draw the scene: a frame without one (software raster, imported
   // G-buffer) cannot be theirs. Said before any file is written.
@@ -218,7 +247,16 @@ void runRender(const RenderOptions& options) {
             << "features: " << info.features << "\n"
             << "raster: " << info.sourceDetail << ", " << std::fixed << std::setprecision(1)
             << info.rasterMs << " ms (setup " << info.rasterSetupMs << " ms)\n"
-            << std::defaultfloat << "device: " << device.name() << "\n";
+            << std::defaultfloat;
+  if (info.shadowMaps)
+    std::cout << "shadow maps: " << info.shadowMaps->faces << " face(s) of "
+              << info.shadowMaps->lights.size() << " light(s) in a " << info.shadowMaps->atlasWidth
+              << "x" << info.shadowMaps->atlasHeight << " atlas (" << std::fixed
+              << std::setprecision(1) << double(info.shadowMaps->bytes) / double(1 << 20)
+              << " MB), " << info.shadowMaps->drawMs
+              << " ms (software, depth only; not shaded yet)\n"
+              << std::defaultfloat;
+  std::cout << "device: " << device.name() << "\n";
   if (references)
     std::cout << "reference: " << references->reference.contributing
               << " contributing light evaluations (the ideal), peak " << references->reference.peak
@@ -310,6 +348,7 @@ void runRender(const RenderOptions& options) {
       {"normal_maps", o.normalMaps},
       {"shadows", o.shadows.empty() ? "scene" : o.shadows},
       {"shadow_casting_lights", info.shadowCastingLights},
+      {"shadow_maps", shadowMapsJson(info, o)},
       {"geometry_pixels", info.geometryPixels},
       {"tile", {o.tileWidth, o.tileHeight}},
       {"culling", toString(o.culling)},

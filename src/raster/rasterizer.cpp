@@ -51,6 +51,13 @@
 // ts_normal_mapped in shaders/normal_mapping.h perturbs the interpolated normal before the
 // double-sided flip, with the perspective-correct interpolation of the view-space tangents.
 //
+// Depth only (rasterizeDepth, the shadow maps of raster/shadow_maps.h): the same setup, clipping,
+// binning and fill rule over a list of triangles, without the vertex pass (positions are
+// transformed as the setup reads them: a face draws few of the scene's triangles) and without
+// attributes: a tile keeps the nearest depth per pixel. Orthographic views (directional lights)
+// use clip w = 1, no near clip, and interpolate -Z_view with the barycentrics; depth outside
+// [znear, zfar] is rejected per pixel.
+//
 // Material planes: ts_material_planes in shaders/material_planes.h, the one definition the OpenGL
 // rasterizer (src/raster/gl_rasterizer.cpp, shaders/gbuffer.frag) compiles as GLSL; these notes'
 // conventions are mirrored there, convention by convention (docs/opengl.md).
@@ -171,8 +178,9 @@ struct Frame {
   int width, height;
   int tilesX, tilesY;
   double znear, zfar;
-  double tanX, tanY;
+  double tanX, tanY;      // orthographic: the half extents
   double guardX, guardY;  // guard band in NDC units (|ndc| <= guard)
+  bool ortho = false;     // rasterizeDepth's orthographic views: clip w = 1, depth interpolated
 };
 
 // A covered fragment: returns its inverse linear depth 1 / -Z_view (> 0) and, when kBary, its
@@ -211,26 +219,50 @@ class Rasterizer {
  public:
   Rasterizer(const Scene& scene, const SceneCamera& camera, int width, int height,
              const RasterOptions& options)
-      : scene_(scene), camera_(camera), options_(options) {
+      : scene_(scene), view_(camera.viewFromWorld), options_(options) {
+    CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+    setFrame(width, height, in.znear, in.zfar, in.tanHalfFovX, in.tanHalfFovY, options.threads);
+    validateForRaster(scene_);
+    normalMaps_ = options.normalMaps && !scene_.tangents.empty();
+  }
+
+  // Depth only (rasterizeDepth): `triangles` of a scene that passed validateForRaster.
+  Rasterizer(const Scene& scene, const DepthView& view, const std::vector<uint32_t>& triangles,
+             int width, int height, int threads)
+      : scene_(scene), view_(view.viewFromWorld), triangles_(&triangles), depthOnly_(true) {
+    setFrame(width, height, view.znear, view.zfar, view.halfX, view.halfY, threads);
+    frame_.ortho = view.orthographic;
+  }
+
+  void setFrame(int width, int height, double znear, double zfar, double tanX, double tanY,
+                int threads) {
     if (width > kMaxImageSize || height > kMaxImageSize)
       throw Error("image size is limited to " + std::to_string(kMaxImageSize) + " per side, got " +
                   std::to_string(width) + "x" + std::to_string(height));
-    CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
     frame_.width = width;
     frame_.height = height;
     frame_.tilesX = (width + kTileSize - 1) / kTileSize;
     frame_.tilesY = (height + kTileSize - 1) / kTileSize;
-    frame_.znear = in.znear;
-    frame_.zfar = in.zfar;
-    frame_.tanX = in.tanHalfFovX;
-    frame_.tanY = in.tanHalfFovY;
+    frame_.znear = znear;
+    frame_.zfar = zfar;
+    frame_.tanX = tanX;
+    frame_.tanY = tanY;
     frame_.guardX = 1.0 + 2.0 * kGuardBandPixels / width;
     frame_.guardY = 1.0 + 2.0 * kGuardBandPixels / height;
-    workers_ = options.threads > 0 ? options.threads
-                                   : int(std::max(1u, std::thread::hardware_concurrency()));
+    workers_ = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
     workers_ = std::min(workers_, kMaxWorkers);
-    validateForRaster(scene_);
-    normalMaps_ = options.normalMaps && !scene_.tangents.empty();
+  }
+
+  // The nearest depth per pixel into `target` (rows of `stride` floats), `clear` where none.
+  void runDepth(float* target, size_t stride, float clear) {
+    // No vertex pass: a face draws few of the scene's triangles (those its frustum touches), and
+    // many small faces would each pay for every vertex (viewPositionOf transforms per use).
+    size_t triangles = triangles_->size();
+    int ranges = triangles < 1024 ? 1 : workers_;
+    outputs_.assign(size_t(ranges), WorkerOutput{});
+    parallelRanges(triangles, ranges, [&](size_t b, size_t e, int k) { setup(b, e, outputs_[k]); });
+    parallelItems(frame_.tilesX * frame_.tilesY, workers_,
+                  [&](int tile, int) { depthTile(tile, target, stride, clear); });
   }
 
   GBuffer run() {
@@ -262,7 +294,7 @@ class Rasterizer {
   };
 
   void transformVertices() {
-    const glm::dmat4 view(camera_.viewFromWorld);
+    const glm::dmat4 view(view_);
     const glm::mat3 normalMatrix(glm::transpose(glm::inverse(glm::dmat3(view))));
     size_t n = scene_.vertices.size();
     viewPosition_.reserve(n);
@@ -290,8 +322,14 @@ class Rasterizer {
     });
   }
 
+  // A vertex in view space: from the vertex pass, or computed now (depth only), the same way.
+  glm::dvec3 viewPositionOf(uint32_t i) const {
+    if (!depthOnly_) return viewPosition_[i];
+    return glm::dvec3(view_ * glm::dvec4(glm::dvec3(scene_.vertices[i].position), 1.0));
+  }
+
   ClipVertex toClip(const glm::dvec3& p, int corner) const {
-    ClipVertex c{p.x / frame_.tanX, p.y / frame_.tanY, -p.z, {0.0, 0.0, 0.0}};
+    ClipVertex c{p.x / frame_.tanX, p.y / frame_.tanY, frame_.ortho ? 1.0 : -p.z, {0.0, 0.0, 0.0}};
     c.b[corner] = 1.0;
     return c;
   }
@@ -334,10 +372,11 @@ class Rasterizer {
                                  out.fallbacks.capacity() * sizeof(SubFallback));
     const double zn = frame_.znear, zf = frame_.zfar;
     const double gx = frame_.guardX, gy = frame_.guardY;
-    for (size_t tri = begin; tri < end; ++tri) {
-      const glm::dvec3& p0 = viewPosition_[scene_.indices[3 * tri]];
-      const glm::dvec3& p1 = viewPosition_[scene_.indices[3 * tri + 1]];
-      const glm::dvec3& p2 = viewPosition_[scene_.indices[3 * tri + 2]];
+    for (size_t item = begin; item < end; ++item) {
+      const size_t tri = triangles_ ? size_t((*triangles_)[item]) : item;
+      const glm::dvec3 p0 = viewPositionOf(scene_.indices[3 * tri]);
+      const glm::dvec3 p1 = viewPositionOf(scene_.indices[3 * tri + 1]);
+      const glm::dvec3 p2 = viewPositionOf(scene_.indices[3 * tri + 2]);
       ClipVertex v[3] = {toClip(p0, 0), toClip(p1, 1), toClip(p2, 2)};
 
       bool finite = true;
@@ -347,8 +386,9 @@ class Rasterizer {
       auto allOutside = [&](auto outside) {
         return outside(v[0]) && outside(v[1]) && outside(v[2]);
       };
-      if (allOutside([&](const ClipVertex& c) { return c.w < zn; }) ||
-          allOutside([&](const ClipVertex& c) { return c.w > zf; }) ||
+      // Linear depth -Z: clip w, except in orthographic views (w = 1 there).
+      const double d0 = -p0.z, d1 = -p1.z, d2 = -p2.z;
+      if ((d0 < zn && d1 < zn && d2 < zn) || (d0 > zf && d1 > zf && d2 > zf) ||
           allOutside([&](const ClipVertex& c) { return c.x > c.w; }) ||
           allOutside([&](const ClipVertex& c) { return c.x < -c.w; }) ||
           allOutside([&](const ClipVertex& c) { return c.y > c.w; }) ||
@@ -367,7 +407,8 @@ class Rasterizer {
         n = clipPolygon(poly, n, dst, dist);
         poly = dst;
       };
-      clipIf([&](const ClipVertex& c) { return c.w - zn; });
+      // Orthographic views need no near clip (w = 1): depth is tested per pixel.
+      if (!frame_.ortho) clipIf([&](const ClipVertex& c) { return c.w - zn; });
       clipIf([&](const ClipVertex& c) { return gx * c.w - c.x; });
       clipIf([&](const ClipVertex& c) { return gx * c.w + c.x; });
       clipIf([&](const ClipVertex& c) { return gy * c.w - c.y; });
@@ -553,6 +594,59 @@ class Rasterizer {
     }
   }
 
+  // rasterizeDepth's tile: the nearest depth per pixel (which triangle does not matter, so no
+  // tie-break is needed for the same output on any thread count).
+  void depthTile(int tile, float* target, size_t stride, float clear) const {
+    const int tx = tile % frame_.tilesX, ty = tile / frame_.tilesX;
+    const int x0 = tx * kTileSize, y0 = ty * kTileSize;
+    const int x1 = std::min(x0 + kTileSize, frame_.width) - 1;
+    const int y1 = std::min(y0 + kTileSize, frame_.height) - 1;
+    const int tw = x1 - x0 + 1, th = y1 - y0 + 1;
+    // Perspective: 1 / depth (larger is nearer, 0 none); orthographic: depth (inf none).
+    double best[kTileSize * kTileSize];
+    const bool ortho = frame_.ortho;
+    std::fill(best, best + tw * th, ortho ? std::numeric_limits<double>::infinity() : 0.0);
+    const double invFar = 1.0 / frame_.zfar, zn = frame_.znear, zf = frame_.zfar;
+    for (const WorkerOutput& w : outputs_)
+      for (uint32_t si : w.bins[size_t(tile)]) {
+        const SubTriangle& s = w.subs[si];
+        const TriangleSetup& t = w.setups[s.setup];
+        const SubFallback& fb = w.fallbacks[si];
+        const int bx0 = std::max(x0, int(s.x0)), bx1 = std::min(x1, int(s.x1));
+        const int by0 = std::max(y0, int(s.y0)), by1 = std::min(y1, int(s.y1));
+        double vd[3] = {0.0, 0.0, 0.0};  // the vertices' depths (orthographic)
+        if (ortho)
+          for (int k = 0; k < 3; ++k) vd[k] = -viewPositionOf(scene_.indices[3 * t.triangle + k]).z;
+        for (int y = by0; y <= by1; ++y) {
+          const int64_t cy = int64_t(y) * kSubOne + kSubHalf;
+          for (int x = bx0; x <= bx1; ++x) {
+            const int64_t cx = int64_t(x) * kSubOne + kSubHalf;
+            int64_t e[3];
+            for (int i = 0; i < 3; ++i) e[i] = s.ea[i] * cx + s.eb[i] * cy + s.ec[i];
+            if ((e[0] | e[1] | e[2]) < 0) continue;
+            for (int i = 0; i < 3; ++i) e[i] += int64_t((s.bias >> i) & 1);
+            const int p = (y - y0) * tw + (x - x0);
+            if (ortho) {
+              double B[3];
+              evaluate<true>(t, fb, x + 0.5, y + 0.5, e, B);
+              const double depth = B[0] * vd[0] + B[1] * vd[1] + B[2] * vd[2];
+              if (depth >= zn && depth <= zf && depth < best[p]) best[p] = depth;
+            } else {
+              const double inv = evaluate<false>(t, fb, x + 0.5, y + 0.5, e, nullptr);
+              if (inv >= invFar && inv > best[p]) best[p] = inv;
+            }
+          }
+        }
+      }
+    for (int ly = 0; ly < th; ++ly)
+      for (int lx = 0; lx < tw; ++lx) {
+        const double b = best[ly * tw + lx];
+        const bool none = ortho ? !(b < std::numeric_limits<double>::infinity()) : !(b > 0.0);
+        target[size_t(y0 + ly) * stride + size_t(x0 + lx)] =
+            none ? clear : float(ortho ? b : 1.0 / b);
+      }
+  }
+
   void resolve(int x0, int y0, int tw, int th, const TileScratch& sc, GBuffer& g) const {
     static const Material kDefaultMaterial;
     for (int ly = 0; ly < th; ++ly)
@@ -629,7 +723,9 @@ class Rasterizer {
   }
 
   const Scene& scene_;
-  const SceneCamera& camera_;
+  glm::dmat4 view_;
+  const std::vector<uint32_t>* triangles_ = nullptr;  // rasterizeDepth's; null: every triangle
+  bool depthOnly_ = false;  // rasterizeDepth: no vertex pass, no attributes
   RasterOptions options_;
   Frame frame_{};
   int workers_ = 1;
@@ -645,6 +741,13 @@ class Rasterizer {
 GBuffer rasterize(const Scene& scene, const SceneCamera& camera, int width, int height,
                   const RasterOptions& options) {
   return Rasterizer(scene, camera, width, height, options).run();
+}
+
+void rasterizeDepth(const Scene& scene, const DepthView& view,
+                    const std::vector<uint32_t>& triangles, int width, int height, float* target,
+                    size_t rowStride, float clear, int threads) {
+  if (width < 1 || height < 1) return;
+  Rasterizer(scene, view, triangles, width, height, threads).runDepth(target, rowStride, clear);
 }
 
 }  // namespace ts

@@ -103,4 +103,31 @@ void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFra
   writeFile(dir + "/gbuffer.json", d.dump(2) + "\n");
 }
 
+void writeShadowAtlasDump(const ShadowAtlas& atlas, const std::string& dir) {
+  const ShadowAtlasLayout& l = atlas.layout;
+  writeExr(dir + "/shadow_atlas.exr", l.width, l.height, {"depth"}, atlas.depth);
+  nlohmann::json faces = nlohmann::json::array();
+  for (const ShadowFace& f : l.faces) {
+    nlohmann::json m = nlohmann::json::array();  // column-major, as glm and OpenGL
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) m.push_back(f.mapFromWorld[c][r]);
+    faces.push_back({{"light", f.light},
+                     {"face", f.face},
+                     {"x", f.x},
+                     {"y", f.y},
+                     {"size", f.size},
+                     {"orthographic", f.view.orthographic},
+                     {"znear", f.view.znear},
+                     {"zfar", f.view.zfar},
+                     {"map_from_world", m}});
+  }
+  const nlohmann::json d = {{"image", "shadow_atlas.exr"},
+                            {"width", l.width},
+                            {"height", l.height},
+                            {"origin", "top"},
+                            {"depth", "linear -Z of the face's view space; zfar where empty"},
+                            {"faces", faces}};
+  writeFile(dir + "/shadow_atlas.json", d.dump(2) + "\n");
+}
+
 }  // namespace ts

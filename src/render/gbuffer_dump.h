@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cl/cl_context.h"
+#include "raster/shadow_maps.h"
 #include "render/frame_setup.h"
 #include "techniques/technique.h"
 
@@ -23,5 +24,10 @@ std::vector<float> decodeOnDevice(ClContext& cl, const DeviceFrame& frame, GBuff
 // for prepared's layout and features); `scene` and `raster` are recorded in the descriptor.
 void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFrame& prepared,
                       const std::string& scene, const std::string& raster, const std::string& dir);
+
+// Writes DIR/shadow_atlas.exr (one channel "depth": each face's linear depths, docs/shadows.md)
+// and DIR/shadow_atlas.json (per face: its light, cube face, rectangle, depth range and
+// world-to-clip matrix).
+void writeShadowAtlasDump(const ShadowAtlas& atlas, const std::string& dir);
 
 }  // namespace ts

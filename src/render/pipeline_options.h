@@ -10,6 +10,7 @@
 
 #include "gbuffer/gbuffer_layout.h"
 #include "raster/raster_backend.h"
+#include "raster/shadow_atlas.h"
 #include "scene/scene_features.h"
 #include "scene/scene_loader.h"
 #include "techniques/technique.h"
@@ -19,14 +20,16 @@ namespace ts {
 struct PipelineOptions {
   std::string device;  // "" = default (see ClContext)
   std::string scene = "builtin:street";
-  std::string lightSet;               // "" = the scene's default / the file's own lights
-  int lightCount = -1;                // -1 = the light set's own count
-  float lightRange = 0.0f;            // > 0 overrides every light's range
-  float lightThreshold = 0.0f;        // > 0: ranges from the attenuation threshold (light_range.h)
-  std::string variant;                // built-in scene variants, a comma list (scene_loader.h);
-                                      // "" = none
-  bool normalMaps = true;             // the scene's normal maps applied (--normal-maps)
-  std::string shadows;                // shadow-casting lights (--shadows; shadow_casters.h)
+  std::string lightSet;         // "" = the scene's default / the file's own lights
+  int lightCount = -1;          // -1 = the light set's own count
+  float lightRange = 0.0f;      // > 0 overrides every light's range
+  float lightThreshold = 0.0f;  // > 0: ranges from the attenuation threshold (light_range.h)
+  std::string variant;          // built-in scene variants, a comma list (scene_loader.h);
+                                // "" = none
+  bool normalMaps = true;       // the scene's normal maps applied (--normal-maps)
+  std::string shadows;          // shadow-casting lights (--shadows; shadow_casters.h)
+  int shadowMapSize = kDefaultShadowMapSize;       // --shadow-map-size (shadow_atlas.h)
+  double shadowBudgetMB = kDefaultShadowBudgetMB;  // --shadow-budget, MiB
   std::string shadingModel = "auto";  // auto (the scene's own) or a shadingModelNames() name
   std::string features = "auto";      // auto (the scene's needs), general, or a list
                                       // (chooseFeatures, scene_features.h)

@@ -30,6 +30,8 @@ RenderInput loadImportedInput(const std::string& path, std::optional<GBufferForm
 }
 
 RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
+  const ShadowAtlasOptions shadowOptions{o.shadowMapSize, o.shadowBudgetMB};
+  checkShadowAtlasOptions(shadowOptions);  // before any work, casters or not
   RenderInput input;
   input.scene = std::make_unique<Scene>(loadScene(o.scene, o.sceneOptions()));
   Scene& scene = *input.scene;
@@ -41,6 +43,10 @@ RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
   input.forward = rasterizer.forwardScene(input.frame.camera, o.width, o.height);
   input.lightSummary = describeLights(scene.lights);
   input.shadowCasters = shadowCasterCount(scene.lights);
+  if (input.shadowCasters > 0)
+    input.shadowAtlas = std::make_shared<ShadowAtlas>(drawShadowAtlas(
+        scene, planShadowAtlas(scene.lights, scene.bounds(), input.frame.camera, shadowOptions,
+                               viewGeometryBounds(input.frame.gbuffer, input.frame.camera))));
   input.sceneName = scene.name;
   input.triangles = scene.triangleCount();
   input.raster = toString(rasterizer.backend());

@@ -8,6 +8,7 @@
 
 #include "raster/forward_scene.h"
 #include "raster/raster_backend.h"
+#include "raster/shadow_maps.h"
 #include "render/frame_setup.h"
 #include "render/pipeline_options.h"
 
@@ -22,6 +23,9 @@ struct RenderInput {
   double rasterSetupMs = 0.0;  // one-time cost before the frame (OpenGL context, upload)
   std::string lightSummary;    // "924 lights" or "12 lights: 6 point, 5 spot, 1 directional"
   size_t shadowCasters = 0;    // lights marked to cast a shadow (not shaded yet)
+  // Their shadow maps (a scene with shadowCasters > 0; drawn by the software rasterizer for
+  // --raster gl too), else null. Nothing shades with them yet.
+  std::shared_ptr<const ShadowAtlas> shadowAtlas;
   // The scene and its rasterizer, kept for the forward techniques, which draw the scene
   // (DeviceFrame::forward): `forward` is set for a scene rasterized with --raster gl, null for
   // the software rasterizer and an imported G-buffer (no scene).
@@ -31,7 +35,8 @@ struct RenderInput {
 };
 
 // Frame `frame` of the scene `o` describes, rasterized; its features are the scene's
-// (--shading-model, --features; resolveFeatures). Throws ts::Error for a bad scene or rasterizer.
+// (--shading-model, --features; resolveFeatures), with the shadow maps of its shadow-casting
+// lights. Throws ts::Error for a bad scene, rasterizer or shadow-map option or budget.
 RenderInput loadSceneInput(const PipelineOptions& o, int frame);
 // The G-buffer files at `path` (importGBuffer) encoded in `format` (default: the files' own
 // layout); its features those of its files, overridden by `features` (chooseFeatures). Throws

@@ -89,8 +89,8 @@ struct SceneLight {
   float innerConeAngle = 0.0f;           // spot, radians: 0 <= inner < outer <= pi/2 (a float
                                          // of pi/2 is 4.4e-8 above it: taken as pi/2)
   float outerConeAngle = 0.7853981634f;  // spot, radians (glTF's default pi/4)
-  // Marked to cast a shadow (glTF extras "castsShadow", or --shadows). Recorded only: no
-  // technique shades shadows yet.
+  // Marked to cast a shadow (glTF extras "castsShadow", or --shadows). Its shadow maps are
+  // drawn (raster/shadow_maps.h); no technique shades shadows yet.
   bool castsShadow = false;
 
   static SceneLight point(glm::dvec3 position, glm::vec3 color, float range);

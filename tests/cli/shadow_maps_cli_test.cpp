@@ -1,0 +1,121 @@
+// `render` with shadow-casting lights: the shadow atlas in stats.json and --dump, the budget's
+// note, the images unchanged (nothing shades shadows yet), and bad shadow-map options.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "gbuffer/image_io.h"
+#include "test_support.h"
+
+namespace ts {
+namespace {
+
+using test::CliRun;
+using test::runTileshade;
+
+const std::string kFrame = "render --scene builtin:atrium --width 64 --height 36 --device cpu ";
+
+TEST(ShadowMapsCli, StatsAndDumpHoldTheAtlas) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_maps";
+  const auto plain = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_maps_none";
+  std::filesystem::remove_all(tmp);
+  std::filesystem::remove_all(plain);
+  CliRun r = runTileshade(kFrame + "--shadows 3 --shadow-map-size 64 --dump --out " + tmp.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("shadow maps: 18 face(s) of 3 light(s)"), std::string::npos) << r.output;
+  const nlohmann::json stats = nlohmann::json::parse(std::ifstream(tmp / "stats.json"));
+  const nlohmann::json& s = stats["shadow_maps"];
+  ASSERT_TRUE(s.is_object()) << stats.dump();
+  EXPECT_EQ(s["map_size"], 64);
+  EXPECT_EQ(s["budget_mb"], 64.0);
+  ASSERT_EQ(s["lights"].size(), 3u);
+  uint64_t faces = 0, area = 0;
+  for (const auto& l : s["lights"]) {
+    EXPECT_EQ(l["size"], 64);
+    faces += l["faces"].get<uint64_t>();
+    area += l["faces"].get<uint64_t>() * 64 * 64;
+  }
+  EXPECT_EQ(s["faces"].get<uint64_t>(), faces);
+  const int w = s["atlas_width"], h = s["atlas_height"];
+  EXPECT_EQ(s["bytes"].get<uint64_t>(), uint64_t(w) * uint64_t(h) * 4u);
+  EXPECT_GE(uint64_t(w) * uint64_t(h), area);
+  EXPECT_GT(s["triangles_drawn"].get<uint64_t>(), 0u);
+  EXPECT_TRUE(s["notes"].empty());
+
+  // The dumped atlas: its size, and per face depths within (0, zfar]; some faces see geometry
+  // within their light's range (the atrium's lights are small: not every face does).
+  const FloatImage atlas = readImage((tmp / "shadow_atlas.exr").string());
+  ASSERT_EQ(atlas.width, w);
+  ASSERT_EQ(atlas.height, h);
+  ASSERT_EQ(atlas.channels.size(), 1u);
+  EXPECT_EQ(atlas.channels[0], "depth");
+  const nlohmann::json layout = nlohmann::json::parse(std::ifstream(tmp / "shadow_atlas.json"));
+  ASSERT_EQ(layout["faces"].size(), faces);
+  size_t near = 0;
+  for (const auto& f : layout["faces"]) {
+    const int x0 = f["x"], y0 = f["y"], size = f["size"];
+    const float zfar = f["zfar"];
+    size_t bad = 0;
+    for (int y = y0; y < y0 + size; ++y)
+      for (int x = x0; x < x0 + size; ++x) {
+        const float d = atlas.data[size_t(y) * size_t(w) + size_t(x)];
+        bad += !(d > 0.0f && d <= zfar);
+        near += d < zfar;
+      }
+    EXPECT_EQ(bad, 0u) << f.dump();
+  }
+  EXPECT_GT(near, 0u);
+
+  // Nothing shades with the maps yet: the image is the one without shadow-casting lights.
+  r = runTileshade(kFrame + "--shadows none --out " + plain.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  // (Pixels, not bytes: the EXR header holds the time it was written.)
+  const FloatImage shadowed = readImage((tmp / "image.exr").string());
+  const FloatImage unshadowed = readImage((plain / "image.exr").string());
+  EXPECT_GT(shadowed.data.size(), 0u);
+  EXPECT_TRUE(shadowed.data == unshadowed.data);
+  const nlohmann::json none = nlohmann::json::parse(std::ifstream(plain / "stats.json"));
+  EXPECT_TRUE(none["shadow_maps"].is_null());
+  EXPECT_FALSE(std::filesystem::exists(plain / "shadow_atlas.exr"));
+}
+
+TEST(ShadowMapsCli, TheBudgetShrinksMapsWithANote) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_budget";
+  std::filesystem::remove_all(tmp);
+  CliRun r = runTileshade(kFrame + "--shadows 20 --shadow-budget 1 --out " + tmp.string(),
+                          test::Streams::StderrOnly);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("tileshade: note: shadow maps: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("lost resolution to --shadow-budget 1 MB"), std::string::npos)
+      << r.output;
+  const nlohmann::json s = nlohmann::json::parse(std::ifstream(tmp / "stats.json"))["shadow_maps"];
+  EXPECT_LE(s["bytes"].get<uint64_t>(), uint64_t(1) << 20);
+  ASSERT_EQ(s["notes"].size(), 1u);
+  size_t lost = 0;
+  for (const auto& l : s["lights"]) lost += l["size"] < l["requested_size"];
+  EXPECT_GT(lost, 0u);
+}
+
+TEST(ShadowMapsCli, BadOptionsFailWithOneLine) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_bad";
+  for (const char* args : {"--shadows 20 --shadow-budget 0.001", "--shadow-map-size 100",
+                           "--shadow-map-size 8", "--shadow-map-size 16384", "--shadow-budget 0",
+                           "--shadow-budget -3", "--shadow-budget 5000", "--shadow-budget nan"}) {
+    CliRun r = runTileshade(kFrame + args + " --out " + tmp.string());
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("error"), std::string::npos) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("--shadow-"), std::string::npos) << args << ": " << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace ts

@@ -1,0 +1,287 @@
+// The shadow maps drawn (src/raster/shadow_maps.cpp, rasterizeDepth): a floor at y = 0 with a box
+// on it, seen from lights above. Every texel is checked against a ray cast from the face's eye
+// through the texel's centre: the map holds the hit's linear depth along the face's axis within
+// kTolerance of it (relative), except on silhouettes (texels whose ray, moved by 1/50 texel,
+// hits something else: the rasterizer snaps to 1/256 pixel).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "raster/shadow_maps.h"
+#include "scene/mesh_builder.h"
+
+namespace {
+
+using ts::Scene;
+using ts::SceneLight;
+using ts::ShadowAtlas;
+using ts::ShadowFace;
+
+constexpr double kTolerance = 1e-5;  // relative: float storage and the double ray-plane solve
+constexpr float kFloor = 10.0f;      // the floor spans [-kFloor, kFloor] in x and z
+const glm::vec3 kBoxLo(-1.0f, 0.0f, -1.0f), kBoxHi(1.0f, 1.0f, 1.0f);
+
+Scene floorAndBox() {
+  Scene s;
+  s.name = "floor-and-box";
+  ts::MeshBuilder b(s);
+  const uint32_t m = b.addMaterial(ts::Material{});
+  b.quad({-kFloor, 0.0f, kFloor}, {kFloor, 0.0f, kFloor}, {kFloor, 0.0f, -kFloor},
+         {-kFloor, 0.0f, -kFloor}, m);
+  b.box(kBoxLo, kBoxHi, m, false);
+  s.cameraPath.push_back(ts::SceneCamera::lookAt({0.0, 3.0, 12.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0},
+                                                 1.0f, 0.1f, 100.0f));
+  return s;
+}
+
+enum class Hit { None, Floor, Box };
+
+// The nearest hit of the ray o + t d (t > 0) with the floor and the box.
+Hit cast(const glm::dvec3& o, const glm::dvec3& d, double& t) {
+  t = std::numeric_limits<double>::infinity();
+  Hit hit = Hit::None;
+  if (d.y < 0.0) {
+    const double tf = -o.y / d.y;
+    const glm::dvec3 p = o + tf * d;
+    if (tf > 0.0 && std::abs(p.x) <= kFloor && std::abs(p.z) <= kFloor) {
+      t = tf;
+      hit = Hit::Floor;
+    }
+  }
+  double t0 = -std::numeric_limits<double>::infinity(), t1 = -t0;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0) {
+      if (o[k] < kBoxLo[k] || o[k] > kBoxHi[k]) return hit;
+      continue;
+    }
+    double a = (kBoxLo[k] - o[k]) / d[k], b = (kBoxHi[k] - o[k]) / d[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+  }
+  if (t0 <= t1 && t0 > 0.0 && t0 < t) {
+    t = t0;
+    hit = Hit::Box;
+  }
+  return hit;
+}
+
+// The ray through face texel (u, v) in [0, size)^2 as fractions: origin and direction with a view
+// z of -1 (so t is the linear depth).
+void texelRay(const ShadowFace& f, double u, double v, glm::dvec3& o, glm::dvec3& d) {
+  const double nx = 2.0 * u / f.size - 1.0, ny = 1.0 - 2.0 * v / f.size;
+  const glm::dmat4 worldFromView = glm::inverse(f.view.viewFromWorld);
+  if (f.view.orthographic) {
+    o = glm::dvec3(worldFromView * glm::dvec4(nx * f.view.halfX, ny * f.view.halfY, 0.0, 1.0));
+    d = glm::dvec3(worldFromView * glm::dvec4(0.0, 0.0, -1.0, 0.0));
+  } else {
+    o = glm::dvec3(worldFromView * glm::dvec4(0.0, 0.0, 0.0, 1.0));
+    d = glm::dvec3(worldFromView * glm::dvec4(nx * f.view.halfX, ny * f.view.halfY, -1.0, 0.0));
+  }
+}
+
+struct FaceCheck {
+  size_t floor = 0, box = 0, empty = 0, silhouette = 0, wrong = 0;
+  size_t boxNearer = 0;  // box texels nearer than the floor's plane along the same ray
+  double floorDepth = 0.0, boxDepth = 0.0;  // the last seen
+};
+
+FaceCheck checkFace(const ShadowAtlas& atlas, const ShadowFace& f) {
+  FaceCheck c;
+  for (int y = 0; y < f.size; ++y)
+    for (int x = 0; x < f.size; ++x) {
+      glm::dvec3 o, d;
+      double t = 0.0, ts = 0.0;
+      texelRay(f, x + 0.5, y + 0.5, o, d);
+      const Hit hit = cast(o, d, t);
+      bool edge = false;
+      for (int k = 0; k < 4 && !edge; ++k) {
+        glm::dvec3 oe, de;
+        texelRay(f,
+                 x + 0.5 +
+                     (k == 0   ? 0.02
+                      : k == 1 ? -0.02
+                               : 0.0),
+                 y + 0.5 +
+                     (k == 2   ? 0.02
+                      : k == 3 ? -0.02
+                               : 0.0),
+                 oe, de);
+        edge = cast(oe, de, ts) != hit;
+      }
+      if (hit != Hit::None && (t < f.view.znear || t > f.view.zfar)) edge = true;
+      if (edge) {
+        ++c.silhouette;
+        continue;
+      }
+      const float stored = atlas.at(f.x + x, f.y + y);
+      const double expected = hit == Hit::None ? f.view.zfar : t;
+      if (!(std::abs(stored - expected) <= kTolerance * expected)) {
+        if (c.wrong < 5)
+          ADD_FAILURE() << "face " << f.face << " texel " << x << "," << y << ": " << stored
+                        << ", expected " << expected;
+        ++c.wrong;
+      }
+      if (hit == Hit::Floor) {
+        ++c.floor;
+        c.floorDepth = stored;
+      } else if (hit == Hit::Box) {
+        ++c.box;
+        c.boxDepth = stored;
+        if (d.y < 0.0 && stored < -o.y / d.y) ++c.boxNearer;
+      } else {
+        ++c.empty;
+      }
+    }
+  return c;
+}
+
+ShadowAtlas drawFor(const Scene& scene, std::vector<SceneLight> lights, int threads = 2,
+                    int mapSize = 128) {
+  for (SceneLight& l : lights) l.castsShadow = true;
+  ts::ShadowAtlasOptions o;
+  o.mapSize = mapSize;
+  const ts::ShadowAtlasLayout layout = planShadowAtlas(lights, scene.bounds(), scene.camera(0), o);
+  return drawShadowAtlas(scene, layout, threads);
+}
+
+ShadowAtlas drawFor(const Scene& scene, const SceneLight& light) {
+  return drawFor(scene, std::vector<SceneLight>{light});
+}
+
+TEST(ShadowMaps, PointLightCubeFacesHoldAnalyticDepths) {
+  const Scene scene = floorAndBox();
+  const ShadowAtlas atlas = drawFor(scene, SceneLight::point({0.0, 4.0, 0.0}, glm::vec3(1), 20));
+  ASSERT_EQ(atlas.layout.faces.size(), 6u);
+  for (const ShadowFace& f : atlas.layout.faces) {
+    const FaceCheck c = checkFace(atlas, f);
+    EXPECT_EQ(c.wrong, 0u) << "face " << f.face;
+    if (f.face == 3) {  // -Y: the floor at depth 4, the box's top at 3
+      EXPECT_GT(c.floor, 0u);
+      EXPECT_GT(c.box, 0u);
+      EXPECT_NEAR(c.floorDepth, 4.0, 4.0 * kTolerance);
+      EXPECT_NEAR(c.boxDepth, 3.0, 3.0 * kTolerance);
+      EXPECT_EQ(c.boxNearer, c.box);
+      EXPECT_EQ(c.empty, 0u);
+    }
+    if (f.face == 2) {  // +Y: nothing above the light, nothing drawn: all at the far value
+      EXPECT_EQ(c.empty, size_t(f.size) * size_t(f.size));
+      EXPECT_EQ(atlas.faceTriangles[2], 0u);
+    }
+  }
+  // The side faces see the floor's far part below their horizon.
+  EXPECT_GT(checkFace(atlas, atlas.layout.faces[0]).floor, 0u);
+}
+
+TEST(ShadowMaps, SpotLightLookingDownHoldsTheSameDepths) {
+  const Scene scene = floorAndBox();
+  const ShadowAtlas atlas = drawFor(
+      scene, SceneLight::spot({0.0, 4.0, 0.0}, {0.0f, -1.0f, 0.0f}, glm::vec3(1), 20, 0.3f, 0.6f));
+  ASSERT_EQ(atlas.layout.faces.size(), 1u);
+  const FaceCheck c = checkFace(atlas, atlas.layout.faces[0]);
+  EXPECT_EQ(c.wrong, 0u);
+  EXPECT_GT(c.floor, 0u);
+  EXPECT_GT(c.box, 0u);
+  EXPECT_NEAR(c.floorDepth, 4.0, 4.0 * kTolerance);
+  EXPECT_NEAR(c.boxDepth, 3.0, 3.0 * kTolerance);
+}
+
+TEST(ShadowMaps, DirectionalMapCoversTheScene) {
+  const Scene scene = floorAndBox();
+  for (glm::vec3 dir :
+       {glm::vec3(0.0f, -1.0f, 0.0f), glm::normalize(glm::vec3(0.4f, -1.0f, 0.3f))}) {
+    const ShadowAtlas atlas = drawFor(scene, SceneLight::directional(dir, glm::vec3(1)));
+    ASSERT_EQ(atlas.layout.faces.size(), 1u);
+    const ShadowFace& f = atlas.layout.faces[0];
+    EXPECT_TRUE(f.view.orthographic);
+    const FaceCheck c = checkFace(atlas, f);
+    EXPECT_EQ(c.wrong, 0u);
+    EXPECT_GT(c.box, 0u);
+    // Looking straight down the fit is the floor itself: every texel sees it or the box; slanted,
+    // the square fit around the scene's box holds the floor's parallelogram and some empty rim.
+    if (dir.y == -1.0f) {
+      EXPECT_EQ(c.empty, 0u);
+    }
+    EXPECT_GT(c.floor, size_t(f.size) * size_t(f.size) / 4);
+    EXPECT_EQ(c.boxNearer, c.box);
+    EXPECT_EQ(atlas.trianglesDrawn(), scene.triangleCount());
+  }
+}
+
+// The view's geometry from a G-buffer: inside the scene, around what the camera sees.
+TEST(ShadowMaps, ViewGeometryBoundsHoldWhatTheCameraSees) {
+  const Scene scene = floorAndBox();
+  // Looking down at the box from close by: the floor's far parts are out of view.
+  const ts::SceneCamera close = ts::SceneCamera::lookAt({0.0, 4.0, 0.5}, {0.0, 0.0, 0.0},
+                                                        {0.0, 0.0, -1.0}, 0.6f, 0.1f, 50.0f);
+  ts::RasterOptions o;
+  o.threads = 2;
+  const ts::GBuffer g = ts::rasterize(scene, close, 64, 64, o);
+  const ts::Bounds b = ts::viewGeometryBounds(g, close);
+  const ts::Bounds all = scene.bounds();
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_GE(b.min[k], all.min[k] - 0.2f) << k;
+    EXPECT_LE(b.max[k], all.max[k] + 0.2f) << k;
+  }
+  EXPECT_LT(b.extent().x, all.extent().x / 2.0f);
+  EXPECT_LT(b.extent().z, all.extent().z / 2.0f);
+  EXPECT_GE(b.max.y, 1.0f);  // the box's top is in view
+  EXPECT_LE(b.min.y, 0.0f);  // and the floor around it
+  // A view of nothing: empty.
+  const ts::SceneCamera up = ts::SceneCamera::lookAt({0.0, 4.0, 0.0}, {0.0, 8.0, 0.0},
+                                                     {0.0, 0.0, -1.0}, 0.6f, 0.1f, 50.0f);
+  const ts::Bounds none = ts::viewGeometryBounds(ts::rasterize(scene, up, 16, 16, o), up);
+  EXPECT_GT(none.min.x, none.max.x);
+}
+
+// A directional map fitted to the receivers holds the same analytic depths, finer.
+TEST(ShadowMaps, DirectionalMapFittedToTheReceivers) {
+  const Scene scene = floorAndBox();
+  SceneLight sun =
+      SceneLight::directional(glm::normalize(glm::vec3(0.4f, -1.0f, 0.3f)), glm::vec3(1));
+  sun.castsShadow = true;
+  ts::Bounds receivers;
+  receivers.extend(glm::vec3(-2.0f, 0.0f, -2.0f));
+  receivers.extend(glm::vec3(2.0f, 1.0f, 2.0f));
+  ts::ShadowAtlasOptions o;
+  o.mapSize = 32;  // 128 for the directional map
+  const ShadowAtlas atlas = drawShadowAtlas(
+      scene, planShadowAtlas({sun}, scene.bounds(), scene.camera(0), o, receivers), 2);
+  const FaceCheck c = checkFace(atlas, atlas.layout.faces[0]);
+  EXPECT_EQ(c.wrong, 0u);
+  EXPECT_EQ(c.empty, 0u);  // the floor extends beyond the receivers on every side
+  EXPECT_GT(c.box, size_t(atlas.layout.faces[0].size) * size_t(atlas.layout.faces[0].size) / 8);
+  EXPECT_EQ(c.boxNearer, c.box);
+}
+
+TEST(ShadowMaps, FacesOutsideTheGeometryStayAtFar) {
+  const Scene scene = floorAndBox();
+  // A spot light under the floor looking down: the floor's box lies behind it.
+  const ShadowAtlas atlas = drawFor(
+      scene, SceneLight::spot({0.0, -2.0, 0.0}, {0.0f, -1.0f, 0.0f}, glm::vec3(1), 5, 0.3f, 0.6f));
+  const ShadowFace& f = atlas.layout.faces[0];
+  EXPECT_EQ(atlas.faceTriangles[0], 0u);
+  for (int y = 0; y < f.size; ++y)
+    for (int x = 0; x < f.size; ++x) ASSERT_EQ(atlas.at(f.x + x, f.y + y), float(f.view.zfar));
+}
+
+// Big faces are drawn one after another with every thread, small ones (one tile) side by side.
+TEST(ShadowMaps, SameAtlasForAnyThreadCount) {
+  const Scene scene = floorAndBox();
+  const std::vector<SceneLight> lights = {
+      SceneLight::point({0.5, 3.0, 0.25}, glm::vec3(1), 20),
+      SceneLight::point({-3.0, 2.0, 1.0}, glm::vec3(1), 8),
+      SceneLight::spot({2.0, 4.0, 0.0}, {0.0f, -1.0f, 0.0f}, glm::vec3(1), 20, 0.3f, 0.6f)};
+  for (int size : {128, 32}) {
+    const ShadowAtlas one = drawFor(scene, lights, 1, size),
+                      three = drawFor(scene, lights, 3, size);
+    ASSERT_EQ(one.depth.size(), three.depth.size());
+    EXPECT_TRUE(one.depth == three.depth) << size;
+    EXPECT_TRUE(one.faceTriangles == three.faceTriangles) << size;
+  }
+}
+
+}  // namespace
