@@ -100,6 +100,12 @@ int main(int argc, char** argv) {
                         "which lights cast shadows: none, all, or N (the N lights of largest "
                         "range); default the scene's own (glTF extras castsShadow). Recorded "
                         "only: no technique shades shadows yet");
+  std::string blend = "refuse";
+  renderCmd
+      ->add_option("--blend", blend,
+                   "glTF alphaMode BLEND materials, which no technique renders yet: " +
+                       ts::blendPolicyNames().help())
+      ->capture_default_str();
   renderCmd
       ->add_option("--shading-model", render.shadingModel,
                    "auto (the scene's own: metallic-roughness for glTF, blinn-phong for the "
@@ -178,9 +184,9 @@ int main(int argc, char** argv) {
                       "also write gbuffer.exr (decoded shading inputs), lights.json and "
                       "gbuffer.json (the descriptor --gbuffer-in reads)");
   // An imported G-buffer brings its own scene, size, frame, lights and shading model.
-  for (const char* name :
-       {"--lights", "--light-count", "--light-range", "--light-threshold", "--seed", "--width",
-        "--height", "--frame", "--variant", "--normal-maps", "--shadows", "--shading-model"})
+  for (const char* name : {"--lights", "--light-count", "--light-range", "--light-threshold",
+                           "--seed", "--width", "--height", "--frame", "--variant", "--normal-maps",
+                           "--shadows", "--blend", "--shading-model"})
     gbufferInOpt->excludes(renderCmd->get_option(name));
   gbufferInOpt->excludes(sceneOpt);
   gbufferInOpt->excludes(rasterOpt);
@@ -231,6 +237,7 @@ int main(int argc, char** argv) {
       render.math = ts::mathModeNames().parseOption("--math", math);
       render.lanes = ts::laneNames().parseOption("--lanes", lanes);
       render.normalMaps = normalMaps == "on";
+      render.blend = ts::blendPolicyNames().parseOption("--blend", blend);
       render.keepInputLayout = gbufferOpt->count() == 0;
       ts::runRender(render);
     } else if (*bench.command) {

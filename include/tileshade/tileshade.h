@@ -162,6 +162,9 @@ struct SceneRequest {
   bool normalMaps = true;                // apply the scene's normal maps (glTF normalTexture)
   std::string shadows;  // which lights cast shadows: "" (the scene's marks), none, all or N
                         // (recorded only: nothing shades shadows yet)
+  // alphaMode BLEND materials: "refuse" (the frame is refused: no technique renders
+  // transparency yet), "as-opaque" or "as-mask" (drawn so)
+  std::string blend = "refuse";
   std::string shadingModel = "auto";
   std::string features = "auto";
   uint32_t seed = 1;

@@ -108,6 +108,7 @@ Frame loadFrame(Device& device, const RenderOptions& o) {
   r.variant = o.variant;
   r.normalMaps = o.normalMaps;
   r.shadows = o.shadows;
+  r.blend = toString(o.blend);
   r.shadingModel = o.shadingModel;
   r.features = o.features;
   r.seed = o.seed;
@@ -309,6 +310,7 @@ void runRender(const RenderOptions& options) {
       {"variant", o.variant},
       {"normal_maps", o.normalMaps},
       {"shadows", o.shadows.empty() ? "scene" : o.shadows},
+      {"blend", toString(o.blend)},
       {"shadow_casting_lights", info.shadowCastingLights},
       {"geometry_pixels", info.geometryPixels},
       {"tile", {o.tileWidth, o.tileHeight}},

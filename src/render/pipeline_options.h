@@ -19,18 +19,19 @@ namespace ts {
 struct PipelineOptions {
   std::string device;  // "" = default (see ClContext)
   std::string scene = "builtin:street";
-  std::string lightSet;               // "" = the scene's default / the file's own lights
-  int lightCount = -1;                // -1 = the light set's own count
-  float lightRange = 0.0f;            // > 0 overrides every light's range
-  float lightThreshold = 0.0f;        // > 0: ranges from the attenuation threshold (light_range.h)
-  std::string variant;                // built-in scene variants, a comma list (scene_loader.h);
-                                      // "" = none
-  bool normalMaps = true;             // the scene's normal maps applied (--normal-maps)
-  std::string shadows;                // shadow-casting lights (--shadows; shadow_casters.h)
-  std::string shadingModel = "auto";  // auto (the scene's own) or a shadingModelNames() name
-  std::string features = "auto";      // auto (the scene's needs), general, or a list
-                                      // (chooseFeatures, scene_features.h)
-  uint32_t seed = 1;                  // of the built-in scenes
+  std::string lightSet;         // "" = the scene's default / the file's own lights
+  int lightCount = -1;          // -1 = the light set's own count
+  float lightRange = 0.0f;      // > 0 overrides every light's range
+  float lightThreshold = 0.0f;  // > 0: ranges from the attenuation threshold (light_range.h)
+  std::string variant;          // built-in scene variants, a comma list (scene_loader.h);
+                                // "" = none
+  bool normalMaps = true;       // the scene's normal maps applied (--normal-maps)
+  std::string shadows;          // shadow-casting lights (--shadows; shadow_casters.h)
+  BlendPolicy blend = BlendPolicy::Refuse;  // alphaMode BLEND materials (--blend; scene_loader.h)
+  std::string shadingModel = "auto";        // auto (the scene's own) or a shadingModelNames() name
+  std::string features = "auto";            // auto (the scene's needs), general, or a list
+                                            // (chooseFeatures, scene_features.h)
+  uint32_t seed = 1;                        // of the built-in scenes
   int width = 1280, height = 720;
   GBufferFormat format = GBufferFormat::FP32;
   RasterBackend raster = RasterBackend::Software;  // rasterizer of the G-buffer

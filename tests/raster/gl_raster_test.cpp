@@ -729,6 +729,16 @@ TEST(GlRaster, AlphaMaskLeavesTheSameFragmentsOutAsSoftware) {
   const std::vector<float> depth = gl.depthPrepass(cam, W, H, ms);
   for (int x : {8, 20, 31, 32, 44, 55})
     EXPECT_NEAR(depth[size_t(16) * W + size_t(x)], x < 32 ? 5.0f : 2.0f, 1e-4f) << "x " << x;
+  // BLEND is refused by this rasterizer as by the software one, naming the material.
+  s.materials[1].alphaMode = AlphaMode::Blend;
+  s.materials[1].name = "glass";
+  try {
+    GlRasterizer refused(s);
+    ADD_FAILURE() << "a BLEND material was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("material 'glass' is alphaMode BLEND"), std::string::npos)
+        << e.what();
+  }
 }
 
 // ---- Shading the OpenGL G-buffer ---------------------------------------------------------------

@@ -12,6 +12,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "raster/rasterizer.h"
+#include "scene/scene_loader.h"
 #include "util/error.h"
 #include "random_draws.h"
 
@@ -665,6 +666,36 @@ TEST(RasterAlpha, MaskLeavesFragmentsBelowTheCutoffOutWhateverTheShadingModel) {
   opaque.materials[1].opacity = 0.0f;
   EXPECT_EQ(frontPixels(ts::rasterize(opaque, identityCamera(), kAlphaW, kAlphaH, o)),
             std::make_pair(kHalf, kHalf));
+}
+
+TEST(RasterAlpha, BlendIsRefusedNamingTheMaterialUnlessThePolicyDrawsIt) {
+  Scene s = alphaScene(ts::AlphaMode::Blend);
+  try {
+    ts::rasterize(s, identityCamera(), kAlphaW, kAlphaH, instrumented());
+    ADD_FAILURE() << "a BLEND material was drawn";
+  } catch (const ts::Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("material 'leaf' is alphaMode BLEND: no technique renders transparency"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("--blend as-opaque"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  // A BLEND material no triangle uses draws nothing: nothing to refuse.
+  Scene unused = alphaScene(ts::AlphaMode::Opaque);
+  unused.materials.push_back(s.materials[1]);
+  EXPECT_NO_THROW(ts::rasterize(unused, identityCamera(), kAlphaW, kAlphaH, instrumented()));
+  constexpr int kHalf = 12 * 12;
+  Scene opaque = s;
+  ts::applyBlendPolicy(opaque, ts::BlendPolicy::AsOpaque);
+  EXPECT_EQ(frontPixels(ts::rasterize(opaque, identityCamera(), kAlphaW, kAlphaH, instrumented())),
+            std::make_pair(kHalf, kHalf));
+  Scene masked = s;
+  ts::applyBlendPolicy(masked, ts::BlendPolicy::AsMask);
+  EXPECT_EQ(frontPixels(ts::rasterize(masked, identityCamera(), kAlphaW, kAlphaH, instrumented())),
+            std::make_pair(0, kHalf));
+  ts::applyBlendPolicy(s, ts::BlendPolicy::Refuse);
+  EXPECT_THROW(ts::rasterize(s, identityCamera(), kAlphaW, kAlphaH, instrumented()), ts::Error);
 }
 
 TEST(RasterScene, InvalidIndicesThrow) {
