@@ -57,7 +57,7 @@ void refuseBlendedMaterials(const Scene& s) {
   if (names.size() > shown) list += " and " + std::to_string(names.size() - shown) + " more";
   throw Error("scene '" + s.name + "': " + (names.size() == 1 ? "material " : "materials ") + list +
               (names.size() == 1 ? " is" : " are") +
-              " alphaMode BLEND: no technique renders transparency yet (issue #17); render --blend "
+              " alphaMode BLEND: no technique renders transparency yet (issue #17); --blend "
               "as-opaque draws it opaque, --blend as-mask as MASK");
 }
 

@@ -1,6 +1,7 @@
 // glTF alphaMode BLEND on the command line (issue #17): no technique renders transparency yet, so
 // render and bench refuse a scene that draws a BLEND material, in one line naming it, and
-// `render --blend as-opaque|as-mask` opts in (recorded in stats.json); scene export keeps it.
+// `--blend as-opaque|as-mask` opts in (recorded in stats.json, a bench dimension); scene export
+// keeps it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -87,6 +88,23 @@ TEST(AlphaCli, BenchRefusesBlendAndExportKeepsIt) {
   EXPECT_NE(bench.status, 0) << bench.output;
   EXPECT_NE(bench.output.find("material 'glass' is alphaMode BLEND"), std::string::npos)
       << bench.output;
+  // The opt-in is a sweep dimension: its column says which policy a row ran with.
+  CliRun opted = runTileshade("bench --scene " + scene +
+                              " --resolution 32x18 --frames 1 --warmup 0 --repeat 1 --device cpu "
+                              "--blend as-opaque,as-mask --out " +
+                              (tmp / "opted").string());
+  ASSERT_EQ(opted.status, 0) << opted.output;
+  std::ifstream csv(tmp / "opted" / "bench.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  EXPECT_NE(header.find(",blend,"), std::string::npos) << header;
+  size_t rows = 0, opaque = 0;
+  while (std::getline(csv, row)) {
+    ++rows;
+    opaque += row.find(",as-opaque,") != std::string::npos ? 1 : 0;
+  }
+  EXPECT_EQ(rows, 2u);
+  EXPECT_EQ(opaque, 1u);
 
   const std::string exported = (tmp / "exported.gltf").string();
   CliRun out = runTileshade("scene export " + scene + " " + exported);
