@@ -28,6 +28,9 @@
 //    ts::Texture (linear, no sRGB conversion on either side), without mipmaps, with the texture's
 //    wrap modes and filter (GL_LINEAR: bilinear with texel centres at half-integers; GL_NEAREST),
 //    as Texture::sample.
+//  - alphaMode MASK: the shaders discard what ts_material_covered (material_planes.h) leaves out,
+//    the test the software visibility pass applies; the forward shader of a scene with MASK
+//    materials tests depth late (TS_ALPHA_MASK), since its discard must precede the depth write.
 //  - Triangle ids: gl_PrimitiveID plus the draw's first triangle (one draw per run of triangles
 //    sharing a material, in scene order: raster/draw_batches.h, whose boxes the forward
 //    techniques cull lights against).

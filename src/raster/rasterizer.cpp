@@ -51,6 +51,10 @@
 // ts_normal_mapped in shaders/normal_mapping.h perturbs the interpolated normal before the
 // double-sided flip, with the perspective-correct interpolation of the view-space tangents.
 //
+// alphaMode MASK: a fragment that would win a pixel is first alpha-tested (ts_material_covered in
+// shaders/material_planes.h, at the barycentrics and UV resolve() would use); one below the
+// cutoff is left out, so what lies behind wins. BLEND is refused (validateForRaster).
+//
 // Material planes: ts_material_planes in shaders/material_planes.h, the one definition the OpenGL
 // rasterizer (src/raster/gl_rasterizer.cpp, shaders/gbuffer.frag) compiles as GLSL; these notes'
 // conventions are mirrored there, convention by convention (docs/opengl.md).
