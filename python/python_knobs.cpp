@@ -107,6 +107,7 @@ const std::map<std::string, SceneKnob>& sceneKnobs() {
          if (!py::isinstance<py::bool_>(v)) wrongType(v, n, "a bool");
          r.normalMaps = v.cast<bool>();
        }},
+      {"blend", [](R& r, py::handle v, const std::string& n) { r.blend = textValue(v, n); }},
       {"shading_model",
        [](R& r, py::handle v, const std::string& n) { r.shadingModel = textValue(v, n); }},
       {"features", [](R& r, py::handle v, const std::string& n) { r.features = listText(v, n); }},

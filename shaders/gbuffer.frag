@@ -24,6 +24,10 @@ struct TsMaterial {
   float metallic;
   float roughness;
   vec3 emissive;
+  float opacity;            // the alpha test's terms (ts_material_covered)
+  float alphaCutoff;
+  bool alphaMask;           // alphaMode MASK
+  bool alphaFromBaseColor;  // written for metallic-roughness: the base colour texture's alpha
 };
 
 uniform TsMaterial u_material;
@@ -51,6 +55,8 @@ uniform float u_normalScale;
 void main() {
   // Derivatives outside any branch (undefined in non-uniform control flow).
   vec3 faceNormal = cross(dFdx(v_viewPosition), dFdy(v_viewPosition));
+  // alphaMode MASK (material_planes.h): before any output, so the depth test keeps what is behind.
+  if (!ts_material_covered(u_material)) discard;
   vec3 n = ts_surface_normal(v_normal, faceNormal, v_viewPosition, false);
 #if TS_NORMAL_MAPS
   // Before the double-sided flip (normal_mapping.h); textureLod: non-uniform control flow.

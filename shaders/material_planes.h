@@ -13,6 +13,10 @@
  *   C++:  a callable `ts_sampler(slot)` passed as the last argument (a template parameter);
  *   GLSL: texture units and presence flags (uniforms), see shaders/gbuffer.frag.
  * TsMaterial has the fields of ts::Material used here (C++: ts::Material itself).
+ *
+ * ts_material_covered is the one alpha test (glTF alphaMode MASK) of both rasterizers: the
+ * software one leaves a fragment it fails out of the visibility pass, the fragment shaders
+ * discard it, so both draw what lies behind.
  */
 #ifndef TS_MATERIAL_PLANES_H
 #define TS_MATERIAL_PLANES_H
@@ -48,6 +52,9 @@ using glm::vec4;
 #define TS_MATERIAL_IN const TsMaterial&
 #define TS_SAMPLER_PARAM , const Sampler& ts_sampler
 #define TS_SAMPLE(slot) ts_sampler(slot)
+#define TS_SAMPLER_ARG , ts_sampler
+#define TS_ALPHA_MASKED(m) ((m).alphaMode == AlphaMode::Mask)
+#define TS_ALPHA_FROM_BASE_COLOR(m) ((m).model == ShadingModel::MetallicRoughness)
 #else
 struct TsMaterialPlanes {
   vec4 diffuse;
@@ -57,6 +64,9 @@ struct TsMaterialPlanes {
 #define TS_MATERIAL_TEMPLATE
 #define TS_MATERIAL_IN TsMaterial
 #define TS_SAMPLER_PARAM
+#define TS_SAMPLER_ARG
+#define TS_ALPHA_MASKED(m) ((m).alphaMask)
+#define TS_ALPHA_FROM_BASE_COLOR(m) ((m).alphaFromBaseColor)
 #endif
 
 /* metallicRoughness: the G-buffer is rasterized for glTF's model (RasterOptions::model). */
@@ -75,12 +85,33 @@ TsMaterialPlanes ts_material_planes(bool metallicRoughness, TS_MATERIAL_IN m TS_
   return p;
 }
 
+/* The alpha of the surface point: the material's opacity (glTF baseColorFactor's alpha) times
+ * the alpha of the base colour texture of the model the material was written in (so what a MASK
+ * covers does not change with --shading-model), sampled as the colour planes sample it. */
+TS_MATERIAL_TEMPLATE
+float ts_material_alpha(TS_MATERIAL_IN m TS_SAMPLER_PARAM) {
+  float texel = TS_ALPHA_FROM_BASE_COLOR(m) ? TS_SAMPLE(TS_TEXTURE_BASE_COLOR).w
+                                            : TS_SAMPLE(TS_TEXTURE_DIFFUSE).w;
+  return m.opacity * texel;
+}
+
+/* False where alphaMode MASK leaves the fragment out (alpha below alphaCutoff, glTF's rule). */
+TS_MATERIAL_TEMPLATE
+bool ts_material_covered(TS_MATERIAL_IN m TS_SAMPLER_PARAM) {
+  return !TS_ALPHA_MASKED(m) || !(ts_material_alpha(m TS_SAMPLER_ARG) < m.alphaCutoff);
+}
+
 #ifdef __cplusplus
 #undef TS_MATERIAL_TEMPLATE
 #undef TS_MATERIAL_IN
 #undef TS_SAMPLER_PARAM
 #undef TS_SAMPLE
+#undef TS_SAMPLER_ARG
+#undef TS_ALPHA_MASKED
+#undef TS_ALPHA_FROM_BASE_COLOR
 }  // namespace material_planes_glsl
+using material_planes_glsl::ts_material_alpha;
+using material_planes_glsl::ts_material_covered;
 using material_planes_glsl::ts_material_planes;
 }  // namespace ts
 #endif

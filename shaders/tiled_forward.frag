@@ -9,7 +9,12 @@
 // The depth test before the shader runs (a shader with buffer writes otherwise runs for every
 // fragment): with the pre-pass's EQUAL test each pixel is shaded once, without it each fragment
 // that passes the test at its turn (later overwritten ones included, as the paper counts them).
+// A scene with alphaMode MASK materials (TS_ALPHA_MASK, set by gl_rasterizer.cpp) tests late
+// instead: its discard must come before the depth write, so fragments that then fail the depth
+// test are shaded and counted too (docs/opengl.md).
+#if !TS_ALPHA_MASK
 layout(early_fragment_tests) in;
+#endif
 
 in vec3 v_viewPosition;  // perspective-correct ("smooth")
 in vec3 v_normal;
@@ -29,6 +34,10 @@ struct TsMaterial {
   float metallic;
   float roughness;
   vec3 emissive;
+  float opacity;            // the alpha test's terms (ts_material_covered)
+  float alphaCutoff;
+  bool alphaMask;           // alphaMode MASK
+  bool alphaFromBaseColor;  // written for metallic-roughness: the base colour texture's alpha
 };
 
 uniform TsMaterial u_material;
@@ -78,6 +87,7 @@ uniform bool u_baseTerms;
 
 void main() {
   vec3 faceNormal = cross(dFdx(v_viewPosition), dFdy(v_viewPosition));
+  if (!ts_material_covered(u_material)) discard;  // alphaMode MASK (material_planes.h)
   vec3 N = ts_surface_normal(v_normal, faceNormal, v_viewPosition, false);
 #if TS_NORMAL_MAPS
   // Before the double-sided flip (normal_mapping.h); textureLod: non-uniform control flow.

@@ -111,6 +111,12 @@ int main(int argc, char** argv) {
       ->add_option("--shadow-budget", render.shadowBudgetMB,
                    "the shadow atlas's memory budget in MB (MiB), > 0 and <= 4096")
       ->capture_default_str();
+  std::string blend = "refuse";
+  renderCmd
+      ->add_option("--blend", blend,
+                   "glTF alphaMode BLEND materials, which no technique renders yet: " +
+                       ts::blendPolicyNames().help())
+      ->capture_default_str();
   renderCmd
       ->add_option("--shading-model", render.shadingModel,
                    "auto (the scene's own: metallic-roughness for glTF, blinn-phong for the "
@@ -190,9 +196,10 @@ int main(int argc, char** argv) {
                       "gbuffer.json (the descriptor --gbuffer-in reads); with shadow-casting "
                       "lights, shadow_atlas.exr and shadow_atlas.json");
   // An imported G-buffer brings its own scene, size, frame, lights and shading model.
-  for (const char* name : {"--lights", "--light-count", "--light-range", "--light-threshold",
-                           "--seed", "--width", "--height", "--frame", "--variant", "--normal-maps",
-                           "--shadows", "--shadow-map-size", "--shadow-budget", "--shading-model"})
+  for (const char* name :
+       {"--lights", "--light-count", "--light-range", "--light-threshold", "--seed", "--width",
+        "--height", "--frame", "--variant", "--normal-maps", "--shadows", "--shadow-map-size",
+        "--shadow-budget", "--blend", "--shading-model"})
     gbufferInOpt->excludes(renderCmd->get_option(name));
   gbufferInOpt->excludes(sceneOpt);
   gbufferInOpt->excludes(rasterOpt);
@@ -243,6 +250,7 @@ int main(int argc, char** argv) {
       render.math = ts::mathModeNames().parseOption("--math", math);
       render.lanes = ts::laneNames().parseOption("--lanes", lanes);
       render.normalMaps = normalMaps == "on";
+      render.blend = ts::blendPolicyNames().parseOption("--blend", blend);
       render.keepInputLayout = gbufferOpt->count() == 0;
       ts::runRender(render);
     } else if (*bench.command) {

@@ -164,6 +164,9 @@ struct SceneRequest {
                         // (their maps are drawn: FrameInfo::shadowMaps; nothing shades them yet)
   int shadowMapSize = 512;       // per point/spot face, a power of two 16..8192 (directional: 4x)
   double shadowBudgetMB = 64.0;  // the shadow atlas's budget, MiB (docs/shadows.md)
+  // alphaMode BLEND materials: "refuse" (the frame is refused: no technique renders
+  // transparency yet), "as-opaque" or "as-mask" (drawn so)
+  std::string blend = "refuse";
   std::string shadingModel = "auto";
   std::string features = "auto";
   uint32_t seed = 1;

@@ -9,6 +9,7 @@
 #include "gbuffer/gbuffer_checks.h"
 #include "render/gbuffer_dump.h"
 #include "render/render_input.h"
+#include "scene/scene_loader.h"
 #include "scene/shading_range.h"
 #include "scene/view_space_lights.h"
 #include "util/error.h"
@@ -299,6 +300,7 @@ Frame Frame::fromScene(Device& device, const SceneRequest& r) {
     o.shadows = r.shadows;
     o.shadowMapSize = r.shadowMapSize;
     o.shadowBudgetMB = r.shadowBudgetMB;
+    o.blend = blendPolicyNames().parseOption("--blend", r.blend);
     o.shadingModel = r.shadingModel;
     o.features = r.features;
     o.seed = r.seed;

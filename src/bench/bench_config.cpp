@@ -102,6 +102,15 @@ std::vector<BenchDimension> makeDimensions() {
         return s;
       });
   add(
+      "blend",
+      "glTF alphaMode BLEND materials, which no technique renders yet: " +
+          blendPolicyNames().list() + " (refuse: such a scene is refused)",
+      true,
+      [](BenchConfig& c, const std::string& v) {
+        c.blend = blendPolicyNames().parseOption("--blend", v);
+      },
+      [](const BenchConfig& c) { return toString(c.blend); });
+  add(
       "shading_model", "shading model(s): auto (the scene's own), " + shadingModelNames().list(),
       true,
       [](BenchConfig& c, const std::string& v) {

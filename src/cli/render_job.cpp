@@ -133,6 +133,7 @@ Frame loadFrame(Device& device, const RenderOptions& o) {
   r.shadows = o.shadows;
   r.shadowMapSize = o.shadowMapSize;
   r.shadowBudgetMB = o.shadowBudgetMB;
+  r.blend = toString(o.blend);
   r.shadingModel = o.shadingModel;
   r.features = o.features;
   r.seed = o.seed;
@@ -347,6 +348,7 @@ void runRender(const RenderOptions& options) {
       {"variant", o.variant},
       {"normal_maps", o.normalMaps},
       {"shadows", o.shadows.empty() ? "scene" : o.shadows},
+      {"blend", toString(o.blend)},
       {"shadow_casting_lights", info.shadowCastingLights},
       {"shadow_maps", shadowMapsJson(info, o)},
       {"geometry_pixels", info.geometryPixels},

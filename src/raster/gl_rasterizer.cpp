@@ -28,6 +28,9 @@
 //    ts::Texture (linear, no sRGB conversion on either side), without mipmaps, with the texture's
 //    wrap modes and filter (GL_LINEAR: bilinear with texel centres at half-integers; GL_NEAREST),
 //    as Texture::sample.
+//  - alphaMode MASK: the shaders discard what ts_material_covered (material_planes.h) leaves out,
+//    the test the software visibility pass applies; the forward shader of a scene with MASK
+//    materials tests depth late (TS_ALPHA_MASK), since its discard must precede the depth write.
 //  - Triangle ids: gl_PrimitiveID plus the draw's first triangle (one draw per run of triangles
 //    sharing a material, in scene order: raster/draw_batches.h, whose boxes the forward
 //    techniques cull lights against).
@@ -88,6 +91,7 @@ glm::mat4 clipFromView(const CameraIntrinsics& in) {
 struct Uniforms {
   GLint viewFromWorld, normalMatrix, clipFromView;
   GLint diffuse, specular, shininess, baseColor, metallic, roughness, emissive;
+  GLint opacity, alphaCutoff, alphaMask, alphaFromBaseColor;
   GLint doubleSided, metallicRoughness, firstTriangle, batch;
   GLint texture[TS_TEXTURE_SLOTS], hasTexture[TS_TEXTURE_SLOTS];
   GLint viewRotation, normalTexture, hasNormalTexture, normalScale;  // programs with normal maps
@@ -110,6 +114,10 @@ Uniforms uniformsOf(GLuint program) {
   u.metallic = at("u_material.metallic");
   u.roughness = at("u_material.roughness");
   u.emissive = at("u_material.emissive");
+  u.opacity = at("u_material.opacity");
+  u.alphaCutoff = at("u_material.alphaCutoff");
+  u.alphaMask = at("u_material.alphaMask");
+  u.alphaFromBaseColor = at("u_material.alphaFromBaseColor");
   u.doubleSided = at("u_doubleSided");
   u.metallicRoughness = at("u_metallicRoughness");
   u.firstTriangle = at("u_firstTriangle");
@@ -248,9 +256,13 @@ struct GlRasterizer::State {
     }
   }
 
-  // The programs' TS_NORMAL_MAPS.
+  // The programs' TS_NORMAL_MAPS and TS_ALPHA_MASK (some material is alphaMode MASK: the
+  // forward shader's depth test runs after its discard).
   std::string defines() const {
-    return std::string("#define TS_NORMAL_MAPS ") + (normalMaps ? "1" : "0") + "\n";
+    bool masks = false;
+    for (const Material& m : scene.materials) masks = masks || m.alphaMode == AlphaMode::Mask;
+    return std::string("#define TS_NORMAL_MAPS ") + (normalMaps ? "1" : "0") + "\n" +
+           "#define TS_ALPHA_MASK " + (masks ? "1" : "0") + "\n";
   }
 
   void buildProgram() {
@@ -276,6 +288,10 @@ struct GlRasterizer::State {
     glUniform1f(u.metallic, m.metallic);
     glUniform1f(u.roughness, m.roughness);
     glUniform3fv(u.emissive, 1, &m.emissive.x);
+    glUniform1f(u.opacity, m.opacity);
+    glUniform1f(u.alphaCutoff, m.alphaCutoff);
+    glUniform1i(u.alphaMask, m.alphaMode == AlphaMode::Mask ? 1 : 0);
+    glUniform1i(u.alphaFromBaseColor, m.model == ShadingModel::MetallicRoughness ? 1 : 0);
     glUniform1i(u.doubleSided, m.doubleSided ? 1 : 0);
     glUniform1i(u.metallicRoughness, metallicRoughness ? 1 : 0);
     for (int s = 0; s < TS_TEXTURE_SLOTS; ++s) {

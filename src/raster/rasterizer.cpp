@@ -57,6 +57,9 @@
 // attributes: a tile keeps the nearest depth per pixel. Orthographic views (directional lights)
 // use clip w = 1, no near clip, and interpolate -Z_view with the barycentrics; depth outside
 // [znear, zfar] is rejected per pixel.
+// alphaMode MASK: a fragment that would win a pixel is first alpha-tested (ts_material_covered in
+// shaders/material_planes.h, at the barycentrics and UV resolve() would use); one below the
+// cutoff is left out, so what lies behind wins. BLEND is refused (validateForRaster).
 //
 // Material planes: ts_material_planes in shaders/material_planes.h, the one definition the OpenGL
 // rasterizer (src/raster/gl_rasterizer.cpp, shaders/gbuffer.frag) compiles as GLSL; these notes'
@@ -566,6 +569,10 @@ class Rasterizer {
     int by0 = std::max(y0, int(s.y0)), by1 = std::min(y1, int(s.y1));
     if (bx0 > bx1 || by0 > by1) return;
     const double invFar = 1.0 / frame_.zfar;
+    // alphaMode MASK: a fragment that would win is first alpha-tested (ts_material_covered, the
+    // one test the OpenGL shaders' discard uses); one that fails leaves what lies behind.
+    const Material& material = materialOf(s.triangle);
+    const bool masked = material.alphaMode == AlphaMode::Mask;
     const int64_t step0 = s.ea[0] * kSubOne, step1 = s.ea[1] * kSubOne, step2 = s.ea[2] * kSubOne;
     const int64_t bias[3] = {int64_t(s.bias & 1), int64_t((s.bias >> 1) & 1),
                              int64_t((s.bias >> 2) & 1)};
@@ -585,6 +592,7 @@ class Rasterizer {
         if (!(inv >= invFar)) continue;  // beyond the far plane
         // Nearer (larger 1/depth) wins; equal depth -> lower triangle index.
         if (inv > sc.invDepth[p] || (inv == sc.invDepth[p] && s.triangle < sc.triangle[p])) {
+          if (masked && !covered(material, t, fb, x, y, e)) continue;
           sc.invDepth[p] = inv;
           sc.triangle[p] = s.triangle;
           sc.worker[p] = worker;
@@ -647,8 +655,40 @@ class Rasterizer {
       }
   }
 
-  void resolve(int x0, int y0, int tw, int th, const TileScratch& sc, GBuffer& g) const {
+  const Material& materialOf(uint32_t tri) const {
     static const Material kDefaultMaterial;
+    return scene_.triangleMaterial.empty()
+               ? (scene_.materials.empty() ? kDefaultMaterial : scene_.materials[0])
+               : scene_.materials[scene_.triangleMaterial[tri]];
+  }
+
+  // The pixel's interpolated UV (one set per vertex) at barycentrics B of triangle tri.
+  glm::vec2 uvAt(uint32_t tri, const double B[3]) const {
+    const Vertex& v0 = scene_.vertices[scene_.indices[3 * tri]];
+    const Vertex& v1 = scene_.vertices[scene_.indices[3 * tri + 1]];
+    const Vertex& v2 = scene_.vertices[scene_.indices[3 * tri + 2]];
+    return glm::vec2(B[0] * glm::dvec2(v0.uv) + B[1] * glm::dvec2(v1.uv) +
+                     B[2] * glm::dvec2(v2.uv));
+  }
+
+  // The material's texture in `slot` at uv (1 without one), as ts_material_planes samples it.
+  glm::vec4 sampleSlot(const Material& m, int slot, glm::vec2 uv) const {
+    const int texture = materialTexture(m, slot);
+    if (texture < 0) return glm::vec4(1.0f);
+    return scene_.textures[size_t(texture)].sample(uv);
+  }
+
+  // The alpha test of a fragment at pixel (x, y) with edge values e, at the barycentrics and UV
+  // that resolve() would interpolate there.
+  bool covered(const Material& m, const TriangleSetup& t, const SubFallback& fb, int x, int y,
+               const int64_t e[3]) const {
+    double B[3];
+    evaluate<true>(t, fb, x + 0.5, y + 0.5, e, B);
+    const glm::vec2 uv = uvAt(t.triangle, B);
+    return ts_material_covered(m, [&](int slot) { return sampleSlot(m, slot, uv); });
+  }
+
+  void resolve(int x0, int y0, int tw, int th, const TileScratch& sc, GBuffer& g) const {
     for (int ly = 0; ly < th; ++ly)
       for (int lx = 0; lx < tw; ++lx) {
         int p = ly * tw + lx;
@@ -669,10 +709,7 @@ class Rasterizer {
         const uint32_t tri = t.triangle;
         const uint32_t i0 = scene_.indices[3 * tri], i1 = scene_.indices[3 * tri + 1],
                        i2 = scene_.indices[3 * tri + 2];
-        const Material& m =
-            scene_.triangleMaterial.empty()
-                ? (scene_.materials.empty() ? kDefaultMaterial : scene_.materials[0])
-                : scene_.materials[scene_.triangleMaterial[tri]];
+        const Material& m = materialOf(tri);
 
         glm::dvec3 n = B[0] * glm::dvec3(viewNormal_[i0]) + B[1] * glm::dvec3(viewNormal_[i1]) +
                        B[2] * glm::dvec3(viewNormal_[i2]);
@@ -689,17 +726,7 @@ class Rasterizer {
 
         // Textures are sampled at the pixel's interpolated UV (one set per vertex), only those
         // the model reads (shaders/material_planes.h, shared with the OpenGL rasterizer).
-        auto uvAt = [&] {
-          const Vertex &v0 = scene_.vertices[i0], &v1 = scene_.vertices[i1],
-                       &v2 = scene_.vertices[i2];
-          return glm::vec2(B[0] * glm::dvec2(v0.uv) + B[1] * glm::dvec2(v1.uv) +
-                           B[2] * glm::dvec2(v2.uv));
-        };
-        auto sample = [&](int slot) {
-          const int texture = materialTexture(m, slot);
-          if (texture < 0) return glm::vec4(1.0f);
-          return scene_.textures[size_t(texture)].sample(uvAt());
-        };
+        auto sample = [&](int slot) { return sampleSlot(m, slot, uvAt(tri, B)); };
         const TsMaterialPlanes planes =
             ts_material_planes(options_.model == ShadingModel::MetallicRoughness, m, sample);
 
@@ -708,7 +735,7 @@ class Rasterizer {
           const glm::vec4 tangent =
               glm::vec4(B[0] * glm::dvec4(viewTangent_[i0]) + B[1] * glm::dvec4(viewTangent_[i1]) +
                         B[2] * glm::dvec4(viewTangent_[i2]));
-          const glm::vec4 texel = scene_.textures[size_t(m.normalTexture)].sample(uvAt());
+          const glm::vec4 texel = scene_.textures[size_t(m.normalTexture)].sample(uvAt(tri, B));
           normal = ts_normal_mapped(normal, tangent, glm::vec3(texel), m.normalScale);
         }
         if (m.doubleSided && t.backFacing) normal = -normal;

@@ -1,8 +1,11 @@
 #include "raster/scene_validation.h"
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "util/error.h"
+#include "util/short_text.h"
 
 namespace ts {
 
@@ -30,6 +33,32 @@ void validateForRaster(const Scene& s) {
       if (t >= int(s.textures.size()))
         throw Error("scene '" + s.name + "': material '" + m.name + "' uses texture " +
                     std::to_string(t) + " of " + std::to_string(s.textures.size()));
+  refuseBlendedMaterials(s);
+}
+
+void refuseBlendedMaterials(const Scene& s) {
+  // Only materials that some triangle is drawn with (without a per-triangle list: the first).
+  std::vector<bool> used(s.materials.size(), false);
+  if (s.triangleMaterial.empty()) {
+    if (!used.empty() && s.triangleCount() > 0) used[0] = true;
+  } else {
+    for (uint32_t m : s.triangleMaterial)
+      if (m < used.size()) used[m] = true;
+  }
+  std::vector<std::string> names;
+  for (size_t i = 0; i < s.materials.size(); ++i)
+    if (used[i] && s.materials[i].alphaMode == AlphaMode::Blend)
+      names.push_back(s.materials[i].name.empty() ? "#" + std::to_string(i)
+                                                  : "'" + shortText(s.materials[i].name) + "'");
+  if (names.empty()) return;
+  std::string list;
+  const size_t shown = std::min<size_t>(names.size(), 3);
+  for (size_t i = 0; i < shown; ++i) list += (i ? ", " : "") + names[i];
+  if (names.size() > shown) list += " and " + std::to_string(names.size() - shown) + " more";
+  throw Error("scene '" + s.name + "': " + (names.size() == 1 ? "material " : "materials ") + list +
+              (names.size() == 1 ? " is" : " are") +
+              " alphaMode BLEND: no technique renders transparency yet (issue #17); --blend "
+              "as-opaque draws it opaque, --blend as-mask as MASK");
 }
 
 }  // namespace ts

@@ -26,6 +26,7 @@ SceneOptions PipelineOptions::sceneOptions() const {
   s.variant = variant;
   s.normalMaps = normalMaps;
   s.shadows = shadows;
+  s.blend = blend;
   return s;
 }
 

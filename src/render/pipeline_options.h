@@ -30,10 +30,11 @@ struct PipelineOptions {
   std::string shadows;          // shadow-casting lights (--shadows; shadow_casters.h)
   int shadowMapSize = kDefaultShadowMapSize;       // --shadow-map-size (shadow_atlas.h)
   double shadowBudgetMB = kDefaultShadowBudgetMB;  // --shadow-budget, MiB
-  std::string shadingModel = "auto";  // auto (the scene's own) or a shadingModelNames() name
-  std::string features = "auto";      // auto (the scene's needs), general, or a list
-                                      // (chooseFeatures, scene_features.h)
-  uint32_t seed = 1;                  // of the built-in scenes
+  BlendPolicy blend = BlendPolicy::Refuse;  // alphaMode BLEND materials (--blend; scene_loader.h)
+  std::string shadingModel = "auto";        // auto (the scene's own) or a shadingModelNames() name
+  std::string features = "auto";            // auto (the scene's needs), general, or a list
+                                            // (chooseFeatures, scene_features.h)
+  uint32_t seed = 1;                        // of the built-in scenes
   int width = 1280, height = 720;
   GBufferFormat format = GBufferFormat::FP32;
   RasterBackend raster = RasterBackend::Software;  // rasterizer of the G-buffer

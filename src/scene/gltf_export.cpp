@@ -187,13 +187,13 @@ void exportGltf(const Scene& scene, const std::string& path) {
     g.name = mat.name;
     auto& pbr = g.pbrMetallicRoughness;
     if (mat.model == ShadingModel::MetallicRoughness) {
-      pbr.baseColorFactor = {mat.baseColor.x, mat.baseColor.y, mat.baseColor.z, 1.0};
+      pbr.baseColorFactor = {mat.baseColor.x, mat.baseColor.y, mat.baseColor.z, mat.opacity};
       pbr.metallicFactor = mat.metallic;
       pbr.roughnessFactor = mat.roughness;
       pbr.baseColorTexture.index = textureIndex(mat.baseColorTexture);
       pbr.metallicRoughnessTexture.index = textureIndex(mat.metallicRoughnessTexture);
     } else {
-      pbr.baseColorFactor = {mat.diffuse.x, mat.diffuse.y, mat.diffuse.z, 1.0};
+      pbr.baseColorFactor = {mat.diffuse.x, mat.diffuse.y, mat.diffuse.z, mat.opacity};
       pbr.metallicFactor = 0.0;
       pbr.roughnessFactor = roughnessFromShininess(mat.shininess);
       pbr.baseColorTexture.index = textureIndex(mat.diffuseTexture);
@@ -218,6 +218,8 @@ void exportGltf(const Scene& scene, const std::string& path) {
     g.normalTexture.index = textureIndex(mat.normalTexture);  // with the TANGENT attribute below
     g.normalTexture.scale = mat.normalScale;
     g.doubleSided = mat.doubleSided;
+    g.alphaMode = toString(mat.alphaMode);
+    g.alphaCutoff = mat.alphaCutoff;
     m.materials.push_back(g);
   }
 

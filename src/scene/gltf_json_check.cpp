@@ -189,6 +189,9 @@ class Checker {
     object(m, "normalTexture", at,
            [&](const json& t, const std::string& tat) { number(t, "scale", tat, kAny); });
     boolean(m, "doubleSided", at);
+    // Another name would be drawn opaque; a cutoff outside [0, 1] masks all or nothing.
+    oneOfNames(m, "alphaMode", at, {"OPAQUE", "MASK", "BLEND"});
+    unitNumber(m, "alphaCutoff", at);
     object(m, "extensions", at, [&](const json& e, const std::string& eat) {
       object(e, "KHR_materials_specular", eat, [&](const json& s, const std::string& sat) {
         number(s, "specularFactor", sat, kAny);
@@ -312,6 +315,24 @@ class Checker {
     std::string list;
     for (int a : allowed) list += (list.empty() ? "" : ", ") + std::to_string(a);
     fail(at, key, "one of " + list, *v);
+  }
+
+  void oneOfNames(const json& obj, const char* key, const std::string& at,
+                  std::vector<const char*> allowed) {
+    const json* v = get(obj, key);
+    if (!v) return;
+    for (const char* a : allowed)
+      if (v->is_string() && v->get<std::string>() == a) return;
+    std::string list;
+    for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+    fail(at, key, "one of " + list, *v);
+  }
+
+  // A finite number in [0, 1].
+  void unitNumber(const json& obj, const char* key, const std::string& at) {
+    const json* v = get(obj, key);
+    if (v && !(numberOk(*v, kAtLeastZero) && v->get<double>() <= 1.0))
+      fail(at, key, "a number in [0, 1]", *v);
   }
 
   bool numberOk(const json& v, Minimum min) const {

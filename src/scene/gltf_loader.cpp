@@ -592,6 +592,13 @@ uint32_t GltfLoader::material(int index) {
     if (pbr.baseColorFactor.size() >= 3)
       for (int c = 0; c < 3; ++c)
         out.baseColor[c] = unit(pbr.baseColorFactor[size_t(c)], "baseColorFactor");
+    if (pbr.baseColorFactor.size() >= 4)
+      out.opacity = unit(pbr.baseColorFactor[3], "baseColorFactor");
+    // alphaMode and alphaCutoff are checked in the JSON (gltf_json_check.cpp): one of the three
+    // names, a cutoff in [0, 1].
+    if (mat.alphaMode == "MASK") out.alphaMode = AlphaMode::Mask;
+    else if (mat.alphaMode == "BLEND") out.alphaMode = AlphaMode::Blend;
+    out.alphaCutoff = float(mat.alphaCutoff);
     out.metallic = unit(pbr.metallicFactor, "metallicFactor");
     out.roughness = unit(pbr.roughnessFactor, "roughnessFactor");
     if (const auto* spec = extension(mat.extensions, "KHR_materials_specular")) {

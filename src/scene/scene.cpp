@@ -68,6 +68,15 @@ std::string toString(ShadingModel model) { return shadingModelNames().name(model
 
 ShadingModel parseShadingModel(const std::string& s) { return shadingModelNames().parse(s); }
 
+std::string toString(AlphaMode mode) {
+  switch (mode) {
+    case AlphaMode::Opaque: return "OPAQUE";
+    case AlphaMode::Mask: return "MASK";
+    case AlphaMode::Blend: return "BLEND";
+  }
+  return "?";
+}
+
 std::string toString(SceneLightType type) {
   switch (type) {
     case SceneLightType::Point: return "point";

@@ -36,6 +36,15 @@ const EnumNames<ShadingModel>& shadingModelNames();
 std::string toString(ShadingModel model);              // "blinn-phong" | "metallic-roughness"
 ShadingModel parseShadingModel(const std::string& s);  // throws ts::Error otherwise
 
+// glTF's alphaMode: how a material's alpha (Material::opacity times its base colour texture's
+// alpha, ts_material_alpha in shaders/material_planes.h) covers what lies behind it.
+//  Opaque  alpha ignored
+//  Mask    a fragment whose alpha is below alphaCutoff is not drawn (both rasterizers)
+//  Blend   blended over what lies behind: no technique renders it yet, so the rasterizers refuse
+//          a scene that draws one (--blend as-opaque / as-mask opt in; docs/features.md)
+enum class AlphaMode { Opaque = 0, Mask = 1, Blend = 2 };
+std::string toString(AlphaMode mode);  // glTF's names: "OPAQUE" | "MASK" | "BLEND"
+
 // A material carries the terms of both models, so a scene can be shaded with either: the model it
 // was authored in (`model`) holds the author's values, the other model's terms are filled in by
 // the documented mapping of src/scene/material_mapping.h (scenes/README.md).
@@ -62,6 +71,12 @@ struct Material {
   int normalTexture = -1;
   float normalScale = 1.0f;
   bool doubleSided = false;  // normals of back faces are flipped towards the viewer
+  // Coverage (glTF alphaMode, alphaCutoff, baseColorFactor's alpha): the alpha of a point is
+  // opacity times the alpha of the base colour texture of `model` (baseColorTexture, or
+  // diffuseTexture for Blinn-Phong), ts_material_alpha in shaders/material_planes.h.
+  AlphaMode alphaMode = AlphaMode::Opaque;
+  float alphaCutoff = 0.5f;  // Mask: drawn where alpha >= alphaCutoff, in [0, 1]
+  float opacity = 1.0f;      // in [0, 1]
 };
 
 struct Vertex {

@@ -162,7 +162,28 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
     for (Material& m : scene.materials) m.normalTexture = -1;
     scene.tangents.clear();
   }
+  applyBlendPolicy(scene, options.blend);
   return scene;
+}
+
+const EnumNames<BlendPolicy>& blendPolicyNames() {
+  static const EnumNames<BlendPolicy> names(
+      "blend policy",
+      {{BlendPolicy::Refuse, "refuse",
+        "a scene with alphaMode BLEND materials is refused: no technique renders transparency "
+        "yet"},
+       {BlendPolicy::AsOpaque, "as-opaque", "BLEND materials drawn opaque"},
+       {BlendPolicy::AsMask, "as-mask", "BLEND materials drawn as MASK with their alphaCutoff"}});
+  return names;
+}
+
+std::string toString(BlendPolicy policy) { return blendPolicyNames().name(policy); }
+
+void applyBlendPolicy(Scene& scene, BlendPolicy policy) {
+  if (policy == BlendPolicy::Refuse) return;
+  for (Material& m : scene.materials)
+    if (m.alphaMode == AlphaMode::Blend)
+      m.alphaMode = policy == BlendPolicy::AsMask ? AlphaMode::Mask : AlphaMode::Opaque;
 }
 
 }  // namespace ts

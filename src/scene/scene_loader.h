@@ -4,8 +4,20 @@
 #include <vector>
 
 #include "scene/scene.h"
+#include "util/enum_names.h"
 
 namespace ts {
+
+// What becomes of alphaMode BLEND materials (`--blend`) while no technique renders transparency:
+//  refuse     the default: kept, and both rasterizers refuse a scene that draws one, naming the
+//             materials (validateForRaster), so a transparent surface is never silently opaque
+//  as-opaque  drawn opaque (their alpha ignored)
+//  as-mask    drawn as alphaMode MASK with their alphaCutoff
+enum class BlendPolicy { Refuse = 0, AsOpaque = 1, AsMask = 2 };
+const EnumNames<BlendPolicy>& blendPolicyNames();
+std::string toString(BlendPolicy policy);
+// The policy applied to the scene's BLEND materials (refuse: left as they are).
+void applyBlendPolicy(Scene& scene, BlendPolicy policy);
 
 struct SceneOptions {
   std::string lightSet;     // "" = the scene's default (built-ins) or the file's own lights (glTF)
@@ -20,6 +32,7 @@ struct SceneOptions {
   // Which lights cast shadows (chooseShadowCasters, scene/shadow_casters.h): "" keeps the
   // scene's own marks. Their maps are drawn (raster/shadow_maps.h); nothing shades them yet.
   std::string shadows;
+  BlendPolicy blend = BlendPolicy::Refuse;  // --blend
 };
 
 // The built-in scenes' variants, for measuring what a scene's needs cost (scenes/README.md):

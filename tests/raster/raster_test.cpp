@@ -12,6 +12,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "raster/rasterizer.h"
+#include "scene/scene_loader.h"
 #include "util/error.h"
 #include "random_draws.h"
 
@@ -583,6 +584,118 @@ TEST(RasterResolution, OddSizesAndTinyImagesWork) {
   EXPECT_EQ(g.geometryPixels(), 0u);
   EXPECT_TRUE(g.triangleId.empty());
   EXPECT_THROW(ts::rasterize(empty, cam, 0, 10), ts::Error);
+}
+
+// ---- alphaMode (issue #17) ---------------------------------------------------------------------
+
+// A full-screen quad at depth 5 (triangles 0, 1) behind a quad at depth 2 over pixels x 4..28,
+// y 2..14 (triangles 2, 3) whose texture (2x1, NEAREST) has alpha 0.2 in its left half (x < 16)
+// and 1 in its right half; its material is the scene's material 1.
+constexpr int kAlphaW = 32, kAlphaH = 16;
+Scene alphaScene(ts::AlphaMode mode) {
+  Scene s;
+  s.name = "alpha";
+  const CameraIntrinsics in = CameraIntrinsics::from(identityCamera(), kAlphaW, kAlphaH);
+  const uint32_t back = addMaterial(s, glm::vec3(0.2f, 0.3f, 0.4f));
+  ts::Material m;
+  m.name = "leaf";
+  m.diffuse = glm::vec3(0.9f);
+  m.alphaMode = mode;
+  m.diffuseTexture = m.baseColorTexture = 0;
+  s.materials.push_back(m);
+  ts::Texture t;
+  t.width = 2;
+  t.height = 1;
+  t.texels = {glm::vec4(1.0f, 1.0f, 1.0f, 0.2f), glm::vec4(1.0f)};
+  t.nearest = true;
+  t.wrapS = t.wrapT = ts::TextureWrap::ClampToEdge;
+  s.textures.push_back(t);
+  addQuad(s, unproject(in, 0, kAlphaH, 5), unproject(in, kAlphaW, kAlphaH, 5),
+          unproject(in, kAlphaW, 0, 5), unproject(in, 0, 0, 5), back, back);
+  const glm::vec3 a = unproject(in, 4, 14, 2), b = unproject(in, 28, 14, 2),
+                  c = unproject(in, 28, 2, 2), d = unproject(in, 4, 2, 2);
+  addTriangle(s, a, b, c, 1, {0, 1}, {1, 1}, {1, 0});
+  addTriangle(s, a, c, d, 1, {0, 1}, {1, 0}, {0, 0});
+  return s;
+}
+
+// Inside the front quad's rectangle: how many pixels of its left and right halves show it.
+std::pair<int, int> frontPixels(const GBuffer& g) {
+  int left = 0, right = 0;
+  for (int y = 2; y < 14; ++y)
+    for (int x = 4; x < 28; ++x) {
+      const size_t i = size_t(y) * kAlphaW + size_t(x);
+      const bool front = g.triangleId[i] >= 2;
+      EXPECT_NEAR(g.depth[i], front ? 2.0f : 5.0f, 1e-5f) << x << "," << y;
+      (x < 16 ? left : right) += front ? 1 : 0;
+    }
+  return {left, right};
+}
+
+TEST(RasterAlpha, MaskLeavesFragmentsBelowTheCutoffOutWhateverTheShadingModel) {
+  constexpr int kHalf = 12 * 12;  // pixels of each half of the front quad
+  for (ts::ShadingModel model : {ts::ShadingModel::BlinnPhong, ts::ShadingModel::MetallicRoughness})
+    for (ts::ShadingModel written :
+         {ts::ShadingModel::BlinnPhong, ts::ShadingModel::MetallicRoughness}) {
+      SCOPED_TRACE(ts::toString(model) + " frame, material written " + ts::toString(written));
+      Scene s = alphaScene(ts::AlphaMode::Mask);
+      ts::Material& m = s.materials[1];
+      m.model = written;
+      // Only the written model's base colour texture carries the alpha.
+      (written == ts::ShadingModel::BlinnPhong ? m.baseColorTexture : m.diffuseTexture) = -1;
+      RasterOptions o = instrumented();
+      o.model = model;
+      EXPECT_EQ(frontPixels(ts::rasterize(s, identityCamera(), kAlphaW, kAlphaH, o)),
+                std::make_pair(0, kHalf));
+    }
+  RasterOptions o = instrumented();
+  Scene s = alphaScene(ts::AlphaMode::Mask);
+  // The factor multiplies the texture: 0.4 x 1 is below 0.5, and is not below 0.4 (glTF: a
+  // fragment is drawn where alpha >= alphaCutoff).
+  s.materials[1].opacity = 0.4f;
+  EXPECT_EQ(frontPixels(ts::rasterize(s, identityCamera(), kAlphaW, kAlphaH, o)),
+            std::make_pair(0, 0));
+  s.materials[1].alphaCutoff = 0.4f;
+  EXPECT_EQ(frontPixels(ts::rasterize(s, identityCamera(), kAlphaW, kAlphaH, o)),
+            std::make_pair(0, kHalf));
+  s.materials[1].alphaCutoff = 0.0f;
+  EXPECT_EQ(frontPixels(ts::rasterize(s, identityCamera(), kAlphaW, kAlphaH, o)),
+            std::make_pair(kHalf, kHalf));
+  // OPAQUE ignores alpha.
+  Scene opaque = alphaScene(ts::AlphaMode::Opaque);
+  opaque.materials[1].opacity = 0.0f;
+  EXPECT_EQ(frontPixels(ts::rasterize(opaque, identityCamera(), kAlphaW, kAlphaH, o)),
+            std::make_pair(kHalf, kHalf));
+}
+
+TEST(RasterAlpha, BlendIsRefusedNamingTheMaterialUnlessThePolicyDrawsIt) {
+  Scene s = alphaScene(ts::AlphaMode::Blend);
+  try {
+    ts::rasterize(s, identityCamera(), kAlphaW, kAlphaH, instrumented());
+    ADD_FAILURE() << "a BLEND material was drawn";
+  } catch (const ts::Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("material 'leaf' is alphaMode BLEND: no technique renders transparency"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("--blend as-opaque"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  // A BLEND material no triangle uses draws nothing: nothing to refuse.
+  Scene unused = alphaScene(ts::AlphaMode::Opaque);
+  unused.materials.push_back(s.materials[1]);
+  EXPECT_NO_THROW(ts::rasterize(unused, identityCamera(), kAlphaW, kAlphaH, instrumented()));
+  constexpr int kHalf = 12 * 12;
+  Scene opaque = s;
+  ts::applyBlendPolicy(opaque, ts::BlendPolicy::AsOpaque);
+  EXPECT_EQ(frontPixels(ts::rasterize(opaque, identityCamera(), kAlphaW, kAlphaH, instrumented())),
+            std::make_pair(kHalf, kHalf));
+  Scene masked = s;
+  ts::applyBlendPolicy(masked, ts::BlendPolicy::AsMask);
+  EXPECT_EQ(frontPixels(ts::rasterize(masked, identityCamera(), kAlphaW, kAlphaH, instrumented())),
+            std::make_pair(0, kHalf));
+  ts::applyBlendPolicy(s, ts::BlendPolicy::Refuse);
+  EXPECT_THROW(ts::rasterize(s, identityCamera(), kAlphaW, kAlphaH, instrumented()), ts::Error);
 }
 
 TEST(RasterScene, InvalidIndicesThrow) {

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "scene/material_mapping.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
 #include "util/error.h"
@@ -369,6 +370,9 @@ void expectRoundTrip(const Scene& original, const Scene& loaded) {
     expectVec(m.emissive, it->emissive, 1e-5f);
     EXPECT_NEAR(m.shininess, it->shininess, 0.01f * it->shininess);
     EXPECT_EQ(m.doubleSided, it->doubleSided);
+    EXPECT_EQ(m.alphaMode, it->alphaMode);
+    EXPECT_FLOAT_EQ(m.alphaCutoff, it->alphaCutoff);
+    EXPECT_FLOAT_EQ(m.opacity, it->opacity);
     EXPECT_EQ(m.model, it->model);
     if (m.model == ts::ShadingModel::MetallicRoughness) {
       expectVec(m.baseColor, it->baseColor, 1e-6f);
@@ -508,6 +512,54 @@ TEST(GltfExport, TexturesRoundTripAsSrgbPng) {
         EXPECT_NEAR(l.textures[0].texels[i][c], t.texels[i][c], 0.006f);  // 8-bit sRGB steps
     expectVec(l.materials[0].diffuse, m.diffuse, 1e-6f);
     EXPECT_EQ(l.vertices[l.indices[1]].uv, s.vertices[s.indices[1]].uv);
+  }
+}
+
+// alphaMode, alphaCutoff and baseColorFactor's alpha (issue #17) in both models, and the base
+// colour texture's alpha channel, kept through export and load.
+TEST(GltfExport, AlphaModesCutoffsAndOpacityRoundTrip) {
+  Scene s;
+  s.name = "alpha";
+  ts::Texture t;
+  t.width = 2;
+  t.height = 1;
+  t.texels = {glm::vec4(0.5f, 0.5f, 0.5f, 0.2f), glm::vec4(0.5f, 0.5f, 0.5f, 1.0f)};
+  s.textures.push_back(t);
+  const ts::AlphaMode modes[] = {ts::AlphaMode::Opaque, ts::AlphaMode::Mask, ts::AlphaMode::Blend};
+  for (int k = 0; k < 3; ++k) {
+    ts::Material m;
+    m.name = "alpha" + std::to_string(k);
+    m.model = k == 1 ? ts::ShadingModel::MetallicRoughness : ts::ShadingModel::BlinnPhong;
+    m.alphaMode = modes[k];
+    m.alphaCutoff = 0.25f + 0.125f * float(k);
+    m.opacity = 0.75f - 0.25f * float(k);
+    m.diffuseTexture = m.baseColorTexture = 0;
+    if (m.model == ts::ShadingModel::MetallicRoughness) ts::fillBlinnPhongTerms(m);
+    s.materials.push_back(m);
+    for (glm::vec3 p : {glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0)}) {
+      ts::Vertex v;
+      v.position = p + glm::vec3(0, 0, float(k));
+      v.normal = {0, 0, 1};
+      v.uv = {p.x, p.y};
+      s.vertices.push_back(v);
+    }
+    const uint32_t b = uint32_t(3 * k);
+    s.indices.insert(s.indices.end(), {b, b + 1, b + 2});
+    s.triangleMaterial.push_back(uint32_t(k));
+  }
+  s.cameraPath.push_back(
+      ts::SceneCamera::lookAt({0.3, 0.3, 5}, {0.3, 0.3, 0}, {0, 1, 0}, 1.0f, 0.1f, 10.0f));
+  TempDir dir;
+  for (const char* name : {"alpha.gltf", "alpha.glb"}) {
+    SCOPED_TRACE(name);
+    ts::exportGltf(s, dir.file(name));
+    Scene l = ts::loadGltf(dir.file(name));
+    expectRoundTrip(s, l);
+    ASSERT_EQ(l.materials.size(), 3u);
+    EXPECT_EQ(l.materials[2].alphaMode, ts::AlphaMode::Blend);  // not an opaque default
+    ASSERT_EQ(l.textures.size(), 1u);
+    EXPECT_NEAR(l.textures[0].texels[0].w, 0.2f, 0.5f / 255.0f);
+    EXPECT_EQ(l.textures[0].texels[1].w, 1.0f);
   }
 }
 

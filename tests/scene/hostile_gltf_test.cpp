@@ -284,6 +284,34 @@ TEST(HostileGltf, WrongTypesAndShapesAreErrors) {
   expectError(doc, "normalized: expected true or false");
 }
 
+// alphaMode is one of glTF's three names (another would be drawn opaque without a word) and
+// alphaCutoff a number in [0, 1]; the valid ones load as written.
+TEST(HostileGltf, AlphaModesAndCutoffsAreCheckedNotDefaulted) {
+  json doc = triangle();
+  doc["meshes"][0]["primitives"][0]["material"] = 0;
+  doc["materials"] = json::parse(R"([{"alphaMode": "MASK", "alphaCutoff": 0.75,
+      "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.4]}}])");
+  Loaded r = load(doc);
+  ASSERT_TRUE(r.ok) << r.error;
+  ASSERT_EQ(r.scene.materials.size(), 1u);
+  EXPECT_EQ(r.scene.materials[0].alphaMode, ts::AlphaMode::Mask);
+  EXPECT_FLOAT_EQ(r.scene.materials[0].alphaCutoff, 0.75f);
+  EXPECT_FLOAT_EQ(r.scene.materials[0].opacity, 0.4f);
+  for (const char* bad : {"CLIP", "blend", ""}) {
+    doc["materials"][0]["alphaMode"] = bad;
+    expectError(doc, "materials[0].alphaMode: expected one of OPAQUE, MASK, BLEND");
+  }
+  doc["materials"][0]["alphaMode"] = "BLEND";
+  EXPECT_EQ(load(doc).scene.materials[0].alphaMode, ts::AlphaMode::Blend);
+  doc["materials"][0]["alphaMode"] = 3;
+  expectError(doc, "materials[0].alphaMode: expected one of");
+  doc["materials"][0]["alphaMode"] = "MASK";
+  for (json bad : {json(1.5), json(-0.25), json("half"), json(1e300)}) {
+    doc["materials"][0]["alphaCutoff"] = bad;
+    expectError(doc, "materials[0].alphaCutoff: expected a number in [0, 1]");
+  }
+}
+
 TEST(HostileGltf, ByteStrideSmallerThanTheElementIsAnError) {
   json doc = triangle();
   doc["bufferViews"][0]["byteStride"] = 4;  // a VEC3 float element is 12 bytes
