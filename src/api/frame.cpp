@@ -299,6 +299,8 @@ Frame Frame::fromScene(Device& device, const SceneRequest& r) {
     o.shadows = r.shadows;
     o.shadowMapSize = r.shadowMapSize;
     o.shadowBudgetMB = r.shadowBudgetMB;
+    o.shadowFilter = r.shadowFilter;
+    o.shadowBias = r.shadowBias;
     o.shadingModel = r.shadingModel;
     o.features = r.features;
     o.seed = r.seed;

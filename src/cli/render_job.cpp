@@ -96,6 +96,8 @@ nlohmann::json shadowMapsJson(const FrameInfo& info, const RenderOptions& o) {
                       {"size", l.size}});
   return {{"map_size", o.shadowMapSize},
           {"budget_mb", o.shadowBudgetMB},
+          {"filter", o.shadowFilter},
+          {"bias", o.shadowBias},
           {"faces", s.faces},
           {"atlas_width", s.atlasWidth},
           {"atlas_height", s.atlasHeight},
@@ -133,6 +135,8 @@ Frame loadFrame(Device& device, const RenderOptions& o) {
   r.shadows = o.shadows;
   r.shadowMapSize = o.shadowMapSize;
   r.shadowBudgetMB = o.shadowBudgetMB;
+  r.shadowFilter = o.shadowFilter;
+  r.shadowBias = o.shadowBias;
   r.shadingModel = o.shadingModel;
   r.features = o.features;
   r.seed = o.seed;
@@ -253,8 +257,7 @@ void runRender(const RenderOptions& options) {
               << info.shadowMaps->lights.size() << " light(s) in a " << info.shadowMaps->atlasWidth
               << "x" << info.shadowMaps->atlasHeight << " atlas (" << std::fixed
               << std::setprecision(1) << double(info.shadowMaps->bytes) / double(1 << 20)
-              << " MB), " << info.shadowMaps->drawMs
-              << " ms (software, depth only; not shaded yet)\n"
+              << " MB), " << info.shadowMaps->drawMs << " ms (software, depth only)\n"
               << std::defaultfloat;
   std::cout << "device: " << device.name() << "\n";
   if (references)

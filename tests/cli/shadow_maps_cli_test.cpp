@@ -1,5 +1,5 @@
 // `render` with shadow-casting lights: the shadow atlas in stats.json and --dump, the budget's
-// note, the images unchanged (nothing shades shadows yet), and bad shadow-map options.
+// note, the images (a shadow only takes light away), and bad shadow-map options.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -72,14 +72,25 @@ TEST(ShadowMapsCli, StatsAndDumpHoldTheAtlas) {
   }
   EXPECT_GT(near, 0u);
 
-  // Nothing shades with the maps yet: the image is the one without shadow-casting lights.
+  // A shadow factor in [0, 1] multiplies each contribution and the sums are taken in the same
+  // order, so (rounding being monotonic) no pixel gains light; some lose it (with every light
+  // casting: the three of largest range darken none of these 64x36 pixels).
   r = runTileshade(kFrame + "--shadows none --out " + plain.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = runTileshade(kFrame + "--shadows all --out " + tmp.string());
   ASSERT_EQ(r.status, 0) << r.output;
   // (Pixels, not bytes: the EXR header holds the time it was written.)
   const FloatImage shadowed = readImage((tmp / "image.exr").string());
   const FloatImage unshadowed = readImage((plain / "image.exr").string());
   EXPECT_GT(shadowed.data.size(), 0u);
-  EXPECT_TRUE(shadowed.data == unshadowed.data);
+  ASSERT_EQ(shadowed.data.size(), unshadowed.data.size());
+  size_t darker = 0, brighter = 0;
+  for (size_t i = 0; i < shadowed.data.size(); ++i) {
+    darker += shadowed.data[i] < unshadowed.data[i];
+    brighter += shadowed.data[i] > unshadowed.data[i];
+  }
+  EXPECT_EQ(brighter, 0u);
+  EXPECT_GT(darker, 0u);
   const nlohmann::json none = nlohmann::json::parse(std::ifstream(plain / "stats.json"));
   EXPECT_TRUE(none["shadow_maps"].is_null());
   EXPECT_FALSE(std::filesystem::exists(plain / "shadow_atlas.exr"));
@@ -106,9 +117,11 @@ TEST(ShadowMapsCli, TheBudgetShrinksMapsWithANote) {
 TEST(ShadowMapsCli, BadOptionsFailWithOneLine) {
   if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
   const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_bad";
-  for (const char* args : {"--shadows 20 --shadow-budget 0.001", "--shadow-map-size 100",
-                           "--shadow-map-size 8", "--shadow-map-size 16384", "--shadow-budget 0",
-                           "--shadow-budget -3", "--shadow-budget 5000", "--shadow-budget nan"}) {
+  for (const char* args :
+       {"--shadows 20 --shadow-budget 0.001", "--shadow-map-size 100", "--shadow-map-size 8",
+        "--shadow-map-size 16384", "--shadow-budget 0", "--shadow-budget -3",
+        "--shadow-budget 5000", "--shadow-budget nan", "--shadow-filter pcf4", "--shadow-bias 1",
+        "--shadow-bias 1,x", "--shadow-bias 1,-2", "--shadow-bias 1,2,3", "--shadow-bias inf,1"}) {
     CliRun r = runTileshade(kFrame + args + " --out " + tmp.string());
     EXPECT_NE(r.status, 0) << args;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
