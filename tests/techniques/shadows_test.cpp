@@ -36,8 +36,8 @@ Scene floorScene(bool withBox, glm::dvec3 eye) {
   b.quad({-kFloor, 0.0f, kFloor}, {kFloor, 0.0f, kFloor}, {kFloor, 0.0f, -kFloor},
          {-kFloor, 0.0f, -kFloor}, m);
   if (withBox) b.box(kBoxLo, kBoxHi, m, true);
-  s.cameraPath.push_back(SceneCamera::lookAt(eye, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 1.2f, 0.1f,
-                                             100.0f));
+  s.cameraPath.push_back(
+      SceneCamera::lookAt(eye, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 1.2f, 0.1f, 100.0f));
   return s;
 }
 
@@ -156,8 +156,7 @@ TEST(Shadows, AnEnclosedLightGivesExactlyZero) {
   const PreparedFrame& f = b.frame;
   const ReferenceImage withRef = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
   const PreparedFrame& g = a.frame;
-  const ReferenceImage withoutRef =
-      shadeReference(g.encoded, g.intrinsics, g.lights, g.ambient, 0);
+  const ReferenceImage withoutRef = shadeReference(g.encoded, g.intrinsics, g.lights, g.ambient, 0);
   EXPECT_EQ(withRef.contributing, withoutRef.contributing);
 }
 
@@ -186,8 +185,8 @@ TEST(Shadows, AnOpenFloorUnderAPointLightIsLitAcrossTheCubeSeams) {
                                                       1.0));
         const glm::dvec3 d = p - glm::dvec3(0.3, 1.2, -0.2);
         int axis = std::abs(d.x) >= std::abs(d.y) && std::abs(d.x) >= std::abs(d.z) ? 0
-                   : std::abs(d.y) >= std::abs(d.z)                                  ? 1
-                                                                                     : 2;
+                   : std::abs(d.y) >= std::abs(d.z)                                 ? 1
+                                                                                    : 2;
         ++facesSampled[size_t(2 * axis + (d[axis] < 0.0 ? 1 : 0))];
       }
     for (int face : {0, 1, 3, 4, 5}) EXPECT_GT(facesSampled[size_t(face)], 0) << face;
@@ -237,11 +236,10 @@ TEST(Shadows, TheBoxShadowsTheFloorWhereTheAnalyticShadowIs) {
           const size_t i = size_t(y) * size_t(in.width) + size_t(x);
           const float depth = s.frame.encoded.depth[i];
           if (depth <= 0.0f) continue;
-          const glm::dvec3 p(worldFromView *
-                             glm::dvec4(glm::dvec3(shading_f::ts_view_position(
-                                            x, y, depth, in.tanHalfFovX, in.tanHalfFovY,
-                                            in.width, in.height)),
-                                        1.0));
+          const glm::dvec3 p(worldFromView * glm::dvec4(glm::dvec3(shading_f::ts_view_position(
+                                                            x, y, depth, in.tanHalfFovX,
+                                                            in.tanHalfFovY, in.width, in.height)),
+                                                        1.0));
           if (std::abs(p.y) > 1e-3) continue;  // the box's pixels
           const bool inside = rayMeetsBox(p, towards, -kMargin);
           const bool outside = !rayMeetsBox(p, towards, kMargin);
