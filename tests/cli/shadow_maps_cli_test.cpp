@@ -130,5 +130,38 @@ TEST(ShadowMapsCli, BadOptionsFailWithOneLine) {
   }
 }
 
+// A G-buffer dumped with shadow-casting lights, imported: shaded without shadows (no geometry to
+// draw maps from), and a note says so.
+TEST(ShadowMapsCli, AnImportedShadowedDumpSaysItIsUnshadowed) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_import";
+  std::filesystem::remove_all(tmp);
+  CliRun r = runTileshade(kFrame + "--shadows 2 --dump --out " + (tmp / "dump").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = runTileshade("render --device cpu --gbuffer-in " + (tmp / "dump").string() + " --out " +
+                       (tmp / "again").string(),
+                   test::Streams::StderrOnly);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("shaded without shadows"), std::string::npos) << r.output;
+}
+
+// bench draws no shadow maps: a scene whose lights cast shadows is refused in one line, never
+// benched unshadowed.
+TEST(ShadowMapsCli, BenchRefusesShadowCastingLights) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_bench";
+  std::filesystem::remove_all(tmp);
+  std::filesystem::create_directories(tmp);
+  const std::string scene = (tmp / "casting.gltf").string();
+  CliRun r = runTileshade("scene export builtin:atrium " + scene + " --shadows 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = runTileshade("bench --scene " + scene +
+                   " --technique tiled --resolution 64x36 --device cpu " + "--out " +
+                   (tmp / "out").string());
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_NE(r.output.find("2 light(s) cast a shadow"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace ts
