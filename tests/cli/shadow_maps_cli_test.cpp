@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gbuffer/image_io.h"
+#include "require_gl.h"
 #include "test_support.h"
 
 namespace ts {
@@ -128,6 +129,29 @@ TEST(ShadowMapsCli, BadOptionsFailWithOneLine) {
     EXPECT_NE(r.output.find("error"), std::string::npos) << args << ": " << r.output;
     EXPECT_NE(r.output.find("--shadow-"), std::string::npos) << args << ": " << r.output;
   }
+}
+
+// The forward techniques (GLSL) shade no shadows: named, they are refused before any file is
+// written; `all` leaves them out with a line, and renders the others.
+TEST(ShadowMapsCli, ForwardTechniquesRefuseShadowCastingLights) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  REQUIRE_GL();
+  const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_forward";
+  std::filesystem::remove_all(tmp);
+  CliRun r =
+      runTileshade(kFrame + "--raster gl --technique forward --shadows 2 --out " + tmp.string());
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("error: forward: forward techniques do not shade shadows yet"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(tmp));
+  r = runTileshade(kFrame + "--raster gl --technique all --shadows 2 --out " + tmp.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("leaves out forward-single (forward techniques do not shade shadows"),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(std::filesystem::exists(tmp / "tiled" / "image.exr"));
+  EXPECT_FALSE(std::filesystem::exists(tmp / "forward"));
 }
 
 // A G-buffer dumped with shadow-casting lights, imported: shaded without shadows (no geometry to
