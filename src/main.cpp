@@ -111,7 +111,8 @@ int main(int argc, char** argv) {
   renderCmd
       ->add_option("--shadow-bias", render.shadowBias,
                    "depth bias CONSTANT,SLOPE in texels' world footprint at the receiver: "
-                   "footprint * (C + S tan(angle between normal and light))")
+                   "footprint * (C + S tan(angle between normal and light) N/2), N the "
+                   "filter's taps a side (none: 1); docs/shadows.md")
       ->capture_default_str();
   renderCmd
       ->add_option("--shadow-map-size", render.shadowMapSize,
