@@ -22,7 +22,8 @@
  * float32 in every layout, as in the paper.
  *
  * Scene features (SceneFeatures::kernelDefines): TS_SHADING, TS_HAS_SPECULAR, TS_HAS_EMISSIVE,
- * TS_HAS_SPOT, TS_HAS_DIRECTIONAL; all default to the general pipeline.
+ * TS_HAS_SPOT, TS_HAS_DIRECTIONAL (all default to the general pipeline) and TS_HAS_SHADOWS
+ * (defined only when a light casts a shadow; kernels/shadows.h).
  */
 #ifndef TS_GBUFFER_H
 #define TS_GBUFFER_H
@@ -259,6 +260,7 @@ static inline float ts_decode_roughness(int i, float4 normal, __global const ts_
 
 /* Kernel parameters and arguments for the lights (ts::ViewLights): point and spot lights (the
  * culled ones; kernels/shading.h "Lights") and the directional lights (never culled). */
+#ifndef TS_HAS_SHADOWS
 #define TS_LIGHT_PARAMS                                                                          \
   __global const float4 *light_pos_range, __global const float4 *light_color,                    \
       __global const float4 *light_spot
@@ -267,6 +269,29 @@ static inline float ts_decode_roughness(int i, float4 normal, __global const ts_
   __global const float4 *dir_light_dir, __global const float4 *dir_light_color,                  \
       int dir_light_count
 #define TS_DIRECTIONAL_ARGS dir_light_dir, dir_light_color, dir_light_count
+/* The same with another count (`n` of them: 0 = none). */
+#define TS_DIRECTIONAL_ARGS_COUNT(n) dir_light_dir, dir_light_color, (n)
+#else
+/* With shadows (TS_HAS_SHADOWS, the `shadows` feature) each group also has, per light, its first
+ * shadow face (-1: none) and the face table and atlas (kernels/shadows.h); the two groups get the
+ * same two buffers under their own names, so a kernel may take either group or both. */
+#define TS_LIGHT_PARAMS                                                                          \
+  __global const float4 *light_pos_range, __global const float4 *light_color,                    \
+      __global const float4 *light_spot, __global const int *light_shadow,                       \
+      __global const float4 *shadow_faces, __global const float *shadow_atlas
+#define TS_LIGHT_ARGS                                                                            \
+  light_pos_range, light_color, light_spot, light_shadow, shadow_faces, shadow_atlas
+#define TS_DIRECTIONAL_PARAMS                                                                    \
+  __global const float4 *dir_light_dir, __global const float4 *dir_light_color,                  \
+      int dir_light_count, __global const int *dir_light_shadow,                                 \
+      __global const float4 *dir_shadow_faces, __global const float *dir_shadow_atlas
+#define TS_DIRECTIONAL_ARGS                                                                      \
+  dir_light_dir, dir_light_color, dir_light_count, dir_light_shadow, dir_shadow_faces,           \
+      dir_shadow_atlas
+#define TS_DIRECTIONAL_ARGS_COUNT(n)                                                             \
+  dir_light_dir, dir_light_color, (n), dir_light_shadow, dir_shadow_faces, dir_shadow_atlas
+#include "shadows.h"
+#endif
 
 /* A decoded pixel: what the light terms need (kernels/shading.h) and its light-independent base.
  *   kd, ks   the colours the weights wd, ws multiply (Blinn-Phong: the material's; metallic-
@@ -348,9 +373,17 @@ static inline ts_shading_point ts_surface_point(const ts_surface *s) {
 /* The contribution of point or spot light `light` to the surface. */
 static inline float3 ts_shade_punctual(const ts_surface *s, TS_LIGHT_PARAMS, uint light) {
   ts_shading_point p = ts_surface_point(s);
-  return ts_punctual_light(&p, s->kd, s->ks, light_pos_range[light], light_color[light],
-                           ts_light_spot(light_spot, light), TS_MODEL, TS_SHADING,
-                           TS_HAS_SPECULAR, TS_HAS_SPOT);
+  float3 c = ts_punctual_light(&p, s->kd, s->ks, light_pos_range[light], light_color[light],
+                               ts_light_spot(light_spot, light), TS_MODEL, TS_SHADING,
+                               TS_HAS_SPECULAR, TS_HAS_SPOT);
+#ifdef TS_HAS_SHADOWS
+  /* Sampled only where the light reaches: outside its range c is exactly 0 already. */
+  int first = light_shadow[light];
+  if (first >= 0 && (c.x != 0.0f || c.y != 0.0f || c.z != 0.0f))
+    c *= ts_shadow_factor(shadow_faces, shadow_atlas, first, s->P, s->N,
+                          normalize(light_pos_range[light].xyz - s->P));
+#endif
+  return c;
 }
 
 /* The summed contributions of every directional light (none in a build without them). */
@@ -358,9 +391,17 @@ static inline float3 ts_shade_directionals(const ts_surface *s, TS_DIRECTIONAL_P
   float3 sum = (float3)(0.0f);
 #if TS_HAS_DIRECTIONAL
   ts_shading_point p = ts_surface_point(s);
-  for (int k = 0; k < dir_light_count; ++k)
-    sum += ts_directional_light(&p, s->kd, s->ks, dir_light_dir[k].xyz, dir_light_color[k].xyz,
-                                TS_SHADING, TS_HAS_SPECULAR);
+  for (int k = 0; k < dir_light_count; ++k) {
+    float3 c = ts_directional_light(&p, s->kd, s->ks, dir_light_dir[k].xyz,
+                                    dir_light_color[k].xyz, TS_SHADING, TS_HAS_SPECULAR);
+#ifdef TS_HAS_SHADOWS
+    int first = dir_light_shadow[k];
+    if (first >= 0 && (c.x != 0.0f || c.y != 0.0f || c.z != 0.0f))
+      c *= ts_shadow_factor(dir_shadow_faces, dir_shadow_atlas, first, s->P, s->N,
+                            dir_light_dir[k].xyz);
+#endif
+    sum += c;
+  }
 #endif
   return sum;
 }

@@ -211,6 +211,35 @@ static inline ts_lane_surface ts_lanes_keep(const ts_lane_surface *s, TS_LANE_MA
   return k;
 }
 
+#ifdef TS_HAS_SHADOWS
+/* The shadow factors of the TS_LANES pixels for the light whose first face is `first` (>= 0),
+ * towards the light at `light_pos` (punctual; `directional`: `light_pos` is the unit direction
+ * to the light), pixel by pixel with the scalar kernels/shadows.h: a texel fetch per pixel does
+ * not vectorise, and the per-pixel kernels call the same function. Lanes whose weights are all 0
+ * are not sampled (their factor stays 1: it multiplies 0), so unlit slots never reach it. */
+static inline TS_LANE ts_lanes_shadow(const ts_lane_surface *s, ts_light_weights_t w,
+                                      __global const float4 *faces, __global const float *atlas,
+                                      int first, float3 light_pos, int directional) {
+  float px[TS_LANES], py[TS_LANES], pz[TS_LANES], nx[TS_LANES], ny[TS_LANES], nz[TS_LANES];
+  float reach[TS_LANES], factor[TS_LANES];
+  TS_LANE_VSTORE(TS_LANES)(s->p.px, 0, px);
+  TS_LANE_VSTORE(TS_LANES)(s->p.py, 0, py);
+  TS_LANE_VSTORE(TS_LANES)(s->p.pz, 0, pz);
+  TS_LANE_VSTORE(TS_LANES)(s->p.nx, 0, nx);
+  TS_LANE_VSTORE(TS_LANES)(s->p.ny, 0, ny);
+  TS_LANE_VSTORE(TS_LANES)(s->p.nz, 0, nz);
+  TS_LANE_VSTORE(TS_LANES)(fabs(w.wd) + fabs(w.ws) + fabs(w.wf), 0, reach);
+  for (int k = 0; k < TS_LANES; ++k) {
+    factor[k] = 1.0f;
+    if (reach[k] == 0.0f) continue;
+    float3 P = (float3)(px[k], py[k], pz[k]);
+    float3 L = directional ? light_pos : normalize(light_pos - P);
+    factor[k] = ts_shadow_factor(faces, atlas, first, P, (float3)(nx[k], ny[k], nz[k]), L);
+  }
+  return TS_LANE_VLOAD(TS_LANES)(0, factor);
+}
+#endif
+
 /* sum += C (wd kd + ws ks + wf), lane by lane, as ts_weighted_color forms it. */
 static inline void ts_lanes_add_weighted(ts_lane_rgb *sum, const ts_lane_surface *s,
                                          ts_light_weights_t w, float4 color) {
@@ -218,6 +247,17 @@ static inline void ts_lanes_add_weighted(ts_lane_rgb *sum, const ts_lane_surface
   sum->g += color.y * (w.wd * s->kdg + w.ws * s->ksg + w.wf);
   sum->b += color.z * (w.wd * s->kdb + w.ws * s->ksb + w.wf);
 }
+
+#ifdef TS_HAS_SHADOWS
+/* The same times the shadow factor f, in the per-pixel kernels' order (the contribution, then
+ * the factor: kernels/gbuffer.h ts_shade_punctual), so each lane stays what they compute. */
+static inline void ts_lanes_add_shadowed(ts_lane_rgb *sum, const ts_lane_surface *s,
+                                         ts_light_weights_t w, float4 color, TS_LANE f) {
+  sum->r += color.x * (w.wd * s->kdr + w.ws * s->ksr + w.wf) * f;
+  sum->g += color.y * (w.wd * s->kdg + w.ws * s->ksg + w.wf) * f;
+  sum->b += color.z * (w.wd * s->kdb + w.ws * s->ksb + w.wf) * f;
+}
+#endif
 
 /* sum += point or spot light `light`'s contribution. */
 static inline void ts_lanes_add_light(ts_lane_rgb *sum, const ts_lane_surface *s,
@@ -230,6 +270,14 @@ static inline void ts_lanes_add_light(ts_lane_rgb *sum, const ts_lane_surface *s
       &s->p, (TS_LANE)pr.x, (TS_LANE)pr.y, (TS_LANE)pr.z, (TS_LANE)pr.w, (TS_LANE)inv_r2,
       (TS_LANE)spot.x, (TS_LANE)spot.y, (TS_LANE)spot.z, (TS_LANE)spot.w, (TS_LANE)color.w,
       TS_MODEL, TS_SHADING, TS_HAS_SPECULAR, TS_HAS_SPOT);
+#ifdef TS_HAS_SHADOWS
+  int first = light_shadow[light];
+  if (first >= 0) {
+    TS_LANE f = ts_lanes_shadow(s, w, shadow_faces, shadow_atlas, first, pr.xyz, 0);
+    ts_lanes_add_shadowed(sum, s, w, color, f);
+    return;
+  }
+#endif
   ts_lanes_add_weighted(sum, s, w, color);
 }
 
@@ -241,6 +289,14 @@ static inline void ts_lanes_add_directionals(ts_lane_rgb *sum, const ts_lane_sur
     float4 d = dir_light_dir[k];
     ts_light_weights_t w = ts_directional_weights(&s->p, (TS_LANE)d.x, (TS_LANE)d.y,
                                                   (TS_LANE)d.z, TS_SHADING, TS_HAS_SPECULAR);
+#ifdef TS_HAS_SHADOWS
+    int first = dir_light_shadow[k];
+    if (first >= 0) {
+      TS_LANE f = ts_lanes_shadow(s, w, dir_shadow_faces, dir_shadow_atlas, first, d.xyz, 1);
+      ts_lanes_add_shadowed(sum, s, w, dir_light_color[k], f);
+      continue;
+    }
+#endif
     ts_lanes_add_weighted(sum, s, w, dir_light_color[k]);
   }
 #endif

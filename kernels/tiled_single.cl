@@ -275,7 +275,7 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
      * pays for that trip. Directional lights are added once, with the last chunk. */
     if (flush && accepted == 0) lanes_store_tile(soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS);
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (flush) lanes_shade_list(list, n, soa, TS_LIGHT_ARGS, dir_light_dir, dir_light_color, 0);
+    if (flush) lanes_shade_list(list, n, soa, TS_LIGHT_ARGS, TS_DIRECTIONAL_ARGS_COUNT(0));
 #endif
     if (flush) {
       record_chunk(list, n, accepted, tile, record_stride, tile_lights);
@@ -313,7 +313,7 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   int lit_tile = accepted + n > 0 || dir_count > 0;
   if (lit_tile && accepted == 0) lanes_store_tile(soa, tx, ty, camera, ambient, TS_GBUFFER_ARGS);
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (lit_tile) lanes_shade_list(list, n, soa, TS_LIGHT_ARGS, dir_light_dir, dir_light_color, dir_count);
+  if (lit_tile) lanes_shade_list(list, n, soa, TS_LIGHT_ARGS, TS_DIRECTIONAL_ARGS_COUNT(dir_count));
   barrier(CLK_LOCAL_MEM_FENCE);
   if (lit_tile) lanes_write_tile(soa, tx, ty, camera, image);
   else write_base_tile(tx, ty, camera, ambient, TS_GBUFFER_ARGS, image);

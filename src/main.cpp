@@ -100,7 +100,20 @@ int main(int argc, char** argv) {
                         "which lights cast shadows: none, all, or N (the N lights of largest "
                         "range); default the scene's own (glTF extras castsShadow). Their "
                         "shadow maps are drawn into one atlas (stats.json shadow_maps, --dump "
-                        "writes it); no technique shades shadows yet (docs/shadows.md)");
+                        "writes it) and every deferred technique shades with them; the forward "
+                        "ones refuse (docs/shadows.md)");
+  renderCmd
+      ->add_option("--shadow-filter", render.shadowFilter,
+                   "how shading samples a shadow map: none (one texel's depth comparison), "
+                   "pcf2, pcf3, pcf5 (N x N comparisons averaged)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "pcf2", "pcf3", "pcf5"}));
+  renderCmd
+      ->add_option("--shadow-bias", render.shadowBias,
+                   "depth bias CONSTANT,SLOPE in texels' world footprint at the receiver: "
+                   "footprint * (C + S tan(angle between normal and light) N/2), N the "
+                   "filter's taps a side (none: 1); docs/shadows.md")
+      ->capture_default_str();
   renderCmd
       ->add_option("--shadow-map-size", render.shadowMapSize,
                    "texels a side of a point or spot light's shadow-map face, a power of two "
@@ -199,7 +212,7 @@ int main(int argc, char** argv) {
   for (const char* name :
        {"--lights", "--light-count", "--light-range", "--light-threshold", "--seed", "--width",
         "--height", "--frame", "--variant", "--normal-maps", "--shadows", "--shadow-map-size",
-        "--shadow-budget", "--blend", "--shading-model"})
+        "--shadow-budget", "--shadow-filter", "--shadow-bias", "--blend", "--shading-model"})
     gbufferInOpt->excludes(renderCmd->get_option(name));
   gbufferInOpt->excludes(sceneOpt);
   gbufferInOpt->excludes(rasterOpt);

@@ -117,6 +117,13 @@ foreach(lanes 1 16)
     $<TARGET_FILE:tileshade> render ${TILESHADE_OCLGRIND_FRAME} --technique all --lanes ${lanes}
     --tile 24x8)
 endforeach()
+# Shading with shadow maps (kernels/shadows.h; TS_HAS_SHADOWS builds): the atrium's four lights of
+# largest range cast, a 5x5 filter reaching past the faces' edges (clamped), per-pixel and lanes.
+foreach(lanes 1 16)
+  tileshade_oclgrind_test(deferred.shadows.lanes${lanes} "${TILESHADE_OCLGRIND_ALL}"
+    $<TARGET_FILE:tileshade> render ${TILESHADE_OCLGRIND_FRAME} --technique deferred
+    --shadows 4 --shadow-map-size 16 --shadow-filter pcf5 --lanes ${lanes})
+endforeach()
 # tiled's binning on both of its paths (a work-item per light, a work-group per big light; the
 # default run above takes one path per device), its lists against the host's.
 tileshade_oclgrind_test(tiled.binning-paths "--data-races ${TILESHADE_OCLGRIND_NOOPT}"

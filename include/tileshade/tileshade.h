@@ -160,10 +160,13 @@ struct SceneRequest {
   float lightThreshold = 0.0f;           // > 0: ranges from the attenuation threshold
   std::string variant;                   // built-in variants, a comma list
   bool normalMaps = true;                // apply the scene's normal maps (glTF normalTexture)
-  std::string shadows;  // which lights cast shadows: "" (the scene's marks), none, all or N
-                        // (their maps are drawn: FrameInfo::shadowMaps; nothing shades them yet)
-  int shadowMapSize = 512;       // per point/spot face, a power of two 16..8192 (directional: 4x)
-  double shadowBudgetMB = 64.0;  // the shadow atlas's budget, MiB (docs/shadows.md)
+  std::string shadows;      // which lights cast shadows: "" (the scene's marks), none, all or N
+                            // (their maps: FrameInfo::shadowMaps; every deferred technique and the
+                            // reference shade with them; the forward ones refuse)
+  int shadowMapSize = 512;  // per point/spot face, a power of two 16..8192 (directional: 4x)
+  double shadowBudgetMB = 64.0;        // the shadow atlas's budget, MiB (docs/shadows.md)
+  std::string shadowFilter = "none";   // how shading samples the maps: none, pcf2, pcf3, pcf5
+  std::string shadowBias = "1.5,1.5";  // depth bias CONSTANT,SLOPE in texel footprints
   // alphaMode BLEND materials: "refuse" (the frame is refused: no technique renders
   // transparency yet), "as-opaque" or "as-mask" (drawn so)
   std::string blend = "refuse";
@@ -184,8 +187,8 @@ struct ShadowMapLight {
   int requestedSize = 0, size = 0;  // per face, texels a side: before the budget, as drawn
 };
 
-// The shadow maps of a frame, drawn into one float32 atlas (docs/shadows.md). Nothing shades
-// with them yet.
+// The shadow maps of a frame, drawn into one float32 atlas (docs/shadows.md), which every
+// deferred technique and the reference shade with.
 struct ShadowMapsInfo {
   uint64_t faces = 0;
   int atlasWidth = 0, atlasHeight = 0;
@@ -211,7 +214,7 @@ struct FrameInfo {
   uint64_t geometryPixels = 0;
   uint64_t lights = 0, directionalLights = 0;  // lights counts directional ones too
   std::string lightSummary;          // "924 lights", "12 lights: 6 point, 5 spot, 1 directional"
-  uint64_t shadowCastingLights = 0;  // marked to cast a shadow (recorded, not shaded yet)
+  uint64_t shadowCastingLights = 0;  // marked to cast a shadow
   std::optional<ShadowMapsInfo> shadowMaps;    // their maps; none without a shadow-casting light
   double rasterMs = 0.0, rasterSetupMs = 0.0;  // 0 where nothing was rasterized
   // A scene rasterized with raster "gl": the techniques that draw the scene (forward) can shade

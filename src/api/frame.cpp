@@ -301,6 +301,8 @@ Frame Frame::fromScene(Device& device, const SceneRequest& r) {
     o.shadowMapSize = r.shadowMapSize;
     o.shadowBudgetMB = r.shadowBudgetMB;
     o.blend = blendPolicyNames().parseOption("--blend", r.blend);
+    o.shadowFilter = r.shadowFilter;
+    o.shadowBias = r.shadowBias;
     o.shadingModel = r.shadingModel;
     o.features = r.features;
     o.seed = r.seed;

@@ -2,6 +2,7 @@
 
 #include "scene/light_range.h"
 #include "scene/scene_features.h"
+#include "scene/shadow_casters.h"
 #include "scene/scene_loader.h"
 #include "scene/view_space_lights.h"
 #include "techniques/technique.h"
@@ -52,6 +53,11 @@ void BenchScene::check(const BenchConfig& c) {
     return;
   }
   features(c);  // a bad --shading-model or --features fails before anything is timed
+  // bench draws no shadow maps yet: its runs would shade a shadow-casting light unshadowed.
+  if (const size_t casters = shadowCasterCount(scene_.lights))
+    throw Error("--scene " + c.scene + ": " + std::to_string(casters) +
+                " light(s) cast a shadow (extras castsShadow), and bench draws no shadow maps "
+                "yet (render does: docs/shadows.md)");
   if (findTechnique(c.technique).drawsScene && backend != RasterBackend::Gl)
     throw Error(c.technique + " draws the scene: bench needs --raster gl for it");
   auto& r = rasterizers_[backend];

@@ -25,6 +25,12 @@ class KernelArgs {
     std::apply([this](const auto&... value) { (this->add(value), ...); }, group);
     return *this;
   }
+  // The group only when `bound` (arguments that a kernel has in some builds only).
+  template <typename... Ts>
+  KernelArgs& addIf(bool bound, const std::tuple<Ts...>& group) {
+    if (bound) add(group);
+    return *this;
+  }
   // Leaves the next argument to be set before each launch: `index` receives its index.
   KernelArgs& later(cl_uint& index) {
     index = next_++;

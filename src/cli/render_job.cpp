@@ -96,6 +96,8 @@ nlohmann::json shadowMapsJson(const FrameInfo& info, const RenderOptions& o) {
                       {"size", l.size}});
   return {{"map_size", o.shadowMapSize},
           {"budget_mb", o.shadowBudgetMB},
+          {"filter", o.shadowFilter},
+          {"bias", o.shadowBias},
           {"faces", s.faces},
           {"atlas_width", s.atlasWidth},
           {"atlas_height", s.atlasHeight},
@@ -134,6 +136,8 @@ Frame loadFrame(Device& device, const RenderOptions& o) {
   r.shadowMapSize = o.shadowMapSize;
   r.shadowBudgetMB = o.shadowBudgetMB;
   r.blend = toString(o.blend);
+  r.shadowFilter = o.shadowFilter;
+  r.shadowBias = o.shadowBias;
   r.shadingModel = o.shadingModel;
   r.features = o.features;
   r.seed = o.seed;
@@ -203,11 +207,34 @@ void runRender(const RenderOptions& options) {
   if (info.shadowMaps)
     for (const std::string& note : info.shadowMaps->notes)
       std::cerr << "tileshade: note: " << note << "\n";
-  const std::vector<std::string> techniques = expandTechniques(options.techniques, info.drawsScene);
+  // Files dumped with shadow-casting lights (their atlas beside them) shade without shadows here:
+  // an imported G-buffer has no geometry to draw maps from. Said, not silent.
+  if (!options.gbufferIn.empty()) {
+    const std::filesystem::path in(options.gbufferIn);
+    const std::filesystem::path dir = std::filesystem::is_directory(in) ? in : in.parent_path();
+    if (std::filesystem::exists(dir / "shadow_atlas.json"))
+      std::cerr << "tileshade: note: " << options.gbufferIn
+                << " was dumped with shadow-casting lights; an imported G-buffer has no geometry "
+                   "for shadow maps, so it is shaded without shadows\n";
+  }
+  // The forward techniques (GLSL) have no shadows: never an unshadowed image of a shadowed frame.
+  const bool shadowed = info.shadowCastingLights > 0;
+  const std::vector<std::string> techniques =
+      expandTechniques(options.techniques, info.drawsScene && !shadowed);
   // The forward techniques draw the scene: a frame without one (software raster, imported
   // G-buffer) cannot be theirs. Said before any file is written.
   const bool all = std::count(options.techniques.begin(), options.techniques.end(), "all") > 0;
   for (const TechniqueDescription& t : listTechniques()) {
+    if (t.drawsScene && info.drawsScene && shadowed) {
+      if (all)
+        std::cout << "tileshade: --technique all leaves out " << t.name
+                  << " (forward techniques do not shade shadows yet)\n";
+      if (std::count(techniques.begin(), techniques.end(), t.name))
+        throw Error(t.name + ": forward techniques do not shade shadows yet (" +
+                    std::to_string(info.shadowCastingLights) +
+                    " light(s) cast a shadow; docs/shadows.md)");
+      continue;
+    }
     if (!t.drawsScene || info.drawsScene) continue;
     if (all)
       std::cout << "tileshade: --technique all leaves out " << t.name
@@ -254,8 +281,7 @@ void runRender(const RenderOptions& options) {
               << info.shadowMaps->lights.size() << " light(s) in a " << info.shadowMaps->atlasWidth
               << "x" << info.shadowMaps->atlasHeight << " atlas (" << std::fixed
               << std::setprecision(1) << double(info.shadowMaps->bytes) / double(1 << 20)
-              << " MB), " << info.shadowMaps->drawMs
-              << " ms (software, depth only; not shaded yet)\n"
+              << " MB), " << info.shadowMaps->drawMs << " ms (software, depth only)\n"
               << std::defaultfloat;
   std::cout << "device: " << device.name() << "\n";
   if (references)

@@ -550,9 +550,11 @@ LightsFile parseLightsFile(const std::string& text, const std::string& path) {
     if (l.type == SceneLightType::Directional) {
       out.lights.directionalDir.emplace_back(-l.direction, 0.0f);
       out.lights.directionalColor.emplace_back(l.color, 0.0f);
+      out.lights.directionalShadow.push_back(-1);  // files carry no shadow maps
       continue;
     }
     out.lights.positionRange.emplace_back(l.position, l.range);
+    out.lights.shadow.push_back(-1);
     if (l.type == SceneLightType::Spot) {
       out.lights.color.emplace_back(l.color, l.coneScale);
       out.lights.spot.emplace_back(l.direction, l.cosOuter);

@@ -3,17 +3,101 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <thread>
 
 #include "raster/draw_batches.h"
 #include "raster/scene_validation.h"
+#include "shading/shading_cpu.h"
+#include "util/error.h"
+#include "util/option_values.h"
+#include "util/short_text.h"
 
 namespace ts {
 namespace {
 
 constexpr int kSmallFace = 64;  // one tile of the rasterizer
 
+glm::vec4 row(const glm::dmat4& m, int r) {
+  return glm::vec4(glm::dvec4(m[0][r], m[1][r], m[2][r], m[3][r]));
+}
+
 }  // namespace
+
+int parseShadowFilter(const std::string& name) {
+  if (name == "none") return 1;
+  if (name == "pcf2") return 2;
+  if (name == "pcf3") return 3;
+  if (name == "pcf5") return 5;
+  throw Error("--shadow-filter: unknown filter '" + shortText(name) +
+              "' (known: none, pcf2, pcf3, pcf5)");
+}
+
+std::string shadowFilterName(int taps) { return taps == 1 ? "none" : "pcf" + std::to_string(taps); }
+
+void parseShadowBias(const std::string& text, ShadowSampling& sampling) {
+  const std::vector<std::string> parts = splitList(text);
+  char* end = nullptr;
+  float v[2] = {0.0f, 0.0f};
+  bool ok = parts.size() == 2;
+  for (size_t i = 0; ok && i < 2; ++i) {
+    v[i] = std::strtof(parts[i].c_str(), &end);
+    ok = !parts[i].empty() && *end == '\0' && std::isfinite(v[i]) && v[i] >= 0.0f;
+  }
+  if (!ok)
+    throw Error(
+        "--shadow-bias: expected CONSTANT,SLOPE (two finite numbers >= 0, in texel "
+        "footprints), got '" +
+        shortText(text) + "'");
+  sampling.biasConstant = v[0];
+  sampling.biasSlope = v[1];
+}
+
+void attachShadowMaps(const std::shared_ptr<const ShadowAtlas>& atlas,
+                      const std::vector<SceneLight>& sceneLights, const glm::dmat4& viewFromWorld,
+                      const ShadowSampling& sampling, ViewLights& lights) {
+  const ShadowAtlasLayout& layout = atlas->layout;
+  if (layout.faces.empty()) return;
+  const glm::dmat4 worldFromView = glm::inverse(viewFromWorld);
+  // The scene's light index -> its slot among the point/spot or the directional lights.
+  std::vector<int> slot(sceneLights.size(), -1);
+  int punctual = 0, directional = 0;
+  for (size_t i = 0; i < sceneLights.size(); ++i)
+    slot[i] = sceneLights[i].type == SceneLightType::Directional ? directional++ : punctual++;
+  lights.shadow.resize(lights.size(), -1);
+  lights.directionalShadow.resize(lights.directionalCount(), -1);
+  lights.shadowFaces.clear();
+  for (size_t f = 0; f < layout.faces.size(); ++f) {
+    const ShadowFace& face = layout.faces[f];
+    const SceneLight& light = sceneLights.at(face.light);
+    int faces = light.type == SceneLightType::Point ? 6 : 1;
+    if (face.face == 0) {
+      std::vector<int>& first =
+          light.type == SceneLightType::Directional ? lights.directionalShadow : lights.shadow;
+      first.at(size_t(slot[face.light])) = int(f);
+    }
+    const glm::dmat4 clip = face.mapFromWorld * worldFromView;
+    const glm::dmat4 faceView = face.view.viewFromWorld * worldFromView;
+    const double texel = 2.0 * face.view.halfX / double(face.size);
+    lights.shadowFaces.push_back(row(clip, 0));
+    lights.shadowFaces.push_back(row(clip, 1));
+    lights.shadowFaces.push_back(row(clip, 3));
+    lights.shadowFaces.push_back(-row(faceView, 2));
+    lights.shadowFaces.emplace_back(float(face.x), float(face.y), float(face.size),
+                                    float(layout.width));
+    // A texel's footprint: a constant across an orthographic map, in proportion to the depth
+    // across a perspective one.
+    lights.shadowFaces.emplace_back(face.view.orthographic ? float(texel) : 0.0f,
+                                    face.view.orthographic ? 0.0f : float(texel),
+                                    sampling.biasConstant, sampling.biasSlope);
+    lights.shadowFaces.emplace_back(float(sampling.taps), float(faces), 0.0f, 0.0f);
+  }
+  if (lights.shadowFaces.size() != layout.faces.size() * TS_SHADOW_FACE_RECORDS)
+    throw Error("shadow face table out of step with kernels/shadows.h");
+  lights.shadowAtlas = std::shared_ptr<const std::vector<float>>(atlas, &atlas->depth);
+  lights.shadowAtlasWidth = layout.width;
+}
 
 uint64_t ShadowAtlas::trianglesDrawn() const {
   uint64_t n = 0;

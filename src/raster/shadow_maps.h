@@ -1,12 +1,16 @@
 #pragma once
 // The shadow maps of a frame drawn into their atlas (raster/shadow_atlas.h plans it): depth-only
 // software rasterization (rasterizeDepth) of each face's triangles, those of the draw batches
-// (raster/draw_batches.h) whose boxes touch the face's frustum. Nothing shades with them yet.
+// (raster/draw_batches.h) whose boxes touch the face's frustum; attachShadowMaps hands them to
+// the lights that the kernels and the reference shade (kernels/shadows.h).
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "raster/shadow_atlas.h"
 #include "scene/scene.h"
+#include "shading/view_lights.h"
 
 namespace ts {
 
@@ -25,6 +29,25 @@ struct ShadowAtlas {
 // Draws every face of `layout` (planned for this scene's lights). threads: 0 = all hardware
 // threads; the same atlas for any count. Throws ts::Error for a scene the rasterizer refuses.
 ShadowAtlas drawShadowAtlas(const Scene& scene, ShadowAtlasLayout layout, int threads = 0);
+
+// How the maps are sampled (kernels/shadows.h; docs/shadows.md): --shadow-filter's taps a side
+// (1: none, one texel's comparison; 2, 3, 5: pcfN, N x N comparisons averaged) and --shadow-bias
+// (constant, slope; in a texel's world footprint at the receiver).
+struct ShadowSampling {
+  int taps = 1;
+  float biasConstant = 1.5f, biasSlope = 1.5f;
+};
+// --shadow-filter none|pcf2|pcf3|pcf5 -> taps, and back; --shadow-bias "C,S" (finite, >= 0).
+// Throw ts::Error (one line naming the option) for anything else.
+int parseShadowFilter(const std::string& name);
+std::string shadowFilterName(int taps);
+void parseShadowBias(const std::string& text, ShadowSampling& sampling);
+
+// Gives `lights` (toViewSpace of `sceneLights` with `viewFromWorld`) the atlas's faces in view
+// space and each shadow-casting light its first face: the kernels' face table and atlas.
+void attachShadowMaps(const std::shared_ptr<const ShadowAtlas>& atlas,
+                      const std::vector<SceneLight>& sceneLights, const glm::dmat4& viewFromWorld,
+                      const ShadowSampling& sampling, ViewLights& lights);
 
 // Whether a world box may hold something `face` sees (its frustum against the box's view-space
 // box; conservative: false only when the box lies wholly outside one plane).

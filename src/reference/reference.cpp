@@ -38,24 +38,42 @@ void parallelRows(int height, int threads, const RowProgress& progress, Body bod
 // model.
 glm::dvec4 widen(const glm::vec4& v) { return glm::dvec4(v); }
 
+bool nonZero(const glm::dvec3& v) { return v.x != 0.0 || v.y != 0.0 || v.z != 0.0; }
+
 shading_d::ts_shading_point shadingPoint(const SurfaceD& s, int shading) {
   shading_d::ts_shading_point p = shading_d::ts_make_shading_point(s.P, s.N, s.V, s.gloss, shading);
   p.view_term = s.viewTerm;  // as decoded (the same formula; kept for one source of truth)
   return p;
 }
 
+// The shadow factor of kernels/shadows.h in double, from the same float face table and atlas
+// (1 for a light without a shadow; sampled only where the light reaches, as the kernels do).
+double shadowFactor(const ViewLights& lights, int first, const SurfaceD& s, glm::dvec3 towards) {
+  if (first < 0) return 1.0;
+  return shading_d::ts_shadow_factor(lights.shadowFaces.data(), lights.shadowAtlas->data(), first,
+                                     s.P, s.N, towards);
+}
+
 glm::dvec3 lightContribution(const SurfaceD& s, const shading_d::ts_shading_point& p,
                              const ViewLights& lights, size_t i, int model, int shading) {
-  return shading_d::ts_punctual_light(&p, s.kd, s.ks, widen(lights.positionRange[i]),
-                                      widen(lights.color[i]), widen(lights.spot[i]), model, shading,
-                                      1, 1);
+  glm::dvec3 c = shading_d::ts_punctual_light(&p, s.kd, s.ks, widen(lights.positionRange[i]),
+                                              widen(lights.color[i]), widen(lights.spot[i]), model,
+                                              shading, 1, 1);
+  const int first = lights.shadowOf(i);
+  if (first >= 0 && nonZero(c))
+    c *= shadowFactor(lights, first, s,
+                      glm::normalize(glm::dvec3(glm::vec3(lights.positionRange[i])) - s.P));
+  return c;
 }
 
 glm::dvec3 directionalContribution(const SurfaceD& s, const shading_d::ts_shading_point& p,
                                    const ViewLights& lights, size_t i, int shading) {
-  return shading_d::ts_directional_light(
-      &p, s.kd, s.ks, glm::dvec3(glm::vec3(lights.directionalDir[i])),
-      glm::dvec3(glm::vec3(lights.directionalColor[i])), shading, 1);
+  const glm::dvec3 towards(glm::vec3(lights.directionalDir[i]));
+  glm::dvec3 c = shading_d::ts_directional_light(
+      &p, s.kd, s.ks, towards, glm::dvec3(glm::vec3(lights.directionalColor[i])), shading, 1);
+  const int first = lights.directionalShadowOf(i);
+  if (first >= 0 && nonZero(c)) c *= shadowFactor(lights, first, s, towards);
+  return c;
 }
 
 // The kernels' own position of pixel (x, y): ts_view_position in float from the stored depth (as
@@ -69,8 +87,6 @@ void useKernelPosition(SurfaceD& s, const EncodedGBuffer& gbuffer, const CameraI
   if (gbuffer.model == ShadingModel::MetallicRoughness)
     s.viewTerm = shading_d::ts_smith_view_term(s.N, s.V, s.gloss);
 }
-
-bool nonZero(const glm::dvec3& v) { return v.x != 0.0 || v.y != 0.0 || v.z != 0.0; }
 
 }  // namespace
 

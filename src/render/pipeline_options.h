@@ -30,6 +30,8 @@ struct PipelineOptions {
   std::string shadows;          // shadow-casting lights (--shadows; shadow_casters.h)
   int shadowMapSize = kDefaultShadowMapSize;       // --shadow-map-size (shadow_atlas.h)
   double shadowBudgetMB = kDefaultShadowBudgetMB;  // --shadow-budget, MiB
+  std::string shadowFilter = "none";               // --shadow-filter (shadow_maps.h)
+  std::string shadowBias = "1.5,1.5";              // --shadow-bias CONSTANT,SLOPE
   BlendPolicy blend = BlendPolicy::Refuse;  // alphaMode BLEND materials (--blend; scene_loader.h)
   std::string shadingModel = "auto";        // auto (the scene's own) or a shadingModelNames() name
   std::string features = "auto";            // auto (the scene's needs), general, or a list

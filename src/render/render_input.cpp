@@ -32,6 +32,9 @@ RenderInput loadImportedInput(const std::string& path, std::optional<GBufferForm
 RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
   const ShadowAtlasOptions shadowOptions{o.shadowMapSize, o.shadowBudgetMB};
   checkShadowAtlasOptions(shadowOptions);  // before any work, casters or not
+  ShadowSampling sampling;
+  sampling.taps = parseShadowFilter(o.shadowFilter);
+  parseShadowBias(o.shadowBias, sampling);
   RenderInput input;
   input.scene = std::make_unique<Scene>(loadScene(o.scene, o.sceneOptions()));
   Scene& scene = *input.scene;
@@ -43,10 +46,13 @@ RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
   input.forward = rasterizer.forwardScene(input.frame.camera, o.width, o.height);
   input.lightSummary = describeLights(scene.lights);
   input.shadowCasters = shadowCasterCount(scene.lights);
-  if (input.shadowCasters > 0)
+  if (input.shadowCasters > 0) {
     input.shadowAtlas = std::make_shared<ShadowAtlas>(drawShadowAtlas(
         scene, planShadowAtlas(scene.lights, scene.bounds(), input.frame.camera, shadowOptions,
                                viewGeometryBounds(input.frame.gbuffer, input.frame.camera))));
+    attachShadowMaps(input.shadowAtlas, scene.lights, input.frame.camera.viewFromWorld, sampling,
+                     input.frame.lights);
+  }
   input.sceneName = scene.name;
   input.triangles = scene.triangleCount();
   input.raster = toString(rasterizer.backend());

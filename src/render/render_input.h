@@ -22,9 +22,9 @@ struct RenderInput {
   std::string rasterDetail;    // "software", "gl: <GL_RENDERER>", or the descriptor's path
   double rasterSetupMs = 0.0;  // one-time cost before the frame (OpenGL context, upload)
   std::string lightSummary;    // "924 lights" or "12 lights: 6 point, 5 spot, 1 directional"
-  size_t shadowCasters = 0;    // lights marked to cast a shadow (not shaded yet)
+  size_t shadowCasters = 0;    // lights marked to cast a shadow
   // Their shadow maps (a scene with shadowCasters > 0; drawn by the software rasterizer for
-  // --raster gl too), else null. Nothing shades with them yet.
+  // --raster gl too), else null; frame.lights samples them (attachShadowMaps).
   std::shared_ptr<const ShadowAtlas> shadowAtlas;
   // The scene and its rasterizer, kept for the forward techniques, which draw the scene
   // (DeviceFrame::forward): `forward` is set for a scene rasterized with --raster gl, null for

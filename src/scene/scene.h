@@ -105,7 +105,7 @@ struct SceneLight {
                                          // of pi/2 is 4.4e-8 above it: taken as pi/2)
   float outerConeAngle = 0.7853981634f;  // spot, radians (glTF's default pi/4)
   // Marked to cast a shadow (glTF extras "castsShadow", or --shadows). Its shadow maps are
-  // drawn (raster/shadow_maps.h); no technique shades shadows yet.
+  // drawn (raster/shadow_maps.h) and sampled by every deferred technique (kernels/shadows.h).
   bool castsShadow = false;
 
   static SceneLight point(glm::dvec3 position, glm::vec3 color, float range);

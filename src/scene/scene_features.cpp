@@ -34,7 +34,8 @@ const Flag kFlags[] = {{"specular", &SceneFeatures::specular},
                        {"point", &SceneFeatures::point},
                        {"spot", &SceneFeatures::spot},
                        {"directional", &SceneFeatures::directional},
-                       {"normal_maps", &SceneFeatures::normalMaps}};
+                       {"normal_maps", &SceneFeatures::normalMaps},
+                       {"shadows", &SceneFeatures::shadows}};
 
 std::string flagNames() {
   std::string s;
@@ -48,6 +49,7 @@ SceneFeatures SceneFeatures::general(ShadingModel model) {
   SceneFeatures f;
   f.model = model;
   for (const Flag& flag : kFlags) f.*flag.member = true;
+  f.shadows = false;  // without shadow maps a build with shadows has nothing to sample
   return f;
 }
 
@@ -63,6 +65,7 @@ std::string SceneFeatures::kernelDefines() const {
   o << "-DTS_SHADING=" << int(model) << " -DTS_HAS_SPECULAR=" << int(specular)
     << " -DTS_HAS_EMISSIVE=" << int(emissive) << " -DTS_HAS_SPOT=" << int(spot)
     << " -DTS_HAS_DIRECTIONAL=" << int(directional);
+  if (shadows) o << " -DTS_HAS_SHADOWS";  // only then: no cost, the same kernels without
   return o.str();
 }
 
@@ -115,13 +118,18 @@ SceneFeatures analyzeScene(const Scene& scene, ShadingModel model) {
     f.point |= l.type == SceneLightType::Point;
     f.spot |= l.type == SceneLightType::Spot;
     f.directional |= l.type == SceneLightType::Directional;
+    f.shadows |= l.castsShadow;
   }
   return f;
 }
 
 SceneFeatures chooseFeatures(const std::string& spec, const SceneFeatures& need) {
   if (spec.empty() || spec == "auto") return need;
-  if (spec == "general") return SceneFeatures::general(need.model);
+  if (spec == "general") {
+    SceneFeatures f = SceneFeatures::general(need.model);
+    f.shadows = need.shadows;
+    return f;
+  }
   SceneFeatures f;
   f.model = need.model;
   for (const Flag& flag : kFlags) f.*flag.member = false;

@@ -20,15 +20,18 @@ struct SceneFeatures {
   bool normalMaps = false;   // "normal_maps": some material's normal map is applied by the
                              // rasterizers (no kernel branches on it; without, the G-buffer
                              // passes do no tangent work)
+  bool shadows = false;      // some light casts a shadow: the kernels sample its shadow map
+                             // (TS_HAS_SHADOWS, kernels/shadows.h); on only with such a light,
+                             // also in `general` (it needs the maps, not just a branch)
 
-  // Everything on, for `model`: the general pipeline of comparisons.
+  // Everything on but shadows, for `model`: the general pipeline of comparisons.
   static SceneFeatures general(ShadingModel model);
 
   // "metallic-roughness specular emissive textures point spot directional normal_maps" (the terms
   // that are on).
   std::string describe() const;
   // OpenCL build options: -DTS_SHADING=… -DTS_HAS_SPECULAR=… -DTS_HAS_EMISSIVE=…
-  // -DTS_HAS_SPOT=… -DTS_HAS_DIRECTIONAL=…
+  // -DTS_HAS_SPOT=… -DTS_HAS_DIRECTIONAL=… [-DTS_HAS_SHADOWS]
   std::string kernelDefines() const;
   // Whether every term `need` has is on here (a pipeline with these features renders that scene
   // exactly).
@@ -48,9 +51,9 @@ SceneFeatures analyzeScene(const Scene& scene, ShadingModel model);
 
 // The user's choice against the analysis `need`:
 //   "auto"       need itself
-//   "general"    everything on (SceneFeatures::general(need.model))
+//   "general"    everything on (SceneFeatures::general(need.model)), shadows as need has them
 //   "a,b,…"      exactly these of specular, emissive, textures, point, spot, directional,
-//                normal_maps (the model stays need.model)
+//                normal_maps, shadows (the model stays need.model)
 // Throws ts::Error for an unknown name, or for a list that leaves out a term the scene needs
 // (it would render it wrong), naming what is missing.
 SceneFeatures chooseFeatures(const std::string& spec, const SceneFeatures& need);

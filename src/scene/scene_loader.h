@@ -30,7 +30,7 @@ struct SceneOptions {
   // scene renders with its interpolated normals, as before tileshade read normal maps.
   bool normalMaps = true;
   // Which lights cast shadows (chooseShadowCasters, scene/shadow_casters.h): "" keeps the
-  // scene's own marks. Their maps are drawn (raster/shadow_maps.h); nothing shades them yet.
+  // scene's own marks. Their maps are drawn (raster/shadow_maps.h) and shaded with.
   std::string shadows;
   BlendPolicy blend = BlendPolicy::Refuse;  // --blend
 };

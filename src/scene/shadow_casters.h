@@ -1,7 +1,7 @@
 #pragma once
 // Which lights cast shadows (`--shadows`): the first piece of shadows (issue #18). The choice is
 // recorded in the scene's lights (SceneLight::castsShadow) and in stats.json; their maps are
-// drawn (raster/shadow_maps.h); nothing shades shadows yet.
+// drawn (raster/shadow_maps.h) and sampled in shading (kernels/shadows.h).
 #include <string>
 #include <vector>
 

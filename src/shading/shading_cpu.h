@@ -9,6 +9,11 @@
 
 #define TS_MAKE3(x, y, z) TS_REAL3((x), (y), (z))
 #define TS_MAKE4(x, y, z, w) TS_REAL4((x), (y), (z), (w))
+// kernels/shadows.h reads the float face table and atlas the kernels get, widened to TS_REAL.
+#define TS_SHADOW_FACES const glm::vec4*
+#define TS_SHADOW_ATLAS const float*
+#define TS_SHADOW_FACE(t, i) TS_REAL4((t)[i])
+#define TS_SHADOW_TEXEL(a, i) TS_REAL((a)[i])
 
 namespace ts {
 
@@ -26,6 +31,8 @@ inline double dot(const glm::dvec3& a, const glm::dvec3& b) { return glm::dot(a,
 #define TS_REAL4 glm::dvec4
 #include "kernels/shading.h"
 #include "kernels/culling.h"
+#include "kernels/shadows.h"
+#undef TS_SHADOWS_H
 #undef TS_REAL
 #undef TS_REAL3
 #undef TS_REAL4
@@ -47,6 +54,8 @@ inline float dot(const glm::vec3& a, const glm::vec3& b) { return glm::dot(a, b)
 #define TS_REAL4 glm::vec4
 #include "kernels/shading.h"
 #include "kernels/culling.h"
+#include "kernels/shadows.h"
+#undef TS_SHADOWS_H
 #undef TS_REAL
 #undef TS_REAL3
 #undef TS_REAL4

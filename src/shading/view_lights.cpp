@@ -9,6 +9,7 @@ void ViewLights::addPoint(glm::vec3 position, float range, glm::vec3 color) {
   positionRange.emplace_back(position, range);
   this->color.emplace_back(color, 1.0f);
   spot.emplace_back(glm::vec3(0.0f), -1.0f);
+  shadow.push_back(-1);
 }
 
 void ViewLights::addSpot(glm::vec3 position, float range, glm::vec3 color, glm::vec3 axis,
@@ -20,11 +21,13 @@ void ViewLights::addSpot(glm::vec3 position, float range, glm::vec3 color, glm::
   // glTF's recommended angle scale: 1 / max(0.001, cos inner - cos outer).
   this->color.emplace_back(color, 1.0f / std::max(1e-3f, cosInner - cosOuter));
   spot.emplace_back(glm::normalize(axis), cosOuter);
+  shadow.push_back(-1);
 }
 
 void ViewLights::addDirectional(glm::vec3 towardsLight, glm::vec3 color) {
   directionalDir.emplace_back(glm::normalize(towardsLight), 0.0f);
   directionalColor.emplace_back(color, 0.0f);
+  directionalShadow.push_back(-1);
 }
 
 }  // namespace ts

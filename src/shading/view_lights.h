@@ -2,6 +2,7 @@
 // The lights of one frame as the kernels read them: shading data below the techniques and the
 // reference, which both take it (a technique's DeviceFrame uploads it, the reference shades it).
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -19,6 +20,20 @@ struct ViewLights {
                                             // cone angle (point: -1, "every direction")
   std::vector<glm::vec4> directionalDir;    // xyz unit vector towards the light, w unused
   std::vector<glm::vec4> directionalColor;  // rgb, w unused
+  // Shadows (kernels/shadows.h; docs/shadows.md): per light its first face in shadowFaces, -1
+  // for a light that casts none (every light until a shadow atlas is attached: attachShadowMaps
+  // in raster/shadow_maps.h).
+  std::vector<int> shadow;             // point and spot lights, in their order
+  std::vector<int> directionalShadow;  // directional lights, in their order
+  std::vector<glm::vec4> shadowFaces;  // kShadowFaceRecords float4s per face (shadows.h)
+  std::shared_ptr<const std::vector<float>> shadowAtlas;  // its texels; null without shadows
+  int shadowAtlasWidth = 0;
+  bool hasShadows() const { return !shadowFaces.empty(); }
+  // The first faces, -1 past the end of `shadow` (lights appended without the add* functions).
+  int shadowOf(size_t i) const { return i < shadow.size() ? shadow[i] : -1; }
+  int directionalShadowOf(size_t i) const {
+    return i < directionalShadow.size() ? directionalShadow[i] : -1;
+  }
   size_t size() const { return positionRange.size(); }
   size_t directionalCount() const { return directionalDir.size(); }
   // The kernels' own test (culling.h: a point light's cos_outer is -1, a spot light's >= 0).

@@ -33,8 +33,10 @@ class BruteTechnique : public Technique {
         .add(toCl(glm::vec4(frame.ambient, 0.0f)))
         .add(frame.gbufferArgs())
         .add(frame.lightArgs())
+        .addIf(config_.features.shadows, frame.lightShadowArgs())
         .add(frame.lightCount())
         .add(frame.directionalArgs())
+        .addIf(config_.features.shadows, frame.directionalShadowArgs())
         .add(image_);
     GroupShape g = fitGroup(16, 16, groupLimit(cl_, kernel_));
     if (lanes_ > 1) args.add(laneLocalMemory(config_, g.size()));

@@ -141,6 +141,7 @@ class DeferredTechnique : public Technique {
         .add(toCl(glm::vec4(frame.ambient, 0.0f)))
         .add(frame.gbufferArgs())
         .add(frame.directionalArgs())
+        .addIf(config_.features.shadows, frame.directionalShadowArgs())
         .add(accum_);
     if (lanes_ > 1) baseArgs.add(laneLocalMemory(config_, baseGroup.size()));
     baseArgs.done();
@@ -155,6 +156,7 @@ class DeferredTechnique : public Technique {
         .add(toCl(glm::vec4(frame.ambient, 0.0f)))
         .add(frame.gbufferArgs())
         .add(frame.lightArgs())
+        .addIf(config_.features.shadows, frame.lightShadowArgs())
         .later(lightArg)
         .later(rectArg)
         .add(accum_);

@@ -38,6 +38,15 @@ DeviceFrame DeviceFrame::upload(ClContext& cl, const EncodedGBuffer& gbuffer,
   f.lightSpot = readOnlyBuffer(cl, lights.spot);
   f.directionalDir = readOnlyBuffer(cl, lights.directionalDir);
   f.directionalColor = readOnlyBuffer(cl, lights.directionalColor);
+  std::vector<cl_int> shadow(lights.size()), directionalShadow(lights.directionalCount());
+  for (size_t i = 0; i < shadow.size(); ++i) shadow[i] = lights.shadowOf(i);
+  for (size_t i = 0; i < directionalShadow.size(); ++i)
+    directionalShadow[i] = lights.directionalShadowOf(i);
+  f.lightShadow = readOnlyBuffer(cl, shadow);
+  f.directionalShadow = readOnlyBuffer(cl, directionalShadow);
+  f.shadowFaces = readOnlyBuffer(cl, lights.shadowFaces);
+  f.shadowAtlas =
+      readOnlyBuffer(cl, lights.shadowAtlas ? *lights.shadowAtlas : std::vector<float>{});
   return f;
 }
 

@@ -27,6 +27,9 @@ struct DeviceFrame {
   cl::Buffer depth, normal, diffuse, specular, emissive;  // G-buffer planes (absent: 1 element)
   cl::Buffer lightPositionRange, lightColor, lightSpot;   // at least one element each
   cl::Buffer directionalDir, directionalColor;            // at least one element each
+  // Shadows (kernels/shadows.h): per light its first face (-1: none), the face table and the
+  // atlas; one element each without shadows. Bound only by kernels built with TS_HAS_SHADOWS.
+  cl::Buffer lightShadow, directionalShadow, shadowFaces, shadowAtlas;
 
   int width() const { return camera.width; }
   int height() const { return camera.height; }
@@ -40,6 +43,13 @@ struct DeviceFrame {
   auto lightArgs() const { return std::tie(lightPositionRange, lightColor, lightSpot); }
   std::tuple<const cl::Buffer&, const cl::Buffer&, int> directionalArgs() const {
     return {directionalDir, directionalColor, directionalCount()};
+  }
+  // What TS_LIGHT_PARAMS and TS_DIRECTIONAL_PARAMS add in a build with shadows (the features'
+  // `shadows`): each group's first faces, the face table, the atlas. KernelArgs::addIf binds them
+  // after lightArgs / directionalArgs.
+  auto lightShadowArgs() const { return std::tie(lightShadow, shadowFaces, shadowAtlas); }
+  auto directionalShadowArgs() const {
+    return std::tie(directionalShadow, shadowFaces, shadowAtlas);
   }
 
   // The caller keeps gbuffer and lights alive while the frame is used.

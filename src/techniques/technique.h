@@ -112,11 +112,12 @@ class Technique {
   friend std::unique_ptr<Technique> createTechnique(const std::string&, ClContext&,
                                                     const TechniqueConfig&);
   SceneFeatures features_;
+  bool drawsScene_ = false;  // TechniqueInfo::drawsScene
 };
 
 // Throws ts::Error naming the mismatch when kernels built for `features` cannot render `frame`
 // exactly: its G-buffer holds another model's terms or lacks a plane they read, or it has spot
-// or directional lights they do not shade.
+// or directional lights they do not shade, or shadow-casting lights without TS_HAS_SHADOWS.
 void checkFrameFeatures(const SceneFeatures& features, const DeviceFrame& frame);
 
 struct TechniqueInfo {

@@ -1,5 +1,5 @@
 // `render` with shadow-casting lights: the shadow atlas in stats.json and --dump, the budget's
-// note, the images unchanged (nothing shades shadows yet), and bad shadow-map options.
+// note, the images (a shadow only takes light away), and bad shadow-map options.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gbuffer/image_io.h"
+#include "require_gl.h"
 #include "test_support.h"
 
 namespace ts {
@@ -72,14 +73,25 @@ TEST(ShadowMapsCli, StatsAndDumpHoldTheAtlas) {
   }
   EXPECT_GT(near, 0u);
 
-  // Nothing shades with the maps yet: the image is the one without shadow-casting lights.
+  // A shadow factor in [0, 1] multiplies each contribution and the sums are taken in the same
+  // order, so (rounding being monotonic) no pixel gains light; some lose it (with every light
+  // casting: the three of largest range darken none of these 64x36 pixels).
   r = runTileshade(kFrame + "--shadows none --out " + plain.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = runTileshade(kFrame + "--shadows all --out " + tmp.string());
   ASSERT_EQ(r.status, 0) << r.output;
   // (Pixels, not bytes: the EXR header holds the time it was written.)
   const FloatImage shadowed = readImage((tmp / "image.exr").string());
   const FloatImage unshadowed = readImage((plain / "image.exr").string());
   EXPECT_GT(shadowed.data.size(), 0u);
-  EXPECT_TRUE(shadowed.data == unshadowed.data);
+  ASSERT_EQ(shadowed.data.size(), unshadowed.data.size());
+  size_t darker = 0, brighter = 0;
+  for (size_t i = 0; i < shadowed.data.size(); ++i) {
+    darker += shadowed.data[i] < unshadowed.data[i];
+    brighter += shadowed.data[i] > unshadowed.data[i];
+  }
+  EXPECT_EQ(brighter, 0u);
+  EXPECT_GT(darker, 0u);
   const nlohmann::json none = nlohmann::json::parse(std::ifstream(plain / "stats.json"));
   EXPECT_TRUE(none["shadow_maps"].is_null());
   EXPECT_FALSE(std::filesystem::exists(plain / "shadow_atlas.exr"));
@@ -106,15 +118,73 @@ TEST(ShadowMapsCli, TheBudgetShrinksMapsWithANote) {
 TEST(ShadowMapsCli, BadOptionsFailWithOneLine) {
   if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
   const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_bad";
-  for (const char* args : {"--shadows 20 --shadow-budget 0.001", "--shadow-map-size 100",
-                           "--shadow-map-size 8", "--shadow-map-size 16384", "--shadow-budget 0",
-                           "--shadow-budget -3", "--shadow-budget 5000", "--shadow-budget nan"}) {
+  for (const char* args :
+       {"--shadows 20 --shadow-budget 0.001", "--shadow-map-size 100", "--shadow-map-size 8",
+        "--shadow-map-size 16384", "--shadow-budget 0", "--shadow-budget -3",
+        "--shadow-budget 5000", "--shadow-budget nan", "--shadow-filter pcf4", "--shadow-bias 1",
+        "--shadow-bias 1,x", "--shadow-bias 1,-2", "--shadow-bias 1,2,3", "--shadow-bias inf,1"}) {
     CliRun r = runTileshade(kFrame + args + " --out " + tmp.string());
     EXPECT_NE(r.status, 0) << args;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
     EXPECT_NE(r.output.find("error"), std::string::npos) << args << ": " << r.output;
     EXPECT_NE(r.output.find("--shadow-"), std::string::npos) << args << ": " << r.output;
   }
+}
+
+// The forward techniques (GLSL) shade no shadows: named, they are refused before any file is
+// written; `all` leaves them out with a line, and renders the others.
+TEST(ShadowMapsCli, ForwardTechniquesRefuseShadowCastingLights) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  REQUIRE_GL();
+  const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_forward";
+  std::filesystem::remove_all(tmp);
+  CliRun r =
+      runTileshade(kFrame + "--raster gl --technique forward --shadows 2 --out " + tmp.string());
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("error: forward: forward techniques do not shade shadows yet"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(tmp));
+  r = runTileshade(kFrame + "--raster gl --technique all --shadows 2 --out " + tmp.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("leaves out forward-single (forward techniques do not shade shadows"),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(std::filesystem::exists(tmp / "tiled" / "image.exr"));
+  EXPECT_FALSE(std::filesystem::exists(tmp / "forward"));
+}
+
+// A G-buffer dumped with shadow-casting lights, imported: shaded without shadows (no geometry to
+// draw maps from), and a note says so.
+TEST(ShadowMapsCli, AnImportedShadowedDumpSaysItIsUnshadowed) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_import";
+  std::filesystem::remove_all(tmp);
+  CliRun r = runTileshade(kFrame + "--shadows 2 --dump --out " + (tmp / "dump").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = runTileshade("render --device cpu --gbuffer-in " + (tmp / "dump").string() + " --out " +
+                       (tmp / "again").string(),
+                   test::Streams::StderrOnly);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("shaded without shadows"), std::string::npos) << r.output;
+}
+
+// bench draws no shadow maps: a scene whose lights cast shadows is refused in one line, never
+// benched unshadowed.
+TEST(ShadowMapsCli, BenchRefusesShadowCastingLights) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_bench";
+  std::filesystem::remove_all(tmp);
+  std::filesystem::create_directories(tmp);
+  const std::string scene = (tmp / "casting.gltf").string();
+  CliRun r = runTileshade("scene export builtin:atrium " + scene + " --shadows 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = runTileshade("bench --scene " + scene +
+                   " --technique tiled --resolution 64x36 --device cpu " + "--out " +
+                   (tmp / "out").string());
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_NE(r.output.find("2 light(s) cast a shadow"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -96,10 +96,32 @@ TEST(SceneFeatures, ChoosingOverridesTheAnalysisButNeverDropsANeed) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("spot"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(chooseFeatures("point,spot,shadows", need), Error);
+  EXPECT_THROW(chooseFeatures("point,spot,fog", need), Error);
   // The build options follow the features.
   EXPECT_NE(listed.kernelDefines().find("-DTS_HAS_SPECULAR=0"), std::string::npos);
   EXPECT_NE(general.kernelDefines().find("-DTS_HAS_DIRECTIONAL=1"), std::string::npos);
+  // No light casts a shadow here: `general` builds no shadow sampling, a list may ask for it.
+  EXPECT_FALSE(need.shadows || general.shadows);
+  EXPECT_EQ(general.kernelDefines().find("TS_HAS_SHADOWS"), std::string::npos);
+  EXPECT_NE(
+      chooseFeatures("point,spot,emissive,shadows", need).kernelDefines().find(" -DTS_HAS_SHADOWS"),
+      std::string::npos);
+}
+
+// A shadow-casting light makes `shadows` a need: on in auto and general, never dropped by a list.
+TEST(SceneFeatures, AShadowCastingLightNeedsShadows) {
+  Scene scene = builtin("street", "many", "diffuse,spot");
+  scene.lights.front().castsShadow = true;
+  const SceneFeatures need = analyzeScene(scene, ShadingModel::BlinnPhong);
+  EXPECT_TRUE(need.shadows);
+  EXPECT_NE(need.describe().find("shadows"), std::string::npos);
+  EXPECT_TRUE(chooseFeatures("general", need).shadows);
+  try {
+    chooseFeatures("point,spot,emissive", need);
+    FAIL() << "a list without shadows was accepted for a scene with a shadow-casting light";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("shadows"), std::string::npos) << e.what();
+  }
 }
 
 // ---- trimmed layouts -------------------------------------------------------------------------

@@ -1,6 +1,7 @@
 // Shadow-casting lights, the first piece of shadows (issue #18): glTF extras "castsShadow" on a
 // light or its node, `--shadows none|all|N` (chooseShadowCasters) and the export writing the mark
-// back. Nothing shades shadows yet: these tests check the marks only.
+// back. These tests check the marks only (shading with the maps:
+// tests/techniques/shadows_test.cpp).
 #include <gtest/gtest.h>
 
 #include <filesystem>

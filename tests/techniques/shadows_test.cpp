@@ -1,0 +1,259 @@
+// Shading with the shadow maps (kernels/shadows.h, docs/shadows.md): every G-buffer technique,
+// layout and lanes width against the double reference, which samples the same maps; a light
+// enclosed by a box gives exactly 0, a light whose map holds no occluder its unshadowed image
+// exactly (a point light over a floor: no crack along the cube's seams, for every filter); a box
+// over a floor shadows the floor where the analytic shadow is (away from its outline).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "raster/shadow_maps.h"
+#include "reference_check.h"
+#include "render/frame_setup.h"
+#include "scene/mesh_builder.h"
+#include "scene/scene_features.h"
+#include "shading/shading_cpu.h"
+#include "techniques/technique.h"
+#include "test_support.h"
+#include "util/error.h"
+
+namespace ts {
+namespace {
+
+constexpr float kFloor = 10.0f;  // the floor spans [-kFloor, kFloor] in x and z
+// A box floating over the floor (its shadow is detached from it).
+const glm::vec3 kBoxLo(-1.0f, 1.0f, -1.0f), kBoxHi(1.0f, 2.0f, 1.0f);
+
+Scene floorScene(bool withBox, glm::dvec3 eye) {
+  Scene s;
+  s.name = withBox ? "floor-and-box" : "floor";
+  s.ambient = glm::vec3(0.0f);  // a pixel is the sum of its lights' contributions
+  MeshBuilder b(s);
+  const uint32_t m = b.addMaterial(Material{});
+  b.quad({-kFloor, 0.0f, kFloor}, {kFloor, 0.0f, kFloor}, {kFloor, 0.0f, -kFloor},
+         {-kFloor, 0.0f, -kFloor}, m);
+  if (withBox) b.box(kBoxLo, kBoxHi, m, true);
+  s.cameraPath.push_back(
+      SceneCamera::lookAt(eye, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 1.2f, 0.1f, 100.0f));
+  return s;
+}
+
+SceneLight casting(SceneLight l, bool casts = true) {
+  l.castsShadow = casts;
+  return l;
+}
+
+struct ShadowedFrame {
+  PreparedFrame frame;
+  std::shared_ptr<const ShadowAtlas> atlas;
+};
+
+// The scene's frame 0 with the maps of its shadow-casting lights attached, as `render` does.
+ShadowedFrame shadowedFrame(const Scene& scene, GBufferFormat format, int taps, int width = 96,
+                            int height = 64, float biasSlope = 1.5f) {
+  ShadowedFrame s;
+  const SceneFeatures features = analyzeScene(scene, ShadingModel::BlinnPhong);
+  s.frame = prepareFrame(scene, 0, width, height, format, features);
+  if (!features.shadows) return s;
+  const ShadowAtlasLayout layout =
+      planShadowAtlas(scene.lights, scene.bounds(), s.frame.camera, ShadowAtlasOptions{},
+                      viewGeometryBounds(s.frame.gbuffer, s.frame.camera));
+  s.atlas = std::make_shared<ShadowAtlas>(drawShadowAtlas(scene, layout, 1));
+  ShadowSampling sampling;
+  sampling.taps = taps;
+  sampling.biasSlope = biasSlope;
+  attachShadowMaps(s.atlas, scene.lights, s.frame.camera.viewFromWorld, sampling, s.frame.lights);
+  return s;
+}
+
+TechniqueConfig configFor(const PreparedFrame& f, int lanes) {
+  TechniqueConfig config;
+  config.features = f.features;
+  config.format = f.encoded.format;
+  config.lanes = lanes;
+  return config;
+}
+
+std::vector<glm::vec4> image(const PreparedFrame& f, const std::string& technique, int lanes) {
+  return test::renderOnly(f, test::cachedTechnique(technique, configFor(f, lanes)), false).image;
+}
+
+// The box over the floor lit by a point, a spot and a directional light that cast shadows and a
+// point light that casts none.
+Scene litFloorAndBox() {
+  Scene s = floorScene(true, {0.0, 6.0, 9.0});
+  s.lights.push_back(casting(SceneLight::point({1.5, 4.0, 0.5}, glm::vec3(8.0f), 20.0f)));
+  s.lights.push_back(casting(SceneLight::spot({-3.0, 5.0, 2.0}, {0.5f, -1.0f, -0.3f},
+                                              glm::vec3(10.0f), 20.0f, 0.3f, 0.7f)));
+  s.lights.push_back(casting(SceneLight::directional({-0.3f, -1.0f, -0.4f}, glm::vec3(0.5f))));
+  s.lights.push_back(SceneLight::point({4.0, 1.0, 4.0}, glm::vec3(2.0f), 8.0f));
+  return s;
+}
+
+TEST(Shadows, EveryTechniqueLayoutAndLanesMatchTheReference) {
+  const Scene scene = litFloorAndBox();
+  for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16, GBufferFormat::PACKED}) {
+    const ShadowedFrame s = shadowedFrame(scene, format, 3);
+    const PreparedFrame& f = s.frame;
+    ASSERT_TRUE(f.features.shadows);
+    ASSERT_TRUE(f.lights.hasShadows());
+    const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+    // The shadows are there: the unshadowed reference has more contributing pairs.
+    ViewLights open = f.lights;
+    for (int& first : open.shadow) first = -1;
+    for (int& first : open.directionalShadow) first = -1;
+    const ReferenceImage unshadowed = shadeReference(f.encoded, f.intrinsics, open, f.ambient, 0);
+    EXPECT_LT(ref.contributing + 100, unshadowed.contributing) << toString(format);
+    for (const std::string& name : gbufferTechniqueNames()) {
+      for (int lanes : {1, 4, 8, 16}) {
+        if (format != GBufferFormat::FP32 && (lanes == 4 || lanes == 8)) continue;
+        Technique& t = test::cachedTechnique(name, configFor(f, lanes));
+        if (lanes > 1 && t.lanes() != lanes) continue;  // no lanes path: lanes 1 covers it
+        const test::Checked c = test::renderAndCheck(f, t, ref);
+        const std::string what = name + " lanes " + std::to_string(lanes) + " " + toString(format);
+        EXPECT_EQ(c.missed, 0u) << what;
+        EXPECT_LE(c.error.maxRelPeak, 1e-4) << what;
+      }
+    }
+  }
+}
+
+// Kernels built without TS_HAS_SHADOWS would shade a shadow-casting light unshadowed: refused.
+TEST(Shadows, KernelsWithoutShadowsRefuseAShadowedFrame) {
+  const ShadowedFrame s = shadowedFrame(litFloorAndBox(), GBufferFormat::FP32, 1, 32, 24);
+  TechniqueConfig config = configFor(s.frame, 1);
+  config.features.shadows = false;
+  try {
+    test::renderOnly(s.frame, *createTechnique("tiled", test::context(), config), false);
+    FAIL() << "kernels without shadows shaded a frame with shadow-casting lights";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("shadow-casting"), std::string::npos) << e.what();
+  }
+}
+
+// A light inside a closed box lights nothing the camera sees: its contribution is exactly 0, so
+// the image is the one without it, bit for bit (x + 0 = x); unshadowed, it lights the floor.
+TEST(Shadows, AnEnclosedLightGivesExactlyZero) {
+  Scene without = floorScene(true, {0.0, 6.0, 9.0});
+  without.lights.push_back(casting(SceneLight::point({4.0, 5.0, 3.0}, glm::vec3(8.0f), 30.0f)));
+  Scene with = without;
+  with.lights.push_back(casting(SceneLight::point({0.2, 1.5, -0.1}, glm::vec3(8.0f), 30.0f)));
+  Scene open = with;
+  open.lights.back().castsShadow = false;
+  const ShadowedFrame a = shadowedFrame(without, GBufferFormat::FP32, 1);
+  const ShadowedFrame b = shadowedFrame(with, GBufferFormat::FP32, 1);
+  const ShadowedFrame c = shadowedFrame(open, GBufferFormat::FP32, 1);
+  for (const std::string& name : gbufferTechniqueNames())
+    for (int lanes : {1, 16}) {
+      const std::vector<glm::vec4> expected = image(a.frame, name, lanes);
+      EXPECT_TRUE(image(b.frame, name, lanes) == expected) << name << " lanes " << lanes;
+      EXPECT_FALSE(image(c.frame, name, lanes) == expected) << name << " lanes " << lanes;
+    }
+  // The reference agrees: nothing of the enclosed light reaches a pixel.
+  const PreparedFrame& f = b.frame;
+  const ReferenceImage withRef = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+  const PreparedFrame& g = a.frame;
+  const ReferenceImage withoutRef = shadeReference(g.encoded, g.intrinsics, g.lights, g.ambient, 0);
+  EXPECT_EQ(withRef.contributing, withoutRef.contributing);
+}
+
+// A point light low over an open floor: the floor crosses five of its cube's faces, and no
+// occluder stands anywhere, so every pixel is lit with a factor of exactly 1 by every filter --
+// the image is the unshadowed one bit for bit (no acne, no crack along a seam between faces).
+TEST(Shadows, AnOpenFloorUnderAPointLightIsLitAcrossTheCubeSeams) {
+  Scene shadowed = floorScene(false, {0.0, 9.0, 7.0});
+  shadowed.lights.push_back(casting(SceneLight::point({0.3, 1.2, -0.2}, glm::vec3(4.0f), 40.0f)));
+  Scene open = shadowed;
+  open.lights.back().castsShadow = false;
+  const ShadowedFrame plain = shadowedFrame(open, GBufferFormat::FP32, 1, 160, 96);
+  for (int taps : {1, 2, 3, 5}) {
+    const ShadowedFrame s = shadowedFrame(shadowed, GBufferFormat::FP32, taps, 160, 96);
+    // The floor's pixels sample five faces (every one but +Y).
+    std::vector<int> facesSampled(6, 0);
+    const glm::dmat4 worldFromView = glm::inverse(s.frame.camera.viewFromWorld);
+    const CameraIntrinsics& in = s.frame.intrinsics;
+    for (int y = 0; y < in.height; ++y)
+      for (int x = 0; x < in.width; ++x) {
+        const float depth = s.frame.encoded.depth[size_t(y) * size_t(in.width) + size_t(x)];
+        if (depth <= 0.0f) continue;
+        const glm::dvec3 p(worldFromView * glm::dvec4(glm::dvec3(shading_f::ts_view_position(
+                                                          x, y, depth, in.tanHalfFovX,
+                                                          in.tanHalfFovY, in.width, in.height)),
+                                                      1.0));
+        const glm::dvec3 d = p - glm::dvec3(0.3, 1.2, -0.2);
+        int axis = std::abs(d.x) >= std::abs(d.y) && std::abs(d.x) >= std::abs(d.z) ? 0
+                   : std::abs(d.y) >= std::abs(d.z)                                 ? 1
+                                                                                    : 2;
+        ++facesSampled[size_t(2 * axis + (d[axis] < 0.0 ? 1 : 0))];
+      }
+    for (int face : {0, 1, 3, 4, 5}) EXPECT_GT(facesSampled[size_t(face)], 0) << face;
+    for (const char* name : {"tiled", "deferred", "clustered"})
+      for (int lanes : {1, 16})
+        EXPECT_TRUE(image(s.frame, name, lanes) == image(plain.frame, name, lanes))
+            << name << " lanes " << lanes << " filter " << shadowFilterName(taps);
+  }
+}
+
+// Whether the ray p + t l (t > 0) meets the box [lo - m, hi + m].
+bool rayMeetsBox(glm::dvec3 p, glm::dvec3 l, double m) {
+  double t0 = 0.0, t1 = 1e30;
+  for (int k = 0; k < 3; ++k) {
+    const double lo = double(kBoxLo[k]) - m, hi = double(kBoxHi[k]) + m;
+    if (l[k] == 0.0) {
+      if (p[k] < lo || p[k] > hi) return false;
+      continue;
+    }
+    double a = (lo - p[k]) / l[k], b = (hi - p[k]) / l[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+  }
+  return t0 <= t1;
+}
+
+// A directional light over the floating box: a floor pixel whose ray to the light meets the box
+// (shrunk by a margin) gets exactly 0, one whose ray misses it (grown by the margin) gets light.
+// The margin (0.1, ten texels of the fitted map) leaves out the outline, where the map's texels
+// and the bias decide.
+TEST(Shadows, TheBoxShadowsTheFloorWhereTheAnalyticShadowIs) {
+  Scene scene = floorScene(true, {0.0, 7.0, 8.0});
+  const glm::vec3 travel = glm::normalize(glm::vec3(-0.3f, -1.0f, 0.6f));
+  scene.lights.push_back(casting(SceneLight::directional(travel, glm::vec3(1.0f))));
+  const glm::dvec3 towards = -glm::dvec3(travel);
+  constexpr double kMargin = 0.1;
+  for (int taps : {1, 3}) {
+    const ShadowedFrame s = shadowedFrame(scene, GBufferFormat::FP32, taps, 160, 96);
+    const CameraIntrinsics& in = s.frame.intrinsics;
+    const glm::dmat4 worldFromView = glm::inverse(s.frame.camera.viewFromWorld);
+    for (const char* name : {"tiled", "deferred-stencil"}) {
+      const std::vector<glm::vec4> img = image(s.frame, name, 1);
+      size_t shadowed = 0, lit = 0, wrong = 0;
+      for (int y = 0; y < in.height; ++y)
+        for (int x = 0; x < in.width; ++x) {
+          const size_t i = size_t(y) * size_t(in.width) + size_t(x);
+          const float depth = s.frame.encoded.depth[i];
+          if (depth <= 0.0f) continue;
+          const glm::dvec3 p(worldFromView * glm::dvec4(glm::dvec3(shading_f::ts_view_position(
+                                                            x, y, depth, in.tanHalfFovX,
+                                                            in.tanHalfFovY, in.width, in.height)),
+                                                        1.0));
+          if (std::abs(p.y) > 1e-3) continue;  // the box's pixels
+          const bool inside = rayMeetsBox(p, towards, -kMargin);
+          const bool outside = !rayMeetsBox(p, towards, kMargin);
+          if (!inside && !outside) continue;  // near the outline
+          const bool dark = img[i].x == 0.0f && img[i].y == 0.0f && img[i].z == 0.0f;
+          (inside ? shadowed : lit)++;
+          wrong += inside != dark;
+        }
+      EXPECT_EQ(wrong, 0u) << name << " filter " << shadowFilterName(taps);
+      EXPECT_GT(shadowed, 100u) << name;
+      EXPECT_GT(lit, 1000u) << name;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace ts
