@@ -24,6 +24,9 @@ endif()
 if(NOT TILESHADE_WITH_GL)
   target_compile_definitions(tileshade_common INTERFACE TILESHADE_NO_GL)
 endif()
+if(NOT TILESHADE_WITH_EMBREE)
+  target_compile_definitions(tileshade_common INTERFACE TILESHADE_NO_EMBREE)
+endif()
 
 # The warnings every target of ours compiles with (modules, the binary, tests, fuzzers);
 # -DTILESHADE_WERROR=ON (or TILESHADE_WERROR=ON in the environment of the first configure, as
@@ -92,7 +95,7 @@ tileshade_module(raster DEPS util cl gbuffer scene shading LIBS Threads::Threads
                  EXCLUDE "${TILESHADE_GL_SOURCES}")
 tileshade_module(reference DEPS util gbuffer shading LIBS Threads::Threads)
 # Exact visibility through Embree: the scene's triangles against the G-buffer's points.
-tileshade_module(visibility DEPS util gbuffer scene LIBS embree Threads::Threads)
+tileshade_module(visibility DEPS util gbuffer scene LIBS ${TILESHADE_EMBREE_LIBS} Threads::Threads)
 tileshade_module(techniques DEPS util cl gbuffer raster scene shading)
 tileshade_module(render DEPS util cl gbuffer raster reference scene shading techniques
                  LIBS nlohmann_json::nlohmann_json ${TILESHADE_OIIO_LIBS})

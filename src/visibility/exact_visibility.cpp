@@ -9,7 +9,9 @@
 #include <string>
 #include <thread>
 
+#ifndef TILESHADE_NO_EMBREE
 #include <embree3/rtcore.h>
+#endif
 
 #include "util/error.h"
 
@@ -47,6 +49,24 @@ double visibilityEpsilon(double sceneDiagonal, glm::dvec3 p) {
   return 1e-4 * sceneDiagonal + 64.0 * double(std::numeric_limits<float>::epsilon()) * largest;
 }
 
+#ifdef TILESHADE_NO_EMBREE
+
+// A build without Embree (-DTILESHADE_WITH_EMBREE=OFF): refused in one line.
+struct ExactVisibility::Impl {};
+
+ExactVisibility::ExactVisibility(const Scene&) {
+  throw Error("exact visibility: this tileshade is built without Embree (TILESHADE_WITH_EMBREE)");
+}
+
+ExactVisibility::~ExactVisibility() = default;
+
+std::vector<uint8_t> ExactVisibility::visibility(const SurfacePoints&, const SceneLight&,
+                                                 int) const {
+  return {};
+}
+
+#else
+
 struct ExactVisibility::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
@@ -81,9 +101,9 @@ ExactVisibility::ExactVisibility(const Scene& scene) : impl_(std::make_unique<Im
   if (!impl_->device) throw Error("exact visibility: Embree could not create a device");
   RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
-  auto* vertices = static_cast<float*>(
-      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                              3 * sizeof(float), scene.vertices.size()));
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                               scene.vertices.size()));
   auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
       geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), triangles_));
   if (!vertices || !indices) {
@@ -108,8 +128,7 @@ ExactVisibility::ExactVisibility(const Scene& scene) : impl_(std::make_unique<Im
   rtcReleaseGeometry(geometry);
   rtcCommitScene(impl_->scene);
   if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE)
-    throw Error("exact visibility: Embree could not build its BVH: " +
-                embreeError(impl_->device));
+    throw Error("exact visibility: Embree could not build its BVH: " + embreeError(impl_->device));
   buildMs_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -143,8 +162,7 @@ std::vector<uint8_t> ExactVisibility::visibility(const SurfacePoints& points,
         const glm::dvec3 v = lightPos - p;
         const double d2 = glm::dot(v, v);
         if (!(d2 < range2) || !(d2 > 0.0)) continue;
-        if (light.type == SceneLightType::Spot &&
-            !(-glm::dot(axis, v / std::sqrt(d2)) > cosOuter))
+        if (light.type == SceneLightType::Spot && !(-glm::dot(axis, v / std::sqrt(d2)) > cosOuter))
           continue;
         const glm::dvec3 w = lightPos - origin;
         const double dist = glm::length(w);
@@ -186,5 +204,7 @@ std::vector<uint8_t> ExactVisibility::visibility(const SurfacePoints& points,
   for (std::thread& t : pool) t.join();
   return out;
 }
+
+#endif  // TILESHADE_NO_EMBREE
 
 }  // namespace ts

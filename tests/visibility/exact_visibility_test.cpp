@@ -17,7 +17,7 @@ using ts::Scene;
 using ts::SceneLight;
 using ts::SurfacePoints;
 
-constexpr float kFloor = 10.0f;  // the floor spans [-kFloor, kFloor] in x and z, at y = 0
+constexpr float kFloor = 10.0f;   // the floor spans [-kFloor, kFloor] in x and z, at y = 0
 constexpr double kMargin = 0.05;  // points this close to an analytic outline are not asserted
 
 // The floor, a box [-1, 1] x [1, 2] x [-1, 1] floating over it (all six faces) and, at x = 5, a
@@ -176,7 +176,8 @@ TEST(ExactVisibility, BackgroundRangeAndConeAreNotApplicable) {
   p.normal = {{0, 0, 0}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}};
   p.geometry = {0, 1, 1, 1};
   // Range 4.5: (2.5, 0, 0) is 4.7 from the light, (0, 0, 0) and (0.5, 0, 0) within.
-  const std::vector<uint8_t> point = ev.visibility(p, SceneLight::point({0, 4, 0}, {1, 1, 1}, 4.5f));
+  const std::vector<uint8_t> point =
+      ev.visibility(p, SceneLight::point({0, 4, 0}, {1, 1, 1}, 4.5f));
   EXPECT_EQ(point, (std::vector<uint8_t>{2, 0, 2, 0}));
   // A spot down with a 0.1 rad cone: (0.5, 0, 0) lies 0.124 rad off its axis.
   const SceneLight spot = SceneLight::spot({0, 4, 0}, {0, -1, 0}, {1, 1, 1}, 100, 0.0f, 0.1f);
@@ -204,8 +205,9 @@ TEST(ExactVisibility, LitSurfacesAreNotSelfOccludedFarFromTheOrigin) {
     }
     p.width = int(p.size());
     p.height = 1;
-    for (const SceneLight& light : {SceneLight::point(offset + glm::dvec3(0, 30, 0), {1, 1, 1}, 100),
-                                    SceneLight::directional({0, -1, 0}, {1, 1, 1})})
+    for (const SceneLight& light :
+         {SceneLight::point(offset + glm::dvec3(0, 30, 0), {1, 1, 1}, 100),
+          SceneLight::directional({0, -1, 0}, {1, 1, 1})})
       for (uint8_t v : ev.visibility(p, light)) EXPECT_EQ(v, ts::kVisibilityLit) << "x0 " << x0;
   }
 }
@@ -228,8 +230,6 @@ TEST(ExactVisibility, SurfacePointsFromAGBuffer) {
   EXPECT_NEAR(p.normal[3].z, 1.0, 1e-6);
 }
 
-TEST(ExactVisibility, NoTrianglesIsAnError) {
-  EXPECT_THROW(ExactVisibility{Scene{}}, ts::Error);
-}
+TEST(ExactVisibility, NoTrianglesIsAnError) { EXPECT_THROW(ExactVisibility{Scene{}}, ts::Error); }
 
 }  // namespace
