@@ -14,15 +14,17 @@ namespace ts {
 ExactVisibilityResult exactVisibility(const Frame& frame) {
   const Frame::Impl& f = *frame.impl();
   if (!f.scene)
-    throw Error("--exact-visibility needs the scene's triangles: an imported G-buffer "
-                "(--gbuffer-in) has none");
+    throw Error(
+        "--exact-visibility needs the scene's triangles: an imported G-buffer "
+        "(--gbuffer-in) has none");
   const Scene& scene = *f.scene;
   std::vector<size_t> casters;
   for (size_t i = 0; i < scene.lights.size(); ++i)
     if (scene.lights[i].castsShadow) casters.push_back(i);
   if (casters.empty())
-    throw Error("--exact-visibility: no light casts a shadow (--shadows all|N, or glTF extras "
-                "castsShadow)");
+    throw Error(
+        "--exact-visibility: no light casts a shadow (--shadows all|N, or glTF extras "
+        "castsShadow)");
   const SurfacePoints points = surfacePoints(f.prepared.gbuffer, f.prepared.camera);
   const ExactVisibility ev(scene);
 
@@ -56,14 +58,10 @@ ExactVisibilityResult exactVisibility(const Frame& frame) {
                       {"occluded", occluded},
                       {"query_ms", ms}});
   }
-  r.stats = {{"library", "embree 3"},
-             {"triangles", ev.triangles()},
-             {"build_ms", ev.buildMs()},
-             {"query_ms", queryMs},
-             {"applicable", applicableAll},
-             {"occluded", occludedAll},
-             {"image_lights", channels},
-             {"lights", lights}};
+  r.stats = {{"library", "embree 3"},       {"triangles", ev.triangles()},
+             {"build_ms", ev.buildMs()},    {"query_ms", queryMs},
+             {"applicable", applicableAll}, {"occluded", occludedAll},
+             {"image_lights", channels},    {"lights", lights}};
   std::ostringstream s;
   s << "exact visibility: " << casters.size() << " shadow-casting light(s), " << applicableAll
     << " applicable (pixel, light) pairs, " << occludedAll << " occluded; BVH " << std::fixed
