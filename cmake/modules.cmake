@@ -24,6 +24,9 @@ endif()
 if(NOT TILESHADE_WITH_GL)
   target_compile_definitions(tileshade_common INTERFACE TILESHADE_NO_GL)
 endif()
+if(NOT TILESHADE_WITH_EMBREE)
+  target_compile_definitions(tileshade_common INTERFACE TILESHADE_NO_EMBREE)
+endif()
 
 # The warnings every target of ours compiles with (modules, the binary, tests, fuzzers);
 # -DTILESHADE_WERROR=ON (or TILESHADE_WERROR=ON in the environment of the first configure, as
@@ -91,6 +94,8 @@ tileshade_module(gbuffer DEPS util scene shading LIBS ${TILESHADE_OIIO_LIBS})
 tileshade_module(raster DEPS util cl gbuffer scene shading LIBS Threads::Threads ${TILESHADE_GL_LIBS}
                  EXCLUDE "${TILESHADE_GL_SOURCES}")
 tileshade_module(reference DEPS util gbuffer shading LIBS Threads::Threads)
+# Exact visibility through Embree: the scene's triangles against the G-buffer's points.
+tileshade_module(visibility DEPS util gbuffer scene LIBS ${TILESHADE_EMBREE_LIBS} Threads::Threads)
 tileshade_module(techniques DEPS util cl gbuffer raster scene shading)
 tileshade_module(render DEPS util cl gbuffer raster reference scene shading techniques
                  LIBS nlohmann_json::nlohmann_json ${TILESHADE_OIIO_LIBS})
@@ -102,7 +107,7 @@ tileshade_module(check DEPS util cl gbuffer reference render scene shading techn
 tileshade_module(api DEPS util cl gbuffer raster reference render scene shading techniques bench
                  LIBS OpenCL::OpenCL)
 # The command line's own code: what `tileshade render` does with the API's results (table, files).
-tileshade_module(cli DEPS util api gbuffer reference render scene shading techniques
+tileshade_module(cli DEPS util api gbuffer reference render scene shading techniques visibility
                  LIBS nlohmann_json::nlohmann_json)
 
 # A directory of src/ that is no module would build into nothing (and fail only at link time).

@@ -25,6 +25,7 @@ if [ -d .deps ] && ls .deps/*.deb >/dev/null 2>&1; then
 fi
 export LD_LIBRARY_PATH="$prefix/usr/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 cmake -S . -B build-gpu -DCMAKE_BUILD_TYPE=Release -DTILESHADE_WITH_OIIO=OFF -DTILESHADE_BUILD_TESTS=OFF -DTILESHADE_WITH_GL=OFF \
+  -DTILESHADE_WITH_EMBREE=OFF \
   -DCMAKE_PREFIX_PATH="$prefix/usr;$prefix/usr/lib/x86_64-linux-gnu/cmake;$prefix/usr/share/cmake" \
   -DCMAKE_CXX_FLAGS="-I$prefix/usr/include" >/dev/null
 cmake --build build-gpu -j "$(nproc)" --target tileshade

@@ -7,6 +7,7 @@ PACKAGES=(
   build-essential cmake pkg-config
   opencl-headers ocl-icd-opencl-dev opencl-clhpp-headers pocl-opencl-icd clinfo
   libglm-dev libopenimageio-dev libtinygltf-dev libcli11-dev nlohmann-json3-dev
+  libembree-dev  # exact visibility, the shadows' second reference (src/visibility/)
   libgtest-dev python3-matplotlib assimp-testmodels
   # --raster gl: EGL + Mesa's llvmpipe (headless OpenGL without a GPU), GL loaded by libepoxy
   libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libepoxy-dev

@@ -204,6 +204,11 @@ int main(int argc, char** argv) {
   renderCmd->add_flag("--heatmap", render.heatmap,
                       "with --check (needs it): error.png, a log-scale heat map of the error per "
                       "pixel");
+  renderCmd->add_flag("--exact-visibility", render.exactVisibility,
+                      "exact visibility of every (pixel, shadow-casting light) pair by ray "
+                      "queries against the scene's triangles (Embree): visibility_exact.exr (a "
+                      "channel per light, the first 16: 0 occluded, 1 lit, 2 not applicable) and "
+                      "stats.json exact_visibility (docs/shadows.md)");
   renderCmd->add_flag("--dump", render.dump,
                       "also write gbuffer.exr (decoded shading inputs), lights.json and "
                       "gbuffer.json (the descriptor --gbuffer-in reads); with shadow-casting "

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/api_internal.h"
+#include "cli/exact_visibility_job.h"
 #include "gbuffer/image_io.h"
 #include "reference/error_metrics.h"
 #include "render/stats.h"
@@ -77,6 +78,10 @@ void validateRenderOptions(const RenderOptions& o) {
   checkInteger("--slices", o.clusterSlices, 1, kMaxClusterSlices);
   checkNumber("--exposure", o.exposure, NumberRule::AboveZero);
   if (o.heatmap && !o.check) throw Error("--heatmap needs --check (it maps the error)");
+  if (o.exactVisibility && !o.gbufferIn.empty())
+    throw Error(
+        "--exact-visibility needs the scene's triangles: an imported G-buffer "
+        "(--gbuffer-in) has none");
   if (o.shadingModel != "auto") parseShadingModel(o.shadingModel);
   for (const auto& t : expandTechniques(o.techniques)) findTechnique(t);
 }
@@ -256,6 +261,10 @@ void runRender(const RenderOptions& options) {
     renderers.back().prepare(frame);
   }
 
+  // Before any file: a frame without a shadow-casting light is refused here.
+  std::optional<ExactVisibilityResult> exact;
+  if (o.exactVisibility) exact = exactVisibility(frame);
+
   std::error_code ec;
   fs::create_directories(o.outDir, ec);
   if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
@@ -283,6 +292,7 @@ void runRender(const RenderOptions& options) {
               << std::setprecision(1) << double(info.shadowMaps->bytes) / double(1 << 20)
               << " MB), " << info.shadowMaps->drawMs << " ms (software, depth only)\n"
               << std::defaultfloat;
+  if (exact) std::cout << exact->summary << "\n";
   std::cout << "device: " << device.name() << "\n";
   if (references)
     std::cout << "reference: " << references->reference.contributing
@@ -377,6 +387,7 @@ void runRender(const RenderOptions& options) {
       {"blend", toString(o.blend)},
       {"shadow_casting_lights", info.shadowCastingLights},
       {"shadow_maps", shadowMapsJson(info, o)},
+      {"exact_visibility", exact ? exact->stats : nlohmann::json(nullptr)},
       {"geometry_pixels", info.geometryPixels},
       {"tile", {o.tileWidth, o.tileHeight}},
       {"culling", toString(o.culling)},
@@ -396,6 +407,9 @@ void runRender(const RenderOptions& options) {
   if (references)
     stats["reference"] = {{"contributing", references->reference.contributing},
                           {"peak", references->reference.peak}};
+  if (exact)
+    writeExr(o.outDir + "/visibility_exact.exr", exact->width, exact->height, exact->channels,
+             exact->image);
   writeFile(o.outDir + "/stats.json", stats.dump(2) + "\n");
   if (o.dump) frame.dump(o.outDir);
   std::cout << "wrote " << o.outDir << "/\n";

@@ -15,6 +15,7 @@ struct RenderOptions : PipelineOptions {
   bool check = false;            // compare against the double reference
   bool dump = false;             // write gbuffer.exr + lights.json
   bool heatmap = false;          // with check: error.png per technique
+  bool exactVisibility = false;  // visibility_exact.exr + stats.json exact_visibility
   float exposure = 1.0f;         // PNG tone mapping
   std::string gbufferIn;         // "" = rasterize the scene; else G-buffer files to import
   bool keepInputLayout = false;  // with gbufferIn: encode in the files' layout, not `format`

@@ -1,0 +1,29 @@
+#pragma once
+// `render --exact-visibility`: the exact visibility of every (pixel, shadow-casting light) pair
+// of the frame (visibility/exact_visibility.h), its image and its stats.json record.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tileshade/tileshade.h"
+
+namespace ts {
+
+// The most lights visibility_exact.exr holds a channel of (stats.json counts every light).
+constexpr size_t kExactVisibilityChannels = 16;
+
+struct ExactVisibilityResult {
+  int width = 0;
+  int height = 0;
+  std::vector<std::string> channels;  // "light<index>", one per light of the image
+  std::vector<float> image;           // interleaved: the kVisibility* codes 0, 1, 2 as floats
+  nlohmann::json stats;               // stats.json's exact_visibility
+  std::string summary;                // the line `render` prints
+};
+
+// Throws ts::Error (one line) for a frame without the scene's triangles (an imported G-buffer)
+// or without a shadow-casting light.
+ExactVisibilityResult exactVisibility(const Frame& frame);
+
+}  // namespace ts
