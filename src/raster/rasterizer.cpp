@@ -59,7 +59,9 @@
 // [znear, zfar] is rejected per pixel.
 // alphaMode MASK: a fragment that would win a pixel is first alpha-tested (ts_material_covered in
 // shaders/material_planes.h, at the barycentrics and UV resolve() would use); one below the
-// cutoff is left out, so what lies behind wins. BLEND is refused (validateForRaster).
+// cutoff is left out, so what lies behind wins. The depth-only path tests the same way (so a
+// leaf's cut-out casts no shadow). BLEND is refused (validateForRaster) unless the scene's
+// --blend policy already turned it into OPAQUE or MASK (applyBlendPolicy, at load).
 //
 // Material planes: ts_material_planes in shaders/material_planes.h, the one definition the OpenGL
 // rasterizer (src/raster/gl_rasterizer.cpp, shaders/gbuffer.frag) compiles as GLSL; these notes'
@@ -622,6 +624,11 @@ class Rasterizer {
         const SubFallback& fb = w.fallbacks[si];
         const int bx0 = std::max(x0, int(s.x0)), bx1 = std::min(x1, int(s.x1));
         const int by0 = std::max(y0, int(s.y0)), by1 = std::min(y1, int(s.y1));
+        // alphaMode MASK: only a fragment that would be nearer is alpha-tested, at the
+        // barycentrics and UV the G-buffer's test uses (affine in orthographic views: w = 1), so
+        // the map holds the nearest covered fragment whatever the order; opaque ones skip it.
+        const Material& material = materialOf(t.triangle);
+        const bool masked = material.alphaMode == AlphaMode::Mask;
         double vd[3] = {0.0, 0.0, 0.0};  // the vertices' depths (orthographic)
         if (ortho)
           for (int k = 0; k < 3; ++k) vd[k] = -viewPositionOf(scene_.indices[3 * t.triangle + k]).z;
@@ -638,10 +645,13 @@ class Rasterizer {
               double B[3];
               evaluate<true>(t, fb, x + 0.5, y + 0.5, e, B);
               const double depth = B[0] * vd[0] + B[1] * vd[1] + B[2] * vd[2];
-              if (depth >= zn && depth <= zf && depth < best[p]) best[p] = depth;
+              if (depth >= zn && depth <= zf && depth < best[p] &&
+                  (!masked || covered(material, t, fb, x, y, e)))
+                best[p] = depth;
             } else {
               const double inv = evaluate<false>(t, fb, x + 0.5, y + 0.5, e, nullptr);
-              if (inv >= invFar && inv > best[p]) best[p] = inv;
+              if (inv >= invFar && inv > best[p] && (!masked || covered(material, t, fb, x, y, e)))
+                best[p] = inv;
             }
           }
         }

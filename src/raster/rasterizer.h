@@ -38,9 +38,10 @@ struct DepthView {
 // Draws `triangles` (indices of the scene's triangles) seen by `view` into a width x height
 // rectangle of `target` (row r at target + r * rowStride; row 0 = the top, NDC y = +1): per pixel
 // the nearest fragment's linear depth -Z_view in [znear, zfar], `clear` where none covers it.
-// The same triangle setup, clipping and fill rule as rasterize (so a G-buffer and a shadow map of
-// one view cover the same pixels); the scene must have passed validateForRaster (the caller
-// checks once for all its views). threads: 0 = all hardware threads; same output for any count.
+// The same triangle setup, clipping, fill rule and alpha test (alphaMode MASK) as rasterize (so
+// a G-buffer and a shadow map of one view cover the same pixels); the scene must have passed
+// validateForRaster (the caller checks once for all its views). threads: 0 = all hardware threads;
+// same output for any count.
 void rasterizeDepth(const Scene& scene, const DepthView& view,
                     const std::vector<uint32_t>& triangles, int width, int height, float* target,
                     size_t rowStride, float clear, int threads = 0);

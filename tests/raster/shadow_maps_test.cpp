@@ -268,6 +268,94 @@ TEST(ShadowMaps, FacesOutsideTheGeometryStayAtFar) {
     for (int x = 0; x < f.size; ++x) ASSERT_EQ(atlas.at(f.x + x, f.y + y), float(f.view.zfar));
 }
 
+// alphaMode MASK (ts_material_covered, as the G-buffer's test): a quad at y = kLeafY over the
+// floor, [-2, 2] in x and z, whose texture (2x1, NEAREST) has alpha 0.2 where x < 0 and 1 where
+// x > 0. The maps hold the quad's depth over its covered half only, the floor's under the other.
+constexpr float kLeafY = 2.0f, kLeaf = 2.0f;
+Scene floorAndLeaf(ts::AlphaMode mode) {
+  Scene s;
+  s.name = "floor-and-leaf";
+  ts::MeshBuilder b(s);
+  const uint32_t floor = b.addMaterial(ts::Material{});
+  ts::Material leaf;
+  leaf.alphaMode = mode;
+  leaf.diffuseTexture = leaf.baseColorTexture = 0;
+  const uint32_t m = b.addMaterial(leaf);
+  ts::Texture t;
+  t.width = 2;
+  t.height = 1;
+  t.texels = {glm::vec4(1.0f, 1.0f, 1.0f, 0.2f), glm::vec4(1.0f)};
+  t.nearest = true;
+  t.wrapS = t.wrapT = ts::TextureWrap::ClampToEdge;
+  s.textures.push_back(t);
+  b.quad({-kFloor, 0.0f, kFloor}, {kFloor, 0.0f, kFloor}, {kFloor, 0.0f, -kFloor},
+         {-kFloor, 0.0f, -kFloor}, floor);
+  // u runs along +x: u < 0.5 (alpha 0.2) where x < 0.
+  b.quad({-kLeaf, kLeafY, kLeaf}, {kLeaf, kLeafY, kLeaf}, {kLeaf, kLeafY, -kLeaf},
+         {-kLeaf, kLeafY, -kLeaf}, m);
+  s.cameraPath.push_back(ts::SceneCamera::lookAt({0.0, 3.0, 12.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0},
+                                                 1.0f, 0.1f, 100.0f));
+  return s;
+}
+
+struct LeafCheck {
+  size_t leaf = 0, under = 0, wrong = 0;  // texels showing the leaf, the floor under the cut-out
+};
+
+// Every texel whose ray meets the leaf's plane away (by 0.05) from its outline and its x = 0
+// split: the leaf's depth over x > 0 (and over x < 0 when `cutOut` is false), else the floor's.
+LeafCheck checkLeaf(const ShadowAtlas& atlas, const ShadowFace& f, bool cutOut) {
+  constexpr double kMargin = 0.05;
+  LeafCheck c;
+  for (int y = 0; y < f.size; ++y)
+    for (int x = 0; x < f.size; ++x) {
+      glm::dvec3 o, d;
+      texelRay(f, x + 0.5, y + 0.5, o, d);
+      if (!(d.y < 0.0) || o.y <= kLeafY) continue;
+      const double tl = (kLeafY - o.y) / d.y, tf = -o.y / d.y;
+      const glm::dvec3 p = o + tl * d;
+      const double ax = std::abs(p.x), az = std::abs(p.z);
+      if (ax > kLeaf - kMargin || az > kLeaf - kMargin || ax < kMargin) continue;
+      const bool leaf = p.x > 0.0 || !cutOut;
+      const double expected = leaf ? tl : tf;
+      const float stored = atlas.at(f.x + x, f.y + y);
+      if (!(std::abs(stored - expected) <= kTolerance * expected)) {
+        if (c.wrong < 5)
+          ADD_FAILURE() << "face " << f.face << " texel " << x << "," << y << ": " << stored
+                        << ", expected " << expected;
+        ++c.wrong;
+      }
+      (leaf ? c.leaf : c.under)++;
+    }
+  return c;
+}
+
+TEST(ShadowMaps, MaskLeavesTheCutOutHalfOut) {
+  const std::vector<SceneLight> lights = {
+      SceneLight::spot({0.3, 5.0, 0.2}, {0.0f, -1.0f, 0.0f}, glm::vec3(1), 20, 0.5f, 0.8f),
+      SceneLight::directional(glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f)), glm::vec3(1))};
+  for (const SceneLight& light : lights) {
+    SCOPED_TRACE(light.type == ts::SceneLightType::Directional ? "directional" : "spot");
+    const ShadowAtlas masked = drawFor(floorAndLeaf(ts::AlphaMode::Mask), {light}, 1);
+    ASSERT_EQ(masked.layout.faces.size(), 1u);
+    const LeafCheck c = checkLeaf(masked, masked.layout.faces[0], true);
+    EXPECT_EQ(c.wrong, 0u);
+    EXPECT_GT(c.leaf, 100u);
+    EXPECT_GT(c.under, 100u);
+    // The same for any thread count.
+    for (int threads : {2, 3})
+      EXPECT_TRUE(drawFor(floorAndLeaf(ts::AlphaMode::Mask), {light}, threads).depth ==
+                  masked.depth)
+          << threads << " threads";
+    // OPAQUE: the whole leaf casts, alpha ignored.
+    const ShadowAtlas opaque = drawFor(floorAndLeaf(ts::AlphaMode::Opaque), {light}, 2);
+    const LeafCheck o = checkLeaf(opaque, opaque.layout.faces[0], false);
+    EXPECT_EQ(o.wrong, 0u);
+    EXPECT_EQ(o.under, 0u);
+    EXPECT_GT(o.leaf, 200u);
+  }
+}
+
 // Big faces are drawn one after another with every thread, small ones (one tile) side by side.
 TEST(ShadowMaps, SameAtlasForAnyThreadCount) {
   const Scene scene = floorAndBox();

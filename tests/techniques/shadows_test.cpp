@@ -15,6 +15,7 @@
 #include "render/frame_setup.h"
 #include "scene/mesh_builder.h"
 #include "scene/scene_features.h"
+#include "scene/scene_loader.h"
 #include "shading/shading_cpu.h"
 #include "techniques/technique.h"
 #include "test_support.h"
@@ -253,6 +254,96 @@ TEST(Shadows, TheBoxShadowsTheFloorWhereTheAnalyticShadowIs) {
       EXPECT_GT(lit, 1000u) << name;
     }
   }
+}
+
+// alphaMode MASK in the shadow maps: a leaf over the floor (y = 1.5, [-2, 2] in x and z) whose
+// texture (2x1, NEAREST) has alpha 0.2 where x < 0 and 1 where x > 0, under a directional light.
+// A floor pixel whose ray to the light meets the covered half (shrunk by a margin) is dark, one
+// whose ray passes the cut-out half (or misses the leaf by the margin) is lit; the same image for
+// 1 and 3 rasterizer threads. BLEND follows --blend's policy: as-mask the same image, as-opaque
+// the whole leaf casts.
+constexpr float kLeafY = 1.5f, kLeaf = 2.0f;
+Scene floorAndLeaf(AlphaMode mode) {
+  Scene s = floorScene(false, {0.0, 7.0, 8.0});
+  s.name = "floor-and-leaf";
+  MeshBuilder b(s);
+  Material leaf;
+  leaf.alphaMode = mode;
+  leaf.diffuseTexture = leaf.baseColorTexture = 0;
+  const uint32_t m = b.addMaterial(leaf);
+  Texture t;
+  t.width = 2;
+  t.height = 1;
+  t.texels = {glm::vec4(1.0f, 1.0f, 1.0f, 0.2f), glm::vec4(1.0f)};
+  t.nearest = true;
+  t.wrapS = t.wrapT = TextureWrap::ClampToEdge;
+  s.textures.push_back(t);
+  b.quad({-kLeaf, kLeafY, kLeaf}, {kLeaf, kLeafY, kLeaf}, {kLeaf, kLeafY, -kLeaf},
+         {-kLeaf, kLeafY, -kLeaf}, m);  // u runs along +x
+  s.lights.push_back(casting(
+      SceneLight::directional(glm::normalize(glm::vec3(-0.3f, -1.0f, 0.2f)), glm::vec3(1.0f))));
+  return s;
+}
+
+struct LeafShadow {
+  size_t shadowed = 0, lit = 0, underCutOut = 0, wrong = 0;
+};
+
+// `cutOut`: whether the x < 0 half lets the light through.
+LeafShadow leafShadow(const ShadowedFrame& s, const std::vector<glm::vec4>& img, bool cutOut) {
+  constexpr double kMargin = 0.1;
+  const glm::dvec3 towards = -glm::dvec3(glm::normalize(glm::vec3(-0.3f, -1.0f, 0.2f)));
+  const CameraIntrinsics& in = s.frame.intrinsics;
+  const glm::dmat4 worldFromView = glm::inverse(s.frame.camera.viewFromWorld);
+  LeafShadow c;
+  for (int y = 0; y < in.height; ++y)
+    for (int x = 0; x < in.width; ++x) {
+      const size_t i = size_t(y) * size_t(in.width) + size_t(x);
+      const float depth = s.frame.encoded.depth[i];
+      if (depth <= 0.0f) continue;
+      const glm::dvec3 p(worldFromView * glm::dvec4(glm::dvec3(shading_f::ts_view_position(
+                                                        x, y, depth, in.tanHalfFovX, in.tanHalfFovY,
+                                                        in.width, in.height)),
+                                                    1.0));
+      if (std::abs(p.y) > 1e-3) continue;  // the leaf's pixels
+      const glm::dvec3 q = p + (double(kLeafY) - p.y) / towards.y * towards;
+      const double ax = std::abs(q.x), az = std::abs(q.z);
+      const bool outside = ax > kLeaf + kMargin || az > kLeaf + kMargin;
+      const bool inside = ax < kLeaf - kMargin && az < kLeaf - kMargin && ax > kMargin;
+      if (!inside && !outside) continue;  // near the outline or the split
+      const bool underCutOut = inside && q.x < 0.0 && cutOut;
+      const bool shadowed = inside && !underCutOut;
+      const bool dark = img[i].x == 0.0f && img[i].y == 0.0f && img[i].z == 0.0f;
+      (shadowed ? c.shadowed : c.lit)++;
+      c.underCutOut += underCutOut;
+      c.wrong += shadowed != dark;
+    }
+  return c;
+}
+
+TEST(Shadows, AMaskedLeafShadowsTheFloorUnderItsCoveredHalfOnly) {
+  const Scene scene = floorAndLeaf(AlphaMode::Mask);
+  const ShadowedFrame s = shadowedFrame(scene, GBufferFormat::FP32, 1, 160, 96);
+  ASSERT_TRUE(s.frame.lights.hasShadows());
+  const std::vector<glm::vec4> img = image(s.frame, "tiled", 1);
+  const LeafShadow c = leafShadow(s, img, true);
+  EXPECT_EQ(c.wrong, 0u);
+  EXPECT_GT(c.shadowed, 100u);
+  EXPECT_GT(c.underCutOut, 100u);
+  // The maps do not depend on the rasterizer's thread count.
+  const ShadowAtlas three = drawShadowAtlas(scene, s.atlas->layout, 3);
+  EXPECT_TRUE(three.depth == s.atlas->depth);
+  // BLEND as the scene's --blend policy made it, the same materials as the G-buffer's.
+  Scene asMask = floorAndLeaf(AlphaMode::Blend);
+  applyBlendPolicy(asMask, BlendPolicy::AsMask);
+  const ShadowedFrame m = shadowedFrame(asMask, GBufferFormat::FP32, 1, 160, 96);
+  EXPECT_TRUE(image(m.frame, "tiled", 1) == img);
+  Scene asOpaque = floorAndLeaf(AlphaMode::Blend);
+  applyBlendPolicy(asOpaque, BlendPolicy::AsOpaque);
+  const ShadowedFrame o = shadowedFrame(asOpaque, GBufferFormat::FP32, 1, 160, 96);
+  const LeafShadow co = leafShadow(o, image(o.frame, "tiled", 1), false);
+  EXPECT_EQ(co.wrong, 0u);
+  EXPECT_GT(co.shadowed, c.shadowed + 100u);
 }
 
 }  // namespace
