@@ -189,7 +189,13 @@ std::vector<BenchDimension> makeDimensions() {
         std::string s = trimmed(v);
         std::replace(s.begin(), s.end(), ':', ',');
         ShadowSampling sampling;
-        parseShadowBias(s, sampling);
+        try {
+          parseShadowBias(s, sampling);
+        } catch (const Error&) {  // render's message names its C,S form
+          badOptionValue("--shadow-bias", v,
+                         "expected C:S, two finite numbers >= 0 (constant:slope; ':' as ',' "
+                         "separates values)");
+        }
         c.shadowBias = floatText(sampling.biasConstant) + "," + floatText(sampling.biasSlope);
       },
       [](const BenchConfig& c) {

@@ -218,7 +218,7 @@ TEST(BenchRun, ShadowsAllDrawsTheMapsAndShadesWithThem) {
   o.sweep.set("shadows", {"none,all"});
   o.sweep.set("shadow_map_size", {"32"});
   o.sweep.set("shadow_filter", {"pcf3"});
-  o.frames.text = "0";
+  o.frames.text = "1";  // frame 0
   o.error = true;
   o.calibrate = false;
   ts::BenchRunResult r = ts::runBench(o);
