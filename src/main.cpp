@@ -77,8 +77,10 @@ int main(int argc, char** argv) {
                                     "builtin:street, builtin:atrium, or a .gltf/.glb path")
                        ->capture_default_str();
   renderCmd->add_option("--lights", render.lightSet,
-                        "light set (street: many, few; atrium: small, big, mixed); for glTF, "
-                        "the file's own lights unless given");
+                        "light set (street: many, few; atrium: small, big, mixed, and the "
+                        "thesis's scenarios thesis-small, thesis-big, thesis-big-shadows, "
+                        "thesis-mixed: big lights casting); for glTF, the file's own lights "
+                        "unless given");
   renderCmd->add_option("--light-count", render.lightCount, "number of lights (-1: the set's own)")
       ->capture_default_str();
   renderCmd

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "raster/shadow_maps.h"
 #include "util/checked_size.h"
 #include "util/error.h"
 #include "util/short_text.h"
@@ -121,7 +122,9 @@ std::vector<BenchDimension> makeDimensions() {
       [](const BenchConfig& c) { return c.shadingModel; });
   add(
       "light_set",
-      "light set(s) (street: many, few; atrium: small, big, mixed); default: the scene's", true,
+      "light set(s) (street: many, few; atrium: small, big, mixed, thesis-small, thesis-big, "
+      "thesis-big-shadows, thesis-mixed); default: the scene's",
+      true,
       [](BenchConfig& c, const std::string& v) {
         std::string s = trimmed(v);
         c.lightSet = s == "default" ? "" : s;
@@ -148,6 +151,59 @@ std::vector<BenchDimension> makeDimensions() {
         c.lightThreshold = parseNumber("--light-threshold", v, NumberRule::AtLeastZero);
       },
       [](const BenchConfig& c) { return floatText(c.lightThreshold); });
+  // The shadow dimensions (issue #18) came after bench.csv files existed: keyed off default.
+  add(
+      "shadows",
+      "shadow-casting lights: default (the scene's own marks), none, all, or N (the N lights of "
+      "largest range); their maps are drawn every frame (shadow_ms, shadow_bytes)",
+      true,
+      [](BenchConfig& c, const std::string& v) {
+        const std::string s = trimmed(v);
+        if (s == "default") c.shadows.clear();
+        else if (s == "none" || s == "all") c.shadows = s;
+        else c.shadows = std::to_string(parseInteger("--shadows", s, 0, kMaxLightCount));
+      },
+      [](const BenchConfig& c) { return c.shadows.empty() ? std::string("default") : c.shadows; });
+  d.back().keyedOffDefault = true;
+  add(
+      "shadow_map_size",
+      "texels a side of a point or spot light's shadow-map face (a power of two, 16..8192)", true,
+      [](BenchConfig& c, const std::string& v) {
+        c.shadowMapSize =
+            int(parseInteger("--shadow-map-size", v, kShadowMinFaceSize, kShadowMaxFaceSize));
+        checkShadowAtlasOptions({c.shadowMapSize, c.shadowBudgetMB});
+      },
+      [](const BenchConfig& c) { return std::to_string(c.shadowMapSize); });
+  d.back().keyedOffDefault = true;
+  add(
+      "shadow_filter", "how shading samples a shadow map: none, pcf2, pcf3, pcf5", true,
+      [](BenchConfig& c, const std::string& v) {
+        c.shadowFilter = shadowFilterName(parseShadowFilter(trimmed(v)));
+      },
+      [](const BenchConfig& c) { return c.shadowFilter; });
+  d.back().keyedOffDefault = true;
+  add(
+      "shadow_bias", "shadow depth bias(es) C:S (constant:slope, texels; docs/shadows.md)", true,
+      [](BenchConfig& c, const std::string& v) {
+        // ':' inside a value, as ',' separates a list's values (render's --shadow-bias C,S).
+        std::string s = trimmed(v);
+        std::replace(s.begin(), s.end(), ':', ',');
+        ShadowSampling sampling;
+        try {
+          parseShadowBias(s, sampling);
+        } catch (const Error&) {  // render's message names its C,S form
+          badOptionValue("--shadow-bias", v,
+                         "expected C:S, two finite numbers >= 0 (constant:slope; ':' as ',' "
+                         "separates values)");
+        }
+        c.shadowBias = floatText(sampling.biasConstant) + "," + floatText(sampling.biasSlope);
+      },
+      [](const BenchConfig& c) {
+        std::string s = c.shadowBias;
+        std::replace(s.begin(), s.end(), ',', ':');
+        return s;
+      });
+  d.back().keyedOffDefault = true;
   add(
       "seed", "seed(s) of the built-in scenes", true,
       [](BenchConfig& c, const std::string& v) {

@@ -1,8 +1,9 @@
 #include "bench/bench_frames.h"
 
+#include "render/render_input.h"
+
 #include "scene/light_range.h"
 #include "scene/scene_features.h"
-#include "scene/shadow_casters.h"
 #include "scene/scene_loader.h"
 #include "scene/view_space_lights.h"
 #include "techniques/technique.h"
@@ -53,11 +54,8 @@ void BenchScene::check(const BenchConfig& c) {
     return;
   }
   features(c);  // a bad --shading-model or --features fails before anything is timed
-  // bench draws no shadow maps yet: its runs would shade a shadow-casting light unshadowed.
-  if (const size_t casters = shadowCasterCount(scene_.lights))
-    throw Error("--scene " + c.scene + ": " + std::to_string(casters) +
-                " light(s) cast a shadow (extras castsShadow), and bench draws no shadow maps "
-                "yet (render does: docs/shadows.md)");
+  static_cast<void>(
+      FrameShadows(c));  // a bad --shadow-map-size, --shadow-filter or --shadow-bias fails here
   if (findTechnique(c.technique).drawsScene && backend != RasterBackend::Gl)
     throw Error(c.technique + " draws the scene: bench needs --raster gl for it");
   auto& r = rasterizers_[backend];
@@ -78,6 +76,12 @@ PreparedFrame BenchScene::prepare(const BenchConfig& c, int frame) {
                       SceneFeatures::general(features(c).model));
 }
 
+std::shared_ptr<const ShadowAtlas> BenchScene::drawShadows(const BenchConfig& c,
+                                                           PreparedFrame& frame) const {
+  if (imported_) return nullptr;
+  return FrameShadows(c).draw(scene_, frame);
+}
+
 std::unique_ptr<ForwardScene> BenchScene::forwardScene(const BenchConfig& c,
                                                        const PreparedFrame& frame) {
   if (imported_) return nullptr;
@@ -86,7 +90,14 @@ std::unique_ptr<ForwardScene> BenchScene::forwardScene(const BenchConfig& c,
 
 ViewLights BenchScene::ownRangeLights(const PreparedFrame& frame) const {
   if (imported_) return imported_->frame.lights;
-  return toViewSpace(ownRangeLights_, frame.camera.viewFromWorld);
+  ViewLights own = toViewSpace(ownRangeLights_, frame.camera.viewFromWorld);
+  // The same maps, sampled the same way: the lights' order and so their faces are the frame's.
+  own.shadow = frame.lights.shadow;
+  own.directionalShadow = frame.lights.directionalShadow;
+  own.shadowFaces = frame.lights.shadowFaces;
+  own.shadowAtlas = frame.lights.shadowAtlas;
+  own.shadowAtlasWidth = frame.lights.shadowAtlasWidth;
+  return own;
 }
 
 }  // namespace ts

@@ -11,6 +11,7 @@
 
 #include "bench/bench_config.h"
 #include "raster/raster_backend.h"
+#include "raster/shadow_maps.h"
 #include "render/frame_setup.h"
 #include "render/imported_frame.h"
 
@@ -38,11 +39,16 @@ class BenchScene {
   // plane (the general layout: the error reference's input; configurations encode their own
   // layout from its gbuffer); raster_ms inside.
   PreparedFrame prepare(const BenchConfig& config, int frame);
+  // The shadow maps of `frame` (prepare's, for `config`: its --shadow-* options), drawn and
+  // attached to frame.lights (FrameShadows, as `render` draws them); null when no light casts
+  // one or for an imported G-buffer. Their drawing time is the atlas's drawMs.
+  std::shared_ptr<const ShadowAtlas> drawShadows(const BenchConfig& config,
+                                                 PreparedFrame& frame) const;
   // The scene to draw at `frame`'s camera for the forward techniques (DeviceFrame::forward):
   // from the configuration's OpenGL rasterizer; null for the software one or an imported G-buffer.
   std::unique_ptr<ForwardScene> forwardScene(const BenchConfig& config, const PreparedFrame& frame);
   // The lights with the scene's own ranges (before light_threshold), in the frame's view space:
-  // the error reference of every configuration of the scene.
+  // the error reference of every configuration of the scene; with frame.lights' shadow maps.
   ViewLights ownRangeLights(const PreparedFrame& frame) const;
 
  private:

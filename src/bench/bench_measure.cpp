@@ -61,6 +61,7 @@ GroupFrame::GroupFrame(BenchScene& scene, const BenchConfig& group, int frame)
       prepared_(outOfMemoryAs("preparing a " + std::to_string(group.width) + "x" +
                                   std::to_string(group.height) + " frame of " + group.scene,
                               [&] { return scene.prepare(group, frame); })),
+      shadows_(scene.drawShadows(group, prepared_)),
       forward_(scene.forwardScene(group, prepared_)),
       pixels_(size_t(group.width) * group.height),
       geometry_(prepared_.gbuffer.geometryPixels()) {}
@@ -164,6 +165,9 @@ json measurementRow(const BenchEntry& e, const GroupFrame& frame, int f, const E
   row["upload_ms"] = m.uploadMs;
   row["compile_ms"] = e.compileMs;
   row["raster_ms"] = prepared.rasterMs;
+  // Drawn once per frame for the group, like the G-buffer: 0 without a shadow-casting light.
+  row["shadow_ms"] = frame.shadows() ? frame.shadows()->drawMs : 0.0;
+  row["shadow_bytes"] = frame.shadows() ? frame.shadows()->layout.bytes() : uint64_t(0);
   row["features_used"] = e.features.describe();
   row["gbuffer_bytes_per_pixel"] = enc.bytesPerPixel();
   row["kernel_options"] = e.kernelOptions;

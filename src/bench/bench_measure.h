@@ -53,6 +53,8 @@ class GroupFrame {
   const PreparedFrame& prepared() const { return prepared_; }
   // The scene to draw for the forward techniques (null where the frame is not OpenGL's).
   ForwardScene* forward() const { return forward_.get(); }
+  // Its shadow maps (BenchScene::drawShadows), null without a shadow-casting light.
+  const ShadowAtlas* shadows() const { return shadows_.get(); }
   size_t pixels() const { return pixels_; }
   uint64_t geometryPixels() const { return geometry_; }
 
@@ -70,6 +72,7 @@ class GroupFrame {
  private:
   BenchScene& scene_;
   PreparedFrame prepared_;
+  std::shared_ptr<const ShadowAtlas> shadows_;
   std::unique_ptr<ForwardScene> forward_;
   size_t pixels_;
   uint64_t geometry_;

@@ -41,11 +41,11 @@ json summarizeRows(const json& rows) {
   for (const auto& id : order) {
     const auto& frames = byConfig[id];
     const json& first = *frames.begin()->second;
-    std::vector<double> total, wall, upload, raster, lc, ev, limitMs, limitPct, compile;
+    std::vector<double> total, wall, upload, raster, shadow, lc, ev, limitMs, limitPct, compile;
     std::vector<std::pair<std::string, std::vector<double>>> kernels;
     std::set<std::string> bases;
     std::vector<double> errMax, errRmse, errPsnr, errRel;
-    double nonfinite = 0.0;
+    double nonfinite = 0.0, shadowBytes = 0.0;
     json frameList = json::array();
     for (const auto& [frame, rp] : frames) {
       const json& r = *rp;
@@ -54,6 +54,9 @@ json summarizeRows(const json& rows) {
       wall.push_back(num(r, "wall_ms"));
       upload.push_back(num(r, "upload_ms"));
       raster.push_back(num(r, "raster_ms"));
+      // Rows written before bench drew shadow maps have none: they drew none.
+      shadow.push_back(r.contains("shadow_ms") ? num(r, "shadow_ms") : 0.0);
+      if (r.contains("shadow_bytes")) shadowBytes = std::max(shadowBytes, num(r, "shadow_bytes"));
       compile.push_back(num(r, "compile_ms"));
       lc.push_back(num(r, "lighting_computations"));
       ev.push_back(num(r, "evaluations"));
@@ -100,6 +103,8 @@ json summarizeRows(const json& rows) {
               {"wall_ms", summaryJson(summarize(wall))},
               {"upload_ms", summaryJson(summarize(upload))},
               {"raster_ms", summaryJson(summarize(raster))},
+              {"shadow_ms", summaryJson(summarize(shadow))},
+              {"shadow_bytes_max", uint64_t(shadowBytes)},
               {"kernels", k},
               {"lighting_computations", summaryJson(summarize(lc))},
               {"evaluations", summaryJson(summarize(ev))},
@@ -148,8 +153,8 @@ void printSummaryTable(const json& summaries, std::ostream& out) {
   }
   std::vector<std::vector<std::string>> table;
   std::vector<std::string> head = shown;
-  for (const char* h :
-       {"median ms", "(min-max)", "wall ms", "raster ms", "% limit", "per-kernel median ms"})
+  for (const char* h : {"median ms", "(min-max)", "wall ms", "raster ms", "shadow ms", "% limit",
+                        "per-kernel median ms"})
     head.push_back(h);
   table.push_back(head);
   for (const auto& s : summaries) {
@@ -160,6 +165,7 @@ void printSummaryTable(const json& summaries, std::ostream& out) {
     row.push_back("(" + fixedText(num(t, "min"), 3) + "-" + fixedText(num(t, "max"), 3) + ")");
     row.push_back(fixedText(num(s.at("wall_ms"), "median"), 2));
     row.push_back(fixedText(num(s.at("raster_ms"), "median"), 2));
+    row.push_back(fixedText(num(s.at("shadow_ms"), "median"), 2));
     std::string pct = fixedText(num(s.at("limit_pct"), "median"), 1);
     std::string basis = str(s, "flops_basis");
     row.push_back(pct == "-" ? pct

@@ -29,12 +29,24 @@ RenderInput loadImportedInput(const std::string& path, std::optional<GBufferForm
   return input;
 }
 
-RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
-  const ShadowAtlasOptions shadowOptions{o.shadowMapSize, o.shadowBudgetMB};
-  checkShadowAtlasOptions(shadowOptions);  // before any work, casters or not
-  ShadowSampling sampling;
+FrameShadows::FrameShadows(const PipelineOptions& o) : options{o.shadowMapSize, o.shadowBudgetMB} {
+  checkShadowAtlasOptions(options);
   sampling.taps = parseShadowFilter(o.shadowFilter);
   parseShadowBias(o.shadowBias, sampling);
+}
+
+std::shared_ptr<const ShadowAtlas> FrameShadows::draw(const Scene& scene,
+                                                      PreparedFrame& frame) const {
+  if (shadowCasterCount(scene.lights) == 0) return nullptr;
+  auto atlas = std::make_shared<const ShadowAtlas>(
+      drawShadowAtlas(scene, planShadowAtlas(scene.lights, scene.bounds(), frame.camera, options,
+                                             viewGeometryBounds(frame.gbuffer, frame.camera))));
+  attachShadowMaps(atlas, scene.lights, frame.camera.viewFromWorld, sampling, frame.lights);
+  return atlas;
+}
+
+RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
+  const FrameShadows shadows(o);  // its options checked before any work, casters or not
   RenderInput input;
   input.scene = std::make_unique<Scene>(loadScene(o.scene, o.sceneOptions()));
   Scene& scene = *input.scene;
@@ -46,13 +58,7 @@ RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
   input.forward = rasterizer.forwardScene(input.frame.camera, o.width, o.height);
   input.lightSummary = describeLights(scene.lights);
   input.shadowCasters = shadowCasterCount(scene.lights);
-  if (input.shadowCasters > 0) {
-    input.shadowAtlas = std::make_shared<ShadowAtlas>(drawShadowAtlas(
-        scene, planShadowAtlas(scene.lights, scene.bounds(), input.frame.camera, shadowOptions,
-                               viewGeometryBounds(input.frame.gbuffer, input.frame.camera))));
-    attachShadowMaps(input.shadowAtlas, scene.lights, input.frame.camera.viewFromWorld, sampling,
-                     input.frame.lights);
-  }
+  input.shadowAtlas = shadows.draw(scene, input.frame);
   input.sceneName = scene.name;
   input.triangles = scene.triangleCount();
   input.raster = toString(rasterizer.backend());

@@ -34,6 +34,19 @@ struct RenderInput {
   std::unique_ptr<ForwardScene> forward;
 };
 
+// The shadow maps of a frame, as `render` and `bench` draw them: the options' atlas size, budget
+// and sampling (--shadow-map-size, --shadow-budget, --shadow-filter, --shadow-bias), checked on
+// construction (ts::Error, one line, casters or not).
+struct FrameShadows {
+  explicit FrameShadows(const PipelineOptions& o);
+  // Plans and draws the atlas of `scene`'s shadow-casting lights for `frame` (its camera and
+  // G-buffer) and attaches it to frame.lights; null (and nothing drawn) when no light casts one.
+  std::shared_ptr<const ShadowAtlas> draw(const Scene& scene, PreparedFrame& frame) const;
+
+  ShadowAtlasOptions options;
+  ShadowSampling sampling;
+};
+
 // Frame `frame` of the scene `o` describes, rasterized; its features are the scene's
 // (--shading-model, --features; resolveFeatures), with the shadow maps of its shadow-casting
 // lights. Throws ts::Error for a bad scene, rasterizer or shadow-map option or budget.

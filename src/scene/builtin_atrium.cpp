@@ -23,7 +23,8 @@ constexpr int kBays = 8;
 constexpr float kBay = 2.0f * kHalfX / float(kBays);  // 3.75 m column spacing
 
 // Light sets: `small` 128 lights of range 0.5..2 m, `big` 16 of range 8..20 m, `mixed` = every
-// 32nd light big, the others small (128: 4 big + 124 small). Colour peak = k * range^2, so each
+// 32nd light big, the others small (128: 4 big + 124 small); the thesis-* sets are these with
+// the big lights casting shadows (makeAtriumScene). Colour peak = k * range^2, so each
 // light looks about as bright at the same fraction of its range.
 constexpr int kSmallCount = 128;
 constexpr float kSmallRange0 = 0.5f, kSmallRange1 = 2.0f, kSmallK = 0.6f;
@@ -162,13 +163,28 @@ std::vector<SceneCamera> cameraPath() {
 
 }  // namespace
 
-std::vector<std::string> atriumLightSets() { return {"small", "big", "mixed"}; }
+std::vector<std::string> atriumLightSets() {
+  return {"small",       "big", "mixed", "thesis-small", "thesis-big", "thesis-big-shadows",
+          "thesis-mixed"};
+}
 
 Scene makeAtriumScene(const std::string& lightSet, uint32_t seed, int lightCount) {
   std::string set = lightSet.empty() ? "small" : lightSet;
+  // The thesis's four scenarios (issue #18): small, big, big with every light casting a shadow,
+  // and mixed with its big lights casting (its "few big shadow-casting ones"); the same lights
+  // as small, big and mixed for a seed, only castsShadow differs.
+  bool bigLightsCast = false;
+  if (set == "thesis-small" || set == "thesis-big" || set == "thesis-mixed") {
+    bigLightsCast = set == "thesis-mixed";
+    set = set.substr(7);
+  } else if (set == "thesis-big-shadows") {
+    bigLightsCast = true;
+    set = "big";
+  }
   if (set != "small" && set != "big" && set != "mixed")
     throw Error("unknown light set '" + shortText(lightSet) +
-                "' for builtin:atrium (valid: small, big, mixed)");
+                "' for builtin:atrium (valid: small, big, mixed, thesis-small, thesis-big, "
+                "thesis-big-shadows, thesis-mixed)");
   Scene scene;
   scene.name = "atrium";
   scene.ambient = glm::vec3(0.03f);
@@ -267,6 +283,8 @@ Scene makeAtriumScene(const std::string& lightSet, uint32_t seed, int lightCount
               : set == "big"   ? kBigCount
                                : kMixedCount;
   scene.lights = makeLights(set, seed, count);
+  if (bigLightsCast)
+    for (SceneLight& l : scene.lights) l.castsShadow = l.range >= kBigRange0;  // small: <= 2 m
   scene.cameraPath = cameraPath();
   return scene;
 }

@@ -121,6 +121,46 @@ Scene makeBuiltinScene(const std::string& name, const std::string& lightSet, uin
   return makeBuiltin(name, lightSet, seed, -1);
 }
 
+std::vector<std::string> thesisLightSets() {
+  return {"thesis-small", "thesis-big", "thesis-big-shadows", "thesis-mixed"};
+}
+
+std::vector<SceneLight> placeThesisLights(const Bounds& bounds, const std::string& set,
+                                          uint32_t seed, int count) {
+  const auto known = thesisLightSets();
+  if (std::find(known.begin(), known.end(), set) == known.end())
+    throw Error("unknown thesis light set '" + shortText(set) + "' (valid: " + joined(known) + ")");
+  if (!(bounds.min.x <= bounds.max.x))
+    throw Error("light set " + set + " is placed from the scene's geometry, and it has none");
+  const bool mixed = set == "thesis-mixed", allBig = set != "thesis-small" && !mixed;
+  const bool bigCast = set != "thesis-small" && set != "thesis-big";
+  if (count < 0) count = set == "thesis-small" || mixed ? 128 : 16;
+  const float diagonal = glm::length(bounds.extent());
+  const glm::vec3 lo = bounds.min + 0.05f * bounds.extent(),
+                  hi = bounds.max - 0.05f * bounds.extent();
+  SceneRandom rnd(seed * 2654435761u + 40503u);
+  std::vector<SceneLight> lights;
+  lights.reserve(size_t(count));
+  for (int k = 0; k < count; ++k) {
+    const bool big = allBig || (mixed && k % 32 == 0);
+    SceneLight l;
+    const float x = rnd.uniform(lo.x, hi.x);  // one draw a statement (SceneRandom)
+    const float y = rnd.uniform(lo.y, hi.y);
+    const float z = rnd.uniform(lo.z, hi.z);
+    l.position = {x, y, z};
+    const float range = big ? rnd.uniform(0.2f, 0.5f) : rnd.uniform(0.0125f, 0.05f);
+    l.range = range * diagonal;
+    const float saturation = big ? rnd.uniform(0.1f, 0.4f) : rnd.uniform(0.4f, 0.9f);
+    const float hue = rnd.uniform();
+    // The atrium's k (0.02 big, 0.6 small per m^-2 at its 40 m diagonal), scaled to the bounds.
+    const float k2 = (big ? 0.02f : 0.6f) * (40.0f / diagonal) * (40.0f / diagonal);
+    l.color = k2 * l.range * l.range * hueColor(hue, saturation);
+    l.castsShadow = bigCast && big;
+    lights.push_back(l);
+  }
+  return lights;
+}
+
 Scene loadScene(const std::string& spec, const SceneOptions& options) {
   if (options.lightCount < -1)
     throw Error("light count must be >= 0 (or -1 for the light set's own), got " +
@@ -136,14 +176,20 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
         makeBuiltin(spec.substr(prefix.size()), options.lightSet, options.seed, options.lightCount);
     applyVariants(scene, options.variant, options.seed);
   } else if (endsWith(spec, ".gltf") || endsWith(spec, ".glb")) {
-    if (!options.lightSet.empty() && options.lightSet != "file")
+    const auto thesis = thesisLightSets();
+    const bool placed = std::find(thesis.begin(), thesis.end(), options.lightSet) != thesis.end();
+    if (!options.lightSet.empty() && options.lightSet != "file" && !placed)
       throw Error("light set '" + shortText(options.lightSet) + "' does not apply to glTF scene " +
-                  spec + " (valid: file, its own KHR_lights_punctual lights)");
+                  spec + " (valid: file, its own KHR_lights_punctual lights; " + joined(thesis) +
+                  ", placed from its bounds)");
     if (!options.variant.empty())
       throw Error("scene variants apply to built-in scenes only, not to " + spec);
     std::vector<std::string> warnings;
     scene = loadGltf(spec, &warnings);
-    if (options.lightCount >= 0) {
+    if (placed) {
+      scene.lights =
+          placeThesisLights(scene.bounds(), options.lightSet, options.seed, options.lightCount);
+    } else if (options.lightCount >= 0) {
       if (size_t(options.lightCount) > scene.lights.size())
         throw Error("light count " + std::to_string(options.lightCount) + " is more than the " +
                     std::to_string(scene.lights.size()) + " light(s) in " + spec);

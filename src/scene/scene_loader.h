@@ -47,6 +47,18 @@ void applyVariants(Scene& scene, const std::string& variants, uint32_t seed);
 
 Scene loadScene(const std::string& spec, const SceneOptions& options);
 
+// The thesis's four scenarios (issue #18) as light sets for any scene, placed from its geometry's
+// bounds: thesis-small (128 point lights of range 1.2..5 % of the bounds' diagonal), thesis-big
+// (16 of 20..50 %), thesis-big-shadows (big, every light casting a shadow) and thesis-mixed
+// (128: every 32nd light big and casting, the others small); the atrium's small/big ranges in
+// proportion to its size. Positions uniform inside the bounds shrunk by 5 % a side (a light may
+// land inside geometry: these scenes have no free-space map); colour k * range^2, as the
+// atrium's. Deterministic for a seed; count -1 = the set's own. glTF scenes take them as
+// --lights instead of their own lights.
+std::vector<std::string> thesisLightSets();
+std::vector<SceneLight> placeThesisLights(const Bounds& bounds, const std::string& set,
+                                          uint32_t seed, int count);
+
 // Built-in scenes (src/scene/builtin_*.cpp).
 std::vector<std::string> builtinSceneNames();
 std::vector<std::string> builtinLightSets(const std::string& scene);  // first = default

@@ -95,6 +95,38 @@ TEST(BenchSweep, InvalidValuesGiveOneClearLine) {
       {"colour", "technique"});
 }
 
+TEST(BenchSweep, ShadowDimensionsRefuseBadValuesInOneLine) {
+  for (const auto& [dim, value, needle] :
+       std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"shadows", "some", "--shadows"},
+           {"shadow_map_size", "100", "--shadow-map-size"},
+           {"shadow_map_size", "8", "--shadow-map-size"},
+           {"shadow_filter", "pcf4", "--shadow-filter"},
+           {"shadow_bias", "1", "--shadow-bias"},
+           {"shadow_bias", "-1:2", "--shadow-bias"}}) {
+    BenchSweep s;
+    s.set(dim, {value});
+    expectOneLineError([&] { ts::expandSweep(s); }, {needle});
+  }
+}
+
+// The shadow dimensions' canonical values (added after bench.csv files existed: a
+// configuration at their defaults keeps its id).
+TEST(BenchSweep, ShadowDimensionsCanonicalAndKeyedOffDefault) {
+  BenchSweep s;
+  s.set("shadows", {"default,none,all,3"});
+  s.set("shadow_bias", {"1.5:1.5,0.50:2"});
+  auto configs = ts::expandSweep(s);
+  ASSERT_EQ(configs.size(), 8u);
+  EXPECT_EQ(configs[0].shadows, "");
+  EXPECT_EQ(configs[2].shadows, "none");
+  EXPECT_EQ(configs[6].shadows, "3");
+  EXPECT_EQ(configs[1].shadowBias, "0.5,2");
+  EXPECT_EQ(configs[0].key(), ts::BenchConfig{}.key());
+  EXPECT_EQ(configs[0].key().find("shadow"), std::string::npos) << configs[0].key();
+  EXPECT_NE(configs[1].key().find("shadow_bias=0.5:2"), std::string::npos) << configs[1].key();
+}
+
 TEST(BenchSweep, OptionsAndColumnsAreUnique) {
   std::set<std::string> options;
   for (const auto& d : ts::benchDimensions()) {

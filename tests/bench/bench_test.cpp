@@ -206,6 +206,53 @@ TEST(BenchRun, WritesOneRowPerConfigurationAndFrameThenResumes) {
   fs::remove_all(dir);
 }
 
+// With every light casting, bench draws the maps each frame (shadow_ms, shadow_bytes) and the
+// kernels and the references shade with the same maps: the error stays fp32's. Without casters
+// the columns say that nothing was drawn.
+TEST(BenchRun, ShadowsAllDrawsTheMapsAndShadesWithThem) {
+  std::string dir = tempDir("shadows");
+  ts::BenchOptions o = tinyOptions(dir);
+  o.sweep.set("scene", {"builtin:atrium"});
+  o.sweep.set("tile", {"16"});
+  o.sweep.set("technique", {"tiled,deferred"});
+  o.sweep.set("shadows", {"none,all"});
+  o.sweep.set("shadow_map_size", {"32"});
+  o.sweep.set("shadow_filter", {"pcf3"});
+  o.frames.text = "1";  // frame 0
+  o.error = true;
+  o.calibrate = false;
+  ts::BenchRunResult r = ts::runBench(o);
+  EXPECT_TRUE(r.failures.empty());
+  ASSERT_EQ(r.measuredRows, 4u);
+  std::vector<std::map<std::string, std::string>> rows;
+  ASSERT_EQ(csvRows(dir + "/bench.csv", nullptr, &rows), 4u);
+  std::map<std::string, std::string> bytesOf;
+  for (auto& row : rows) {
+    const bool casting = row["shadows"] == "all";
+    EXPECT_EQ(row["shadow_map_size"], "32");
+    EXPECT_EQ(row["shadow_filter"], "pcf3");
+    EXPECT_EQ(row["features_used"].find("shadows") != std::string::npos, casting)
+        << row["features_used"];
+    const double ms = std::stod(row["shadow_ms"]);
+    const uint64_t bytes = std::stoull(row["shadow_bytes"]);
+    if (casting) {
+      EXPECT_GT(ms, 0.0);
+      // Every light's six 32x32 faces, in floats, fit in the atlas.
+      EXPECT_GE(bytes, std::stoull(row["lights"]) * 6u * 32u * 32u * 4u);
+    } else {
+      EXPECT_EQ(ms, 0.0);
+      EXPECT_EQ(bytes, 0u);
+    }
+    // Both techniques shade one frame: the same atlas.
+    auto [it, inserted] = bytesOf.emplace(row["shadows"], row["shadow_bytes"]);
+    if (!inserted) {
+      EXPECT_EQ(it->second, row["shadow_bytes"]);
+    }
+    EXPECT_LE(std::stod(row["err_max_rel_peak"]), 1e-4) << row["technique"] << row["shadows"];
+  }
+  fs::remove_all(dir);
+}
+
 TEST(BenchRun, ShardsTogetherMakeTheWholeSweep) {
   std::string dir = tempDir("shards");
   std::set<std::pair<std::string, std::string>> all;

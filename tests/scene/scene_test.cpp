@@ -82,7 +82,9 @@ bool sameGeometry(const Scene& a, const Scene& b) {
 TEST(SceneBuiltin, NamesAndLightSets) {
   EXPECT_EQ(ts::builtinSceneNames(), (std::vector<std::string>{"street", "atrium"}));
   EXPECT_EQ(ts::builtinLightSets("street"), (std::vector<std::string>{"many", "few"}));
-  EXPECT_EQ(ts::builtinLightSets("atrium"), (std::vector<std::string>{"small", "big", "mixed"}));
+  EXPECT_EQ(ts::builtinLightSets("atrium"),
+            (std::vector<std::string>{"small", "big", "mixed", "thesis-small", "thesis-big",
+                                      "thesis-big-shadows", "thesis-mixed"}));
   EXPECT_THROW(ts::builtinLightSets("nope"), ts::Error);
 }
 
@@ -261,6 +263,112 @@ TEST(SceneAtrium, ProportionsAndLightSets) {
     EXPECT_GT(e.y, 1.0f);
     EXPECT_LT(e.y, 8.0f);
   }
+}
+
+// The thesis's four scenarios (issue #18): the small, big and mixed lights of a seed, the big
+// ones casting in thesis-big-shadows and thesis-mixed, at the thesis's light counts.
+TEST(SceneBuiltin, ThesisLightSetsCastFromTheirBigLights) {
+  struct Expect {
+    const char* set;
+    const char* same;  // the set whose lights these are
+    bool bigCast;
+  };
+  for (const Expect& x :
+       {Expect{"thesis-small", "small", false}, Expect{"thesis-big", "big", false},
+        Expect{"thesis-big-shadows", "big", true}, Expect{"thesis-mixed", "mixed", true}})
+    for (int count : {-1, 1, 10, 50, 100}) {
+      SCOPED_TRACE(std::string(x.set) + " x " + std::to_string(count));
+      SceneOptions o;
+      o.lightSet = x.set;
+      o.lightCount = count;
+      o.seed = 3;
+      const Scene s = ts::loadScene("builtin:atrium", o);
+      EXPECT_TRUE(sameLights(s, ts::loadScene("builtin:atrium", o)));
+      o.lightSet = x.same;
+      const Scene plain = ts::loadScene("builtin:atrium", o);
+      ASSERT_EQ(s.lights.size(), plain.lights.size());
+      if (count >= 0) {
+        EXPECT_EQ(s.lights.size(), size_t(count));
+      }
+      size_t casters = 0, big = 0;
+      for (size_t i = 0; i < s.lights.size(); ++i) {
+        EXPECT_EQ(s.lights[i].position, plain.lights[i].position);
+        EXPECT_EQ(s.lights[i].range, plain.lights[i].range);
+        EXPECT_FALSE(plain.lights[i].castsShadow);
+        const bool isBig = s.lights[i].range >= 8.0f;
+        EXPECT_EQ(s.lights[i].castsShadow, x.bigCast && isBig);
+        casters += s.lights[i].castsShadow;
+        big += isBig;
+      }
+      const size_t n = s.lights.size();
+      // mixed: every 32nd light is big (light 0 first).
+      const size_t expectedBig = std::string(x.same) == "small" ? 0
+                                 : std::string(x.same) == "big" ? n
+                                                                : (n + 31) / 32;
+      EXPECT_EQ(big, expectedBig);
+      EXPECT_EQ(casters, x.bigCast ? expectedBig : 0u);
+    }
+  // --shadows overrides the set's marks.
+  SceneOptions o;
+  o.lightSet = "thesis-big-shadows";
+  o.shadows = "none";
+  for (const auto& l : ts::loadScene("builtin:atrium", o).lights) EXPECT_FALSE(l.castsShadow);
+}
+
+template <class F>
+void expectOneLine(F&& f, const std::string& needle) {
+  try {
+    f();
+    ADD_FAILURE() << "no ts::Error thrown";
+  } catch (const ts::Error& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    EXPECT_NE(m.find(needle), std::string::npos) << m;
+  }
+}
+
+// The scenarios for a glTF scene: placed inside its bounds, ranges in proportion to them,
+// deterministic for a seed, the stated counts and casters; no geometry is one line.
+TEST(SceneThesisLights, PlacedFromTheBounds) {
+  ts::Bounds b;
+  b.extend({-10.0f, 0.0f, -5.0f});
+  b.extend({30.0f, 20.0f, 5.0f});
+  const float diagonal = glm::length(b.extent());
+  for (const std::string& set : ts::thesisLightSets())
+    for (int count : {-1, 1, 10, 100}) {
+      SCOPED_TRACE(set + " x " + std::to_string(count));
+      const auto a = ts::placeThesisLights(b, set, 4, count);
+      const auto again = ts::placeThesisLights(b, set, 4, count);
+      const auto other = ts::placeThesisLights(b, set, 5, count);
+      const size_t n = count >= 0                                       ? size_t(count)
+                       : set == "thesis-small" || set == "thesis-mixed" ? 128u
+                                                                        : 16u;
+      ASSERT_EQ(a.size(), n);
+      size_t casters = 0, big = 0;
+      for (size_t i = 0; i < n; ++i) {
+        EXPECT_EQ(a[i].position, again[i].position);
+        EXPECT_EQ(a[i].range, again[i].range);
+        EXPECT_NE(a[i].position, other[i].position);
+        EXPECT_EQ(a[i].type, ts::SceneLightType::Point);
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_GE(a[i].position[c], b.min[c] + 0.05f * b.extent()[c] - 1e-4f);
+          EXPECT_LE(a[i].position[c], b.max[c] - 0.05f * b.extent()[c] + 1e-4f);
+        }
+        const bool isBig = a[i].range >= 0.2f * diagonal * 0.999f;
+        EXPECT_TRUE(isBig || a[i].range <= 0.05f * diagonal * 1.001f) << a[i].range;
+        big += isBig;
+        casters += a[i].castsShadow;
+        EXPECT_TRUE(!a[i].castsShadow || isBig);
+      }
+      const size_t expectedBig = set == "thesis-small"   ? 0u
+                                 : set == "thesis-mixed" ? (n + 31) / 32
+                                                         : n;
+      EXPECT_EQ(big, expectedBig);
+      const bool cast = set == "thesis-big-shadows" || set == "thesis-mixed";
+      EXPECT_EQ(casters, cast ? expectedBig : 0u);
+    }
+  expectOneLine([&] { ts::placeThesisLights(ts::Bounds{}, "thesis-big", 1, 4); }, "geometry");
+  expectOneLine([&] { ts::placeThesisLights(b, "thesis-huge", 1, 4); }, "thesis-mixed");
 }
 
 TEST(SceneOptions, LightCountAndRange) {
