@@ -363,6 +363,10 @@ void runRender(const RenderOptions& options) {
           << std::setw(8) << (missed ? std::to_string(*missed) : std::string("-")) << std::setw(12)
           << std::setprecision(1) << double(r.counters.gbufferBytesRead) / 1e6 << "  "
           << kernelSummary(r) << "\n";
+    if (errorVsExact)
+      table << "    vs exact visibility (the perfect shadow): max err/peak "
+            << relPeak(errorVsExact) << ", rmse " << std::scientific << std::setprecision(2)
+            << errorVsExact->rmse << std::defaultfloat << "\n";
     for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
     if (r.nonfinitePixels)
       table << "    note: " << r.nonfinitePixels

@@ -113,6 +113,9 @@ nlohmann::json shadowErrorRun(const std::string& bias, const std::string& name) 
       bias + " --out " + tmp.string());
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("shadow maps vs exact: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("vs exact visibility (the perfect shadow): max err/peak "),
+            std::string::npos)
+      << r.output;
   nlohmann::json stats = nlohmann::json::parse(std::ifstream(tmp / "stats.json"));
   nlohmann::json e = stats["exact_visibility"];
   e["technique"] = stats["techniques"][0];
