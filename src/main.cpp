@@ -210,7 +210,10 @@ int main(int argc, char** argv) {
                       "exact visibility of every (pixel, shadow-casting light) pair by ray "
                       "queries against the scene's triangles (Embree): visibility_exact.exr (a "
                       "channel per light, the first 16: 0 occluded, 1 lit, 2 not applicable) and "
-                      "stats.json exact_visibility (docs/shadows.md)");
+                      "stats.json exact_visibility; the shadow maps against it: wrong pairs "
+                      "(false shadow, light leak), the image error of the reference shaded with "
+                      "the maps against one shaded with exact visibility (shadow_error.exr) and "
+                      "each technique's error_vs_exact (docs/shadows.md)");
   renderCmd->add_flag("--dump", render.dump,
                       "also write gbuffer.exr (decoded shading inputs), lights.json and "
                       "gbuffer.json (the descriptor --gbuffer-in reads); with shadow-casting "

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "reference/reference.h"
 #include "tileshade/tileshade.h"
 
 namespace ts {
@@ -19,7 +20,12 @@ struct ExactVisibilityResult {
   std::vector<std::string> channels;  // "light<index>", one per light of the image
   std::vector<float> image;           // interleaved: the kVisibility* codes 0, 1, 2 as floats
   nlohmann::json stats;               // stats.json's exact_visibility
-  std::string summary;                // the line `render` prints
+  std::string summary;                // the lines `render` prints
+  // The double reference shaded with exact visibility in place of the maps (the "perfect
+  // shadow"), and per pixel its largest channel difference from the map-shaded one.
+  ReferenceImage exactReference;
+  std::vector<float> shadowError;
+  std::vector<float> wrongPairs;  // per pixel: its wrong (false shadow + light leak) pairs
 };
 
 // Throws ts::Error (one line) for a frame without the scene's triangles (an imported G-buffer)

@@ -339,10 +339,16 @@ void runRender(const RenderOptions& options) {
                         float(1e-7 * reference.peak), float(1e-2 * reference.peak));
       }
     }
+    // Against the perfect shadow: the reference shaded with exact visibility.
+    std::optional<ErrorStats> errorVsExact;
+    if (exact)
+      errorVsExact =
+          compareToReference(image, exact->exactReference, 1e-4 * exact->exactReference.peak);
     results.push_back(techniqueJson(name, frameResultOf(r, std::move(image)), error, missed));
     results.back()["lanes"] = r.lanes;
     if (errorShading) results.back()["error_shading"] = errorJson(*errorShading);
     if (errorPhysical) results.back()["error_vs_physical"] = errorJson(*errorPhysical);
+    if (errorVsExact) results.back()["error_vs_exact"] = errorJson(*errorVsExact);
 
     auto relPeak = [](const std::optional<ErrorStats>& e) {
       std::ostringstream text;
@@ -357,6 +363,10 @@ void runRender(const RenderOptions& options) {
           << std::setw(8) << (missed ? std::to_string(*missed) : std::string("-")) << std::setw(12)
           << std::setprecision(1) << double(r.counters.gbufferBytesRead) / 1e6 << "  "
           << kernelSummary(r) << "\n";
+    if (errorVsExact)
+      table << "    vs exact visibility (the perfect shadow): max err/peak "
+            << relPeak(errorVsExact) << ", rmse " << std::scientific << std::setprecision(2)
+            << errorVsExact->rmse << std::defaultfloat << "\n";
     for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
     if (r.nonfinitePixels)
       table << "    note: " << r.nonfinitePixels
@@ -407,9 +417,17 @@ void runRender(const RenderOptions& options) {
   if (references)
     stats["reference"] = {{"contributing", references->reference.contributing},
                           {"peak", references->reference.peak}};
-  if (exact)
+  if (exact) {
     writeExr(o.outDir + "/visibility_exact.exr", exact->width, exact->height, exact->channels,
              exact->image);
+    // Per pixel: the map-shaded reference's largest channel difference from the exact-shaded one,
+    // and its wrong pairs.
+    std::vector<float> planes;
+    for (size_t i = 0; i < exact->shadowError.size(); ++i)
+      planes.insert(planes.end(), {exact->shadowError[i], exact->wrongPairs[i]});
+    writeExr(o.outDir + "/shadow_error.exr", exact->width, exact->height, {"error", "wrong"},
+             planes);
+  }
   writeFile(o.outDir + "/stats.json", stats.dump(2) + "\n");
   if (o.dump) frame.dump(o.outDir);
   std::cout << "wrote " << o.outDir << "/\n";

@@ -28,8 +28,15 @@ uint64_t countNonFinitePixels(const std::vector<glm::vec4>& image) {
   return n;
 }
 
-ErrorStats compareToReference(const std::vector<glm::vec4>& image, const ReferenceImage& ref,
-                              double tolerance) {
+namespace {
+
+glm::dvec3 pixelOf(const glm::vec4& v) { return glm::dvec3(glm::vec3(v)); }
+glm::dvec3 pixelOf(const glm::dvec3& v) { return v; }
+
+// One comparison for float images and double ones (no rounding of a double image to float: two
+// references that agree compare exactly 0).
+template <typename Pixel>
+ErrorStats compare(const std::vector<Pixel>& image, const ReferenceImage& ref, double tolerance) {
   if (image.size() != ref.rgb.size()) throw Error("image and reference sizes differ");
   const double inf = std::numeric_limits<double>::infinity();
   ErrorStats e;
@@ -40,7 +47,7 @@ ErrorStats compareToReference(const std::vector<glm::vec4>& image, const Referen
   double sumSq = 0.0;
   std::vector<double> perPixel(image.size());
   for (size_t i = 0; i < image.size(); ++i) {
-    glm::dvec3 d = glm::dvec3(glm::vec3(image[i])) - ref.rgb[i];
+    glm::dvec3 d = pixelOf(image[i]) - ref.rgb[i];
     if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z)) {
       ++e.nonfinitePixels;
       perPixel[i] = inf;
@@ -67,6 +74,18 @@ ErrorStats compareToReference(const std::vector<glm::vec4>& image, const Referen
   e.p99 = quantile(0.99);
   e.p999 = quantile(0.999);
   return e;
+}
+
+}  // namespace
+
+ErrorStats compareToReference(const std::vector<glm::vec4>& image, const ReferenceImage& ref,
+                              double tolerance) {
+  return compare(image, ref, tolerance);
+}
+
+ErrorStats compareReferences(const ReferenceImage& image, const ReferenceImage& ref,
+                             double tolerance) {
+  return compare(image.rgb, ref, tolerance);
 }
 
 }  // namespace ts

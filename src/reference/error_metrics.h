@@ -31,6 +31,10 @@ uint64_t countNonFinitePixels(const std::vector<glm::vec4>& image);
 ErrorStats compareToReference(const std::vector<glm::vec4>& image, const ReferenceImage& ref,
                               double tolerance);
 
+// The same for a double image (one reference against another), without rounding it to float.
+ErrorStats compareReferences(const ReferenceImage& image, const ReferenceImage& ref,
+                             double tolerance);
+
 // Per-pixel max channel error (for heat maps).
 std::vector<float> errorMap(const std::vector<glm::vec4>& image, const ReferenceImage& ref);
 

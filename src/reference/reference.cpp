@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -54,25 +55,43 @@ double shadowFactor(const ViewLights& lights, int first, const SurfaceD& s, glm:
                                      s.P, s.N, towards);
 }
 
+// The factor a shadowed pair is shaded with: the map's, recorded for the hook, or the hook's
+// exact 0/1 in its place. `slot` is the light's index in the hook's planes.
+double hookedFactor(ReferenceShadowHook* hook, size_t slot, size_t pixel, double mapFactor) {
+  if (!hook) return mapFactor;
+  if (slot < hook->factors.size() && !hook->factors[slot].empty())
+    hook->factors[slot][pixel] = mapFactor;
+  if (slot < hook->visibility.size() && !hook->visibility[slot].empty()) {
+    const uint8_t v = hook->visibility[slot][pixel];
+    if (v <= 1) return double(v);
+  }
+  return mapFactor;
+}
+
 glm::dvec3 lightContribution(const SurfaceD& s, const shading_d::ts_shading_point& p,
-                             const ViewLights& lights, size_t i, int model, int shading) {
+                             const ViewLights& lights, size_t i, int model, int shading,
+                             ReferenceShadowHook* hook = nullptr, size_t pixel = 0) {
   glm::dvec3 c = shading_d::ts_punctual_light(&p, s.kd, s.ks, widen(lights.positionRange[i]),
                                               widen(lights.color[i]), widen(lights.spot[i]), model,
                                               shading, 1, 1);
   const int first = lights.shadowOf(i);
   if (first >= 0 && nonZero(c))
-    c *= shadowFactor(lights, first, s,
-                      glm::normalize(glm::dvec3(glm::vec3(lights.positionRange[i])) - s.P));
+    c *= hookedFactor(
+        hook, i, pixel,
+        shadowFactor(lights, first, s,
+                     glm::normalize(glm::dvec3(glm::vec3(lights.positionRange[i])) - s.P)));
   return c;
 }
 
 glm::dvec3 directionalContribution(const SurfaceD& s, const shading_d::ts_shading_point& p,
-                                   const ViewLights& lights, size_t i, int shading) {
+                                   const ViewLights& lights, size_t i, int shading,
+                                   ReferenceShadowHook* hook, size_t pixel) {
   const glm::dvec3 towards(glm::vec3(lights.directionalDir[i]));
   glm::dvec3 c = shading_d::ts_directional_light(
       &p, s.kd, s.ks, towards, glm::dvec3(glm::vec3(lights.directionalColor[i])), shading, 1);
   const int first = lights.directionalShadowOf(i);
-  if (first >= 0 && nonZero(c)) c *= shadowFactor(lights, first, s, towards);
+  if (first >= 0 && nonZero(c))
+    c *= hookedFactor(hook, lights.size() + i, pixel, shadowFactor(lights, first, s, towards));
   return c;
 }
 
@@ -92,8 +111,19 @@ void useKernelPosition(SurfaceD& s, const EncodedGBuffer& gbuffer, const CameraI
 
 ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
                               const ViewLights& lights, glm::vec3 ambient, int model, int threads,
-                              const RowProgress& progress, ReferencePositions positions) {
+                              const RowProgress& progress, ReferencePositions positions,
+                              ReferenceShadowHook* shadows) {
   ReferenceImage ref;
+  if (shadows) {
+    const size_t slots = lights.size() + lights.directionalCount();
+    shadows->factors.assign(slots, {});
+    for (size_t i = 0; i < slots; ++i) {
+      const int first =
+          i < lights.size() ? lights.shadowOf(i) : lights.directionalShadowOf(i - lights.size());
+      if (first >= 0)
+        shadows->factors[i].assign(gbuffer.pixelCount(), std::numeric_limits<double>::quiet_NaN());
+    }
+  }
   ref.width = gbuffer.width;
   ref.height = gbuffer.height;
   ref.rgb.assign(gbuffer.pixelCount(), glm::dvec3(0.0));
@@ -107,16 +137,17 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
       if (positions == ReferencePositions::KernelFloat) useKernelPosition(s, gbuffer, camera, x, y);
       shading_d::ts_shading_point p = shadingPoint(s, shading);
       glm::dvec3 sum(0.0);
+      const size_t pixel = size_t(y) * size_t(gbuffer.width) + size_t(x);
       // Punctual lights in list order, then the directional ones, as the kernels add them.
       for (size_t i = 0; i < lights.size(); ++i) {
-        glm::dvec3 c = lightContribution(s, p, lights, i, model, shading);
+        glm::dvec3 c = lightContribution(s, p, lights, i, model, shading, shadows, pixel);
         if (nonZero(c)) {
           sum += c;
           ++rowContributing[size_t(y)];
         }
       }
       for (size_t i = 0; i < lights.directionalCount(); ++i) {
-        glm::dvec3 c = directionalContribution(s, p, lights, i, shading);
+        glm::dvec3 c = directionalContribution(s, p, lights, i, shading, shadows, pixel);
         if (nonZero(c)) {
           sum += c;
           ++rowContributing[size_t(y)];

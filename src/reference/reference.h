@@ -36,10 +36,25 @@ enum class ReferencePositions {
 // far and the total, so that a long reference (1e5-1e6 lights) can show progress; may be empty.
 using RowProgress = std::function<void(int rowsDone, int rows)>;
 
+// The shadow maps against exact visibility (issue #18; docs/shadows.md "Map against exact"):
+// per light, indexed punctual lights 0..size()-1 then directional ones size()+j, a plane of one
+// value per pixel (row 0 at the top), or empty for a light left alone.
+struct ReferenceShadowHook {
+  // In: where a plane is given and its value is 0 or 1 (exact visibility's occluded / lit), the
+  // shadow factor is that value instead of the map's; elsewhere (2, not applicable) the map's.
+  std::vector<std::vector<uint8_t>> visibility;
+  // Out, for every light with a shadow map: sized by shadeReference, the map's factor at each
+  // pair where the light's unshadowed contribution is non-zero (N.L > 0, inside range and cone:
+  // where the reference samples the map), NaN where it is zero.
+  std::vector<std::vector<double>> factors;
+};
+
+// `shadows` (optional): the hook above; the same shading code either way.
 ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
                               const ViewLights& lights, glm::vec3 ambient, int model,
                               int threads = 0, const RowProgress& progress = {},
-                              ReferencePositions positions = ReferencePositions::FromDepth);
+                              ReferencePositions positions = ReferencePositions::FromDepth,
+                              ReferenceShadowHook* shadows = nullptr);
 
 // For every geometry pixel and every point or spot light whose reference contribution is non-zero
 // (directional lights are never culled), checks that

@@ -102,5 +102,75 @@ TEST(ExactVisibilityCli, NeedsAShadowCastingLight) {
   EXPECT_FALSE(std::filesystem::exists(tmp / "visibility_exact.exr"));
 }
 
+// The maps against exact visibility (wrong pairs, image error) on the atrium: one run per bias.
+nlohmann::json shadowErrorRun(const std::string& bias, const std::string& name) {
+  const auto tmp = std::filesystem::temp_directory_path() / ("tileshade_cli_shadow_error_" + name);
+  std::filesystem::remove_all(tmp);
+  const CliRun r = runTileshade(
+      "render --scene builtin:atrium --width 160 --height 90 --device cpu --lights big "
+      "--shadows 2 --shadow-map-size 1024 --shadow-filter none --technique tiled "
+      "--exact-visibility --shadow-bias " +
+      bias + " --out " + tmp.string());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("shadow maps vs exact: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("vs exact visibility (the perfect shadow): max err/peak "),
+            std::string::npos)
+      << r.output;
+  nlohmann::json stats = nlohmann::json::parse(std::ifstream(tmp / "stats.json"));
+  nlohmann::json e = stats["exact_visibility"];
+  e["technique"] = stats["techniques"][0];
+  // shadow_error.exr is the map-vs-exact image difference the image error summarises.
+  const FloatImage error = readImage((tmp / "shadow_error.exr").string());
+  EXPECT_EQ(error.channels, (std::vector<std::string>{"error", "wrong"}));
+  float largest = 0.0f;
+  uint64_t wrong = 0, agreeingButDifferent = 0;
+  for (size_t i = 0; i < size_t(error.width) * size_t(error.height); ++i) {
+    largest = std::max(largest, error.data[2 * i]);
+    wrong += uint64_t(error.data[2 * i + 1]);
+    // Filter none: factors are 0 or 1, so a pixel whose pairs all agree is shaded identically.
+    agreeingButDifferent += error.data[2 * i + 1] == 0.0f && error.data[2 * i] != 0.0f;
+  }
+  EXPECT_EQ(agreeingButDifferent, 0u);
+  EXPECT_EQ(wrong, e["wrong_pairs"]["false_shadow"].get<uint64_t>() +
+                       e["wrong_pairs"]["light_leak"].get<uint64_t>());
+  EXPECT_NEAR(double(largest), e["image_error"]["max_abs"].get<double>(),
+              1e-6 * e["image_error"]["max_abs"].get<double>() + 1e-30);
+  return e;
+}
+
+TEST(ExactVisibilityCli, MapsAgainstExact) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const nlohmann::json usual = shadowErrorRun("1.5,1.5", "usual");
+  const nlohmann::json& w = usual["wrong_pairs"];
+  for (const char* key :
+       {"pairs", "false_shadow", "light_leak", "fraction", "mean_abs_factor_error", "per_type"})
+    EXPECT_TRUE(w.contains(key)) << key;
+  for (const char* key : {"max_rel_peak", "rmse", "p99_rel_peak"})
+    EXPECT_TRUE(usual["image_error"].contains(key)) << key;
+  EXPECT_TRUE(usual["technique"].contains("error_vs_exact"));
+  // The per-light counts add up to the totals, and a pair is an applicable one.
+  uint64_t pairs = 0, falseShadow = 0, leak = 0;
+  for (const nlohmann::json& l : usual["lights"]) {
+    EXPECT_LE(l["wrong_pairs"]["pairs"].get<uint64_t>(), l["applicable"].get<uint64_t>());
+    pairs += l["wrong_pairs"]["pairs"].get<uint64_t>();
+    falseShadow += l["wrong_pairs"]["false_shadow"].get<uint64_t>();
+    leak += l["wrong_pairs"]["light_leak"].get<uint64_t>();
+  }
+  EXPECT_EQ(w["pairs"].get<uint64_t>(), pairs);
+  EXPECT_EQ(w["false_shadow"].get<uint64_t>(), falseShadow);
+  EXPECT_EQ(w["light_leak"].get<uint64_t>(), leak);
+  EXPECT_GT(pairs, 0u);
+  // A big map with the usual bias: few wrong pairs.
+  EXPECT_LT(w["fraction"].get<double>(), 0.02) << w.dump();
+  // An absurd constant bias lifts every shadow off its occluder: light leaks (peter-panning).
+  const nlohmann::json far = shadowErrorRun("200,0", "far");
+  EXPECT_GT(far["wrong_pairs"]["light_leak"].get<uint64_t>(), 10 * leak + 100) << far.dump();
+  EXPECT_GT(far["image_error"]["rmse"].get<double>(), usual["image_error"]["rmse"].get<double>());
+  // No bias: lit surfaces shadow themselves (acne).
+  const nlohmann::json none = shadowErrorRun("0,0", "none");
+  EXPECT_GT(none["wrong_pairs"]["false_shadow"].get<uint64_t>(), 10 * falseShadow + 100)
+      << none.dump();
+}
+
 }  // namespace
 }  // namespace ts

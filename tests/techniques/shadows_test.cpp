@@ -2,7 +2,8 @@
 // layout and lanes width against the double reference, which samples the same maps; a light
 // enclosed by a box gives exactly 0, a light whose map holds no occluder its unshadowed image
 // exactly (a point light over a floor: no crack along the cube's seams, for every filter); a box
-// over a floor shadows the floor where the analytic shadow is (away from its outline).
+// over a floor shadows the floor where the analytic shadow is (away from its outline); the
+// reference's shadow hook records the maps' factors and shades with an override.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "raster/shadow_maps.h"
+#include "reference/error_metrics.h"
 #include "reference_check.h"
 #include "render/frame_setup.h"
 #include "scene/mesh_builder.h"
@@ -120,6 +122,54 @@ TEST(Shadows, EveryTechniqueLayoutAndLanesMatchTheReference) {
       }
     }
   }
+}
+
+// The reference's shadow hook (the maps against exact visibility, docs/shadows.md): it records
+// the maps' factors without changing the image, and an override of every pair shades with it.
+TEST(Shadows, TheReferenceHookRecordsTheFactorsAndTakesAnOverride) {
+  const ShadowedFrame s = shadowedFrame(litFloorAndBox(), GBufferFormat::FP32, 1);  // filter none
+  const PreparedFrame& f = s.frame;
+  const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+  ReferenceShadowHook hook;
+  const ReferenceImage hooked = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0, 0,
+                                               {}, ReferencePositions::FromDepth, &hook);
+  EXPECT_EQ(compareReferences(hooked, ref, 0.0).maxAbs, 0.0);
+  // Slots: the point, the spot, the unshadowed point, then the directional light.
+  ASSERT_EQ(hook.factors.size(), 4u);
+  EXPECT_TRUE(hook.factors[2].empty());
+  for (size_t slot : {0u, 1u, 3u}) {
+    ASSERT_EQ(hook.factors[slot].size(), f.encoded.pixelCount()) << slot;
+    size_t lit = 0, shadowed = 0, other = 0;
+    for (double v : hook.factors[slot]) {
+      lit += v == 1.0;
+      shadowed += v == 0.0;
+      other += !std::isnan(v) && v != 0.0 && v != 1.0;
+    }
+    EXPECT_GT(lit, 100u) << slot;
+    EXPECT_GT(shadowed, 10u) << slot;
+    EXPECT_EQ(other, 0u) << slot;  // one tap: 0 or 1
+  }
+  // Every pair overridden lit: the unshadowed image exactly.
+  ViewLights open = f.lights;
+  for (int& first : open.shadow) first = -1;
+  for (int& first : open.directionalShadow) first = -1;
+  const ReferenceImage unshadowed = shadeReference(f.encoded, f.intrinsics, open, f.ambient, 0);
+  ReferenceShadowHook allLit;
+  allLit.visibility.assign(4, std::vector<uint8_t>(f.encoded.pixelCount(), 1));
+  const ReferenceImage lit = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0, 0, {},
+                                            ReferencePositions::FromDepth, &allLit);
+  EXPECT_EQ(compareReferences(lit, unshadowed, 0.0).maxAbs, 0.0);
+  EXPECT_GT(compareReferences(ref, unshadowed, 0.0).maxAbs, 0.0);
+  // Overridden with the maps' own answers: the map-shaded image exactly (agreeing pairs, no
+  // error).
+  ReferenceShadowHook same;
+  same.visibility.resize(4);
+  for (size_t slot : {0u, 1u, 3u})
+    for (double v : hook.factors[slot])
+      same.visibility[slot].push_back(std::isnan(v) ? 2 : uint8_t(v));
+  const ReferenceImage agreeing = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0, 0,
+                                                 {}, ReferencePositions::FromDepth, &same);
+  EXPECT_EQ(compareReferences(agreeing, ref, 0.0).maxAbs, 0.0);
 }
 
 // Kernels built without TS_HAS_SHADOWS would shade a shadow-casting light unshadowed: refused.
