@@ -77,6 +77,14 @@ ExactVisibilityResult exactVisibility(const Frame& frame) {
     throw Error(
         "--exact-visibility: no light casts a shadow (--shadows all|N, or glTF extras "
         "castsShadow)");
+  const uint64_t pixels = uint64_t(f.prepared.gbuffer.width) * uint64_t(f.prepared.gbuffer.height);
+  const uint64_t pairBytes = uint64_t(casters.size()) * pixels * (sizeof(uint8_t) + sizeof(double));
+  if (pairBytes > kExactVisibilityMaxPairBytes)
+    throw Error("--exact-visibility: " + std::to_string(casters.size()) +
+                " shadow-casting light(s) x " + std::to_string(pixels) + " pixels need " +
+                std::to_string(pairBytes >> 20) + " MB of per-pair planes, over its " +
+                std::to_string(kExactVisibilityMaxPairBytes >> 20) +
+                " MB: cast fewer shadows (--shadows N) or render a smaller frame");
   const SurfacePoints points = surfacePoints(f.prepared.gbuffer, f.prepared.camera);
   const ExactVisibility ev(scene);
 

@@ -1,6 +1,7 @@
 #pragma once
 // `render --exact-visibility`: the exact visibility of every (pixel, shadow-casting light) pair
 // of the frame (visibility/exact_visibility.h), its image and its stats.json record.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,10 @@ namespace ts {
 
 // The most lights visibility_exact.exr holds a channel of (stats.json counts every light).
 constexpr size_t kExactVisibilityChannels = 16;
+// The most memory the per-pair planes may take (a visibility byte and a map factor double per
+// pixel and shadow-casting light): `--shadows all` on a big frame asks for gigabytes, refused in
+// one line before any ray is cast rather than left to the allocator.
+constexpr uint64_t kExactVisibilityMaxPairBytes = uint64_t(2) << 30;
 
 struct ExactVisibilityResult {
   int width = 0;

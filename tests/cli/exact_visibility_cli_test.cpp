@@ -102,6 +102,23 @@ TEST(ExactVisibilityCli, NeedsAShadowCastingLight) {
   EXPECT_FALSE(std::filesystem::exists(tmp / "visibility_exact.exr"));
 }
 
+// Every light casting on a big frame would need gigabytes of per-pair planes: one line, before
+// any ray or file.
+TEST(ExactVisibilityCli, RefusesPairPlanesBeyondItsMemoryLimit) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_exact_visibility_big";
+  std::filesystem::remove_all(tmp);
+  const CliRun r = runTileshade(
+      "render --device cpu --width 1280 --height 720 --shadows all --shadow-map-size 16 "
+      "--technique tiled --exact-visibility --out " +
+      tmp.string());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("--exact-visibility: 924 shadow-casting light(s) x 921600 pixels need "),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(tmp / "stats.json"));
+}
+
 // The maps against exact visibility (wrong pairs, image error) on the atrium: one run per bias.
 nlohmann::json shadowErrorRun(const std::string& bias, const std::string& name) {
   const auto tmp = std::filesystem::temp_directory_path() / ("tileshade_cli_shadow_error_" + name);
