@@ -142,7 +142,7 @@ int main(int argc, char** argv) {
       ->add_option("--features", render.features,
                    "what the kernels and the G-buffer model: auto (what the scene needs), "
                    "general (everything), or a comma list of specular, emissive, textures, "
-                   "point, spot, directional (docs/features.md)")
+                   "point, spot, directional, normal_maps, shadows (docs/features.md)")
       ->capture_default_str();
   renderCmd
       ->add_option("--light-threshold", render.lightThreshold,

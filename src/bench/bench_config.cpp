@@ -229,7 +229,7 @@ std::vector<BenchDimension> makeDimensions() {
   add(
       "features",
       "what the kernels and the G-buffer model: auto (the scene's needs), general, or "
-      "a '+' list of specular, emissive, textures, point, spot, directional",
+      "a '+' list of specular, emissive, textures, point, spot, directional, normal_maps, shadows",
       false,
       [](BenchConfig& c, const std::string& v) {
         std::string s = trimmed(v);
