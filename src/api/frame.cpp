@@ -513,7 +513,9 @@ void Frame::dump(const std::string& dir) const {
     impl_->readHostPlanes();
     writeGBufferDump(impl_->device->cl, impl_->onDevice, impl_->prepared, impl_->info.sceneName,
                      impl_->info.source, dir);
-    if (impl_->shadowAtlas) writeShadowAtlasDump(*impl_->shadowAtlas, dir);
+    // An imported frame's maps come from its files: the same view-space records, no scene.
+    if (impl_->onDevice.lights->hasShadows())
+      writeShadowAtlasDump(*impl_->onDevice.lights, impl_->shadowAtlas.get(), dir);
   });
 }
 

@@ -48,6 +48,15 @@ void BenchScene::check(const BenchConfig& c) {
       throw Error("--scene " + c.scene +
                   " is an imported G-buffer: its files decide the shading "
                   "model (no --variant or --shading-model)");
+    // What only a scene's geometry gives: the files hold the surfaces and the shadow maps.
+    const PipelineOptions scene;
+    if (!c.shadows.empty() || c.shadowMapSize != scene.shadowMapSize ||
+        c.shadowBudgetMB != scene.shadowBudgetMB || c.shadowFilter != scene.shadowFilter ||
+        c.shadowBias != scene.shadowBias || c.blend != scene.blend)
+      throw Error("--scene " + c.scene +
+                  " is an imported G-buffer: its files hold the surfaces and any shadow maps "
+                  "(no --shadows, --shadow-map-size, --shadow-budget, --shadow-filter, "
+                  "--shadow-bias or --blend)");
     features(c);  // a bad --features fails before anything is timed
     if (findTechnique(c.technique).drawsScene)
       throw Error(c.technique + " draws the scene: an imported G-buffer has none (--raster gl)");

@@ -212,16 +212,6 @@ void runRender(const RenderOptions& options) {
   if (info.shadowMaps)
     for (const std::string& note : info.shadowMaps->notes)
       std::cerr << "tileshade: note: " << note << "\n";
-  // Files dumped with shadow-casting lights (their atlas beside them) shade without shadows here:
-  // an imported G-buffer has no geometry to draw maps from. Said, not silent.
-  if (!options.gbufferIn.empty()) {
-    const std::filesystem::path in(options.gbufferIn);
-    const std::filesystem::path dir = std::filesystem::is_directory(in) ? in : in.parent_path();
-    if (std::filesystem::exists(dir / "shadow_atlas.json"))
-      std::cerr << "tileshade: note: " << options.gbufferIn
-                << " was dumped with shadow-casting lights; an imported G-buffer has no geometry "
-                   "for shadow maps, so it is shaded without shadows\n";
-  }
   // The forward techniques (GLSL) have no shadows: never an unshadowed image of a shadowed frame.
   const bool shadowed = info.shadowCastingLights > 0;
   const std::vector<std::string> techniques =

@@ -160,6 +160,14 @@ struct JsonFields {
     if (!(d > 0.0)) fail(key, "must be > 0, got " + shortText(object.at(key).dump()));
     return d;
   }
+  // A whole number in [0, limit].
+  int index(const std::string& key, int limit) const {
+    const double d = number(key);
+    if (!(d >= 0.0 && d <= double(limit) && d == std::floor(d)))
+      fail(key, "must be a whole number in [0, " + std::to_string(limit) + "], got " +
+                    shortText(object.at(key).dump()));
+    return int(d);
+  }
   glm::vec3 vec3(const std::string& key) const {
     if (!has(key)) fail(key, "is missing");
     const json& v = object.at(key);
@@ -263,7 +271,8 @@ GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::str
                                  "layout",
                                  "scene",
                                  "frame",
-                                 "raster"};
+                                 "raster",
+                                 "shadow_atlas"};
   for (const auto& f : gbufferFields()) known.insert(f.key);
   top.onlyKeys(known);
   if (top.number("tileshade_gbuffer") != kGBufferFilesVersion)
@@ -292,6 +301,7 @@ GBufferDescriptor parseGBufferDescriptor(const std::string& text, const std::str
                                                    {"fp16", GBufferFormat::FP16},
                                                    {"packed", GBufferFormat::PACKED}});
   if (top.has("scene")) d.scene = top.string("scene");
+  if (top.has("shadow_atlas")) d.shadowAtlasPath = (folder / top.string("shadow_atlas")).string();
 
   // Camera
   if (!top.has("camera")) top.fail("camera", "is missing (the field of view is needed)");
@@ -406,7 +416,11 @@ struct LightRecord {
   float range = 0.0f;
   float cosOuter = -1.0f;  // spot: ViewLights::spot.w
   float coneScale = 1.0f;  // spot: ViewLights::color.w
+  int shadowFace = -1;     // its first face in shadow_atlas.json; -1: casts no shadow
 };
+
+// More faces than the largest atlas holds at 16x16 texels (16384^2 / 16^2) is no real file.
+constexpr int kMaxShadowFaces = 1 << 20;
 
 constexpr int kPoint = 1 << int(SceneLightType::Point), kSpot = 1 << int(SceneLightType::Spot),
               kDirectional = 1 << int(SceneLightType::Directional);
@@ -491,6 +505,7 @@ nlohmann::json lightsJson(const ViewLights& lights, glm::vec3 ambient) {
     l.direction = glm::vec3(s);
     l.cosOuter = s.w;
     l.coneScale = lights.color[i].w;
+    l.shadowFace = lights.shadowOf(i);
     records.push_back(l);
   }
   for (size_t i = 0; i < lights.directionalCount(); ++i) {
@@ -498,6 +513,7 @@ nlohmann::json lightsJson(const ViewLights& lights, glm::vec3 ambient) {
     l.type = SceneLightType::Directional;
     l.direction = -glm::vec3(lights.directionalDir[i]);  // exact: ViewLights holds "towards"
     l.color = glm::vec3(lights.directionalColor[i]);
+    l.shadowFace = lights.directionalShadowOf(i);
     records.push_back(l);
   }
   json list = json::array();
@@ -505,6 +521,7 @@ nlohmann::json lightsJson(const ViewLights& lights, glm::vec3 ambient) {
     json o = {{"type", toString(l.type)}};
     for (const auto& f : lightFields())
       if (f.types & (1 << int(l.type))) o[f.key] = f.write(l);
+    if (l.shadowFace >= 0) o["shadow_face"] = l.shadowFace;
     list.push_back(o);
   }
   return {{"dmin", TS_DMIN}, {"ambient", array3(ambient)}, {"lights", list}};
@@ -536,7 +553,8 @@ LightsFile parseLightsFile(const std::string& text, const std::string& path) {
                                                  {"spot", SceneLightType::Spot},
                                                  {"directional", SceneLightType::Directional}});
     const JsonFields f{path, lj, where + " (" + toString(l.type) + "): "};
-    std::set<std::string> known = {"type"};
+    std::set<std::string> known = {"type", "shadow_face"};
+    if (f.has("shadow_face")) l.shadowFace = f.index("shadow_face", kMaxShadowFaces - 1);
     for (const auto& field : lightFields()) {
       if (!(field.types & (1 << int(l.type)))) continue;
       known.insert(field.key);
@@ -550,11 +568,11 @@ LightsFile parseLightsFile(const std::string& text, const std::string& path) {
     if (l.type == SceneLightType::Directional) {
       out.lights.directionalDir.emplace_back(-l.direction, 0.0f);
       out.lights.directionalColor.emplace_back(l.color, 0.0f);
-      out.lights.directionalShadow.push_back(-1);  // files carry no shadow maps
+      out.lights.directionalShadow.push_back(l.shadowFace);  // faces: shadow_atlas.json
       continue;
     }
     out.lights.positionRange.emplace_back(l.position, l.range);
-    out.lights.shadow.push_back(-1);
+    out.lights.shadow.push_back(l.shadowFace);
     if (l.type == SceneLightType::Spot) {
       out.lights.color.emplace_back(l.color, l.coneScale);
       out.lights.spot.emplace_back(l.direction, l.cosOuter);
@@ -562,6 +580,129 @@ LightsFile parseLightsFile(const std::string& text, const std::string& path) {
       out.lights.color.emplace_back(l.color, 1.0f);
       out.lights.spot.emplace_back(glm::vec3(0.0f), -1.0f);
     }
+  }
+  return out;
+}
+
+namespace {
+
+json row4(glm::vec4 r) { return {r.x, r.y, r.z, r.w}; }
+
+// A row of 4 finite numbers within float range (a face's clip or depth row).
+glm::vec4 readRow(const JsonFields& f, const std::string& key) {
+  if (!f.has(key)) f.fail(key, "is missing");
+  const json& v = f.object.at(key);
+  if (!v.is_array() || v.size() != 4)
+    f.fail(key, "must be an array of 4 numbers, got " + shortText(v.dump()));
+  glm::vec4 out;
+  for (int i = 0; i < 4; ++i) {
+    const json& c = v[size_t(i)];
+    if (!c.is_number() || !std::isfinite(c.get<double>()) ||
+        std::abs(c.get<double>()) > double(std::numeric_limits<float>::max()))
+      f.fail(key,
+             "must be an array of 4 finite numbers within float range, got " + shortText(v.dump()));
+    out[i] = c.get<float>();
+  }
+  return out;
+}
+
+}  // namespace
+
+json shadowAtlasJson(const ViewLights& lights, const std::string& filter, const json& world) {
+  constexpr size_t R = TS_SHADOW_FACE_RECORDS;
+  const std::vector<glm::vec4>& r = lights.shadowFaces;
+  const size_t faces = r.size() / R;
+  if (r.size() != faces * R || faces == 0 || !lights.shadowAtlas || lights.shadowAtlasWidth <= 0)
+    throw Error("shadow atlas dump: the lights hold no complete face table");
+  json list = json::array();
+  for (size_t f = 0; f < faces; ++f) {
+    const glm::vec4* q = &r[f * R];
+    json o = world.is_array() && f < world.size() ? world[f] : json::object();
+    o["x"] = int(q[4].x);
+    o["y"] = int(q[4].y);
+    o["size"] = int(q[4].z);
+    o["clip_from_view"] = {row4(q[0]), row4(q[1]), row4(q[2])};
+    o["depth_from_view"] = row4(q[3]);
+    o["texel_footprint"] = {q[5].x, q[5].y};
+    list.push_back(o);
+  }
+  const int width = lights.shadowAtlasWidth;
+  const int height = int(lights.shadowAtlas->size() / size_t(width));
+  return {{"image", "shadow_atlas.exr"},
+          {"width", width},
+          {"height", height},
+          {"origin", "top"},
+          {"depth", "linear -Z of the face's view space; zfar where empty"},
+          {"space", "view"},
+          {"filter", filter},
+          {"bias", {r[5].z, r[5].w}},
+          {"faces", list}};
+}
+
+ShadowAtlasFile parseShadowAtlasFile(const std::string& text, const std::string& file) {
+  const json j = parseStrictJson(text, file);
+  if (!j.is_object()) throw Error(file + " must hold a JSON object");
+  const JsonFields top{file, j, ""};
+  top.onlyKeys({"image", "width", "height", "origin", "depth", "space", "filter", "bias", "faces"});
+  ShadowAtlasFile out;
+  out.path = file;
+  out.imagePath = (fs::path(file).parent_path() / top.string("image")).string();
+  constexpr int kMaxSide = 16384;  // kShadowMaxAtlasSide (raster/shadow_atlas.h)
+  out.width = top.index("width", kMaxSide);
+  out.height = top.index("height", kMaxSide);
+  if (out.width == 0 || out.height == 0) top.fail("width", "and \"height\" must be > 0");
+  // Only what render --dump writes: rows top first, the faces in the view space of lights.json.
+  if (top.has("origin")) static_cast<void>(top.oneOf<bool>("origin", {{"top", true}}));
+  if (top.has("space")) static_cast<void>(top.oneOf<bool>("space", {{"view", true}}));
+  if (top.has("filter")) out.filter = top.string("filter");
+  if (top.has("bias")) {
+    const json& b = j.at("bias");
+    if (!b.is_array() || b.size() != 2 || !b[0].is_number() || !b[1].is_number() ||
+        !(b[0].get<double>() >= 0.0 && b[0].get<double>() <= 1e6) ||
+        !(b[1].get<double>() >= 0.0 && b[1].get<double>() <= 1e6))
+      top.fail("bias", "must be [constant, slope], two numbers in [0, 1e6]");
+    out.biasConstant = b[0].get<float>();
+    out.biasSlope = b[1].get<float>();
+  }
+  if (!top.has("faces") || !j.at("faces").is_array() || j.at("faces").empty())
+    top.fail("faces", "must be a non-empty array");
+  if (j.at("faces").size() > size_t(kMaxShadowFaces))
+    top.fail("faces", "holds more than " + std::to_string(kMaxShadowFaces) + " faces");
+  size_t index = 0;
+  for (const json& fj : j.at("faces")) {
+    const std::string where = "face " + std::to_string(index++) + ": ";
+    if (!fj.is_object()) throw Error(file + ": " + where + "must be an object");
+    const JsonFields f{file, fj, where};
+    // Keys the scene's own dump adds (the world side) are informative here.
+    f.onlyKeys({"x", "y", "size", "clip_from_view", "depth_from_view", "texel_footprint", "light",
+                "face", "orthographic", "znear", "zfar", "map_from_world"});
+    ShadowAtlasFaceRecord r;
+    r.x = f.index("x", out.width - 1);
+    r.y = f.index("y", out.height - 1);
+    r.size = f.index("size", kMaxSide);
+    if (r.size == 0 || r.x + r.size > out.width || r.y + r.size > out.height)
+      f.fail("size", "puts the face (" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " +
+                         std::to_string(r.size) + ") outside the " + std::to_string(out.width) +
+                         "x" + std::to_string(out.height) + " atlas");
+    if (!f.has("clip_from_view") || !fj.at("clip_from_view").is_array() ||
+        fj.at("clip_from_view").size() != 3)
+      f.fail("clip_from_view", "must hold the 3 rows x, y, w of the face's clip matrix");
+    const json& clip = fj.at("clip_from_view");
+    const json clipRows = {{"x", clip[0]}, {"y", clip[1]}, {"w", clip[2]}};
+    const JsonFields rows{file, clipRows, where + "\"clip_from_view\" row "};
+    r.clipX = readRow(rows, "x");
+    r.clipY = readRow(rows, "y");
+    r.clipW = readRow(rows, "w");
+    r.depth = readRow(f, "depth_from_view");
+    const json& fp = fj.contains("texel_footprint") ? fj.at("texel_footprint") : json();
+    if (!fp.is_array() || fp.size() != 2 || !fp[0].is_number() || !fp[1].is_number() ||
+        !(fp[0].get<double>() >= 0.0 && fp[0].get<double>() <= 1e30) ||
+        !(fp[1].get<double>() >= 0.0 && fp[1].get<double>() <= 1e30))
+      f.fail("texel_footprint",
+             "must be [a, b], two numbers in [0, 1e30] (a texel's size at "
+             "depth d: a + b d)");
+    r.footprint = glm::vec2(fp[0].get<float>(), fp[1].get<float>());
+    out.faces.push_back(r);
   }
   return out;
 }

@@ -4,7 +4,10 @@
 //   gbuffer.json  the descriptor: image and lights file names, camera, which EXR channel holds
 //                 which G-buffer field and how depth is encoded, shading model, layout
 //   gbuffer.exr   the per-pixel channels the descriptor names
-//   lights.json   the lights in view space, in the kernels' layout (ViewLights)
+//   lights.json   the lights in view space, in the kernels' layout (ViewLights); a
+//                 shadow-casting light names its first shadow-map face ("shadow_face")
+//   shadow_atlas.json, shadow_atlas.exr  with shadow-casting lights: the faces in view space
+//                 (the kernels' face table, kernels/shadows.h) and the atlas's depths
 // The tables below drive both the writer (src/render/gbuffer_dump.cpp) and the reader
 // (src/gbuffer/gbuffer_import.cpp): a new G-buffer field or light field is one row here.
 #include <optional>
@@ -83,6 +86,7 @@ struct GBufferDescriptor {
   ShadingModel model = ShadingModel::BlinnPhong;
   std::optional<GBufferFormat> layout;  // the layout it was dumped from (tileshade dumps)
   std::string scene;                    // informative
+  std::string shadowAtlasPath;          // "shadow_atlas": shadow_atlas.json ("" = none)
 };
 
 // Reads DIR/gbuffer.json (or the .json path given). Throws ts::Error naming the file and the
@@ -100,5 +104,30 @@ nlohmann::json lightsJson(const ViewLights& lights, glm::vec3 ambient);
 // Throws ts::Error naming the file, the light (index and type) and the field.
 LightsFile readLightsFile(const std::string& path);
 LightsFile parseLightsFile(const std::string& text, const std::string& path);
+
+// shadow_atlas.json: the shadow maps of the lights of lights.json, in view space. Per face the
+// records of kernels/shadows.h that a file can give (clip rows, depth row, atlas rectangle, texel
+// footprint); the filter and bias for all. ViewLights' face records are built from it once the
+// lights say which faces each starts at (gbuffer_import.cpp).
+struct ShadowAtlasFaceRecord {
+  glm::vec4 clipX{0.0f}, clipY{0.0f}, clipW{0.0f}, depth{0.0f};  // rows of view space
+  int x = 0, y = 0, size = 0;                                    // texels; row 0 the top
+  glm::vec2 footprint{0.0f};  // a texel's world size at linear depth d: x + y d
+};
+struct ShadowAtlasFile {
+  std::string path, imagePath;
+  int width = 0, height = 0;
+  std::string filter = "none";  // --shadow-filter's name (raster/shadow_maps.h parses it)
+  float biasConstant = 1.5f, biasSlope = 1.5f;
+  std::vector<ShadowAtlasFaceRecord> faces;
+};
+// The view-space description of `lights`' shadow faces (lights.hasShadows()), the image named
+// shadow_atlas.exr; `world`: an array of extra per-face fields of the scene's atlas (objects: the
+// light's scene index, the world matrix, ...), merged into each face if given.
+nlohmann::json shadowAtlasJson(const ViewLights& lights, const std::string& filter,
+                               const nlohmann::json& world = nullptr);
+// Throws ts::Error naming the file, the face and the field (a rectangle outside the atlas, an
+// unknown filter, a non-finite row, ...).
+ShadowAtlasFile parseShadowAtlasFile(const std::string& text, const std::string& path);
 
 }  // namespace ts

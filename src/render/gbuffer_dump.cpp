@@ -91,6 +91,7 @@ void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFra
       {"frame", prepared.frame},
       {"raster", raster},
   };
+  if (frame.lights->hasShadows()) d["shadow_atlas"] = "shadow_atlas.json";
   for (const GBufferField* f : gbufferFields(model)) {
     if (f->components == 1) {
       d[f->key] = f->dumpChannels[0];
@@ -103,30 +104,27 @@ void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFra
   writeFile(dir + "/gbuffer.json", d.dump(2) + "\n");
 }
 
-void writeShadowAtlasDump(const ShadowAtlas& atlas, const std::string& dir) {
-  const ShadowAtlasLayout& l = atlas.layout;
-  writeExr(dir + "/shadow_atlas.exr", l.width, l.height, {"depth"}, atlas.depth);
-  nlohmann::json faces = nlohmann::json::array();
-  for (const ShadowFace& f : l.faces) {
-    nlohmann::json m = nlohmann::json::array();  // column-major, as glm and OpenGL
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 4; ++r) m.push_back(f.mapFromWorld[c][r]);
-    faces.push_back({{"light", f.light},
-                     {"face", f.face},
-                     {"x", f.x},
-                     {"y", f.y},
-                     {"size", f.size},
-                     {"orthographic", f.view.orthographic},
-                     {"znear", f.view.znear},
-                     {"zfar", f.view.zfar},
-                     {"map_from_world", m}});
+void writeShadowAtlasDump(const ViewLights& lights, const ShadowAtlas* atlas,
+                          const std::string& dir) {
+  nlohmann::json world = nullptr;
+  if (atlas) {
+    world = nlohmann::json::array();
+    for (const ShadowFace& f : atlas->layout.faces) {
+      nlohmann::json m = nlohmann::json::array();  // column-major, as glm and OpenGL
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) m.push_back(f.mapFromWorld[c][r]);
+      world.push_back({{"light", f.light},
+                       {"face", f.face},
+                       {"orthographic", f.view.orthographic},
+                       {"znear", f.view.znear},
+                       {"zfar", f.view.zfar},
+                       {"map_from_world", m}});
+    }
   }
-  const nlohmann::json d = {{"image", "shadow_atlas.exr"},
-                            {"width", l.width},
-                            {"height", l.height},
-                            {"origin", "top"},
-                            {"depth", "linear -Z of the face's view space; zfar where empty"},
-                            {"faces", faces}};
+  const int taps = int(lights.shadowFaces.at(6).x);  // record 6 of face 0 (kernels/shadows.h)
+  const nlohmann::json d = shadowAtlasJson(lights, shadowFilterName(taps), world);
+  writeExr(dir + "/shadow_atlas.exr", d["width"].get<int>(), d["height"].get<int>(), {"depth"},
+           *lights.shadowAtlas);
   writeFile(dir + "/shadow_atlas.json", d.dump(2) + "\n");
 }
 

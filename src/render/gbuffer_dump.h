@@ -26,8 +26,11 @@ void writeGBufferDump(ClContext& cl, const DeviceFrame& frame, const PreparedFra
                       const std::string& scene, const std::string& raster, const std::string& dir);
 
 // Writes DIR/shadow_atlas.exr (one channel "depth": each face's linear depths, docs/shadows.md)
-// and DIR/shadow_atlas.json (per face: its light, cube face, rectangle, depth range and
-// world-to-clip matrix).
-void writeShadowAtlasDump(const ShadowAtlas& atlas, const std::string& dir);
+// and DIR/shadow_atlas.json (per face: its rectangle and, in the view space of lights.json, the
+// records --gbuffer-in rebuilds the kernels' face table from; with the scene's `atlas`, also its
+// light, cube face, depth range and world-to-clip matrix). `lights`: the frame's, with the maps
+// attached (lights.hasShadows()).
+void writeShadowAtlasDump(const ViewLights& lights, const ShadowAtlas* atlas,
+                          const std::string& dir);
 
 }  // namespace ts

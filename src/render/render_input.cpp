@@ -26,6 +26,9 @@ RenderInput loadImportedInput(const std::string& path, std::optional<GBufferForm
   input.frame.features = chooseFeatures(features, input.frame.features);
   input.lightSummary =
       std::to_string(input.frame.lights.size() + input.frame.lights.directionalCount()) + " lights";
+  // The files' shadow-casting lights (their maps come with them: shadow_atlas.json).
+  for (int f : input.frame.lights.shadow) input.shadowCasters += f >= 0;
+  for (int f : input.frame.lights.directionalShadow) input.shadowCasters += f >= 0;
   return input;
 }
 

@@ -133,6 +133,29 @@ TEST(GBufferCli, BadInputFailsWithOneLine) {
   }
 }
 
+// bench on an imported G-buffer refuses the options only a scene's geometry serves (the files
+// hold the surfaces and any shadow maps), in one line, rather than timing them as no-ops.
+TEST(GBufferCli, BenchRefusesSceneOptionsOnAnImportedGBuffer) {
+  if (!fs::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const fs::path dumped = fresh("scene_options_dump");
+  ASSERT_EQ(runTileshade("render --width 32 --height 18 --device cpu --technique tiled --dump "
+                         "--out " +
+                         dumped.string())
+                .status,
+            0);
+  const std::string bench = "bench --scene gbuffer:" + dumped.string() +
+                            " --resolution 32x18 --technique tiled --frames 1 --no-calibrate "
+                            "--quiet --device cpu --out " +
+                            fresh("scene_options_out").string();
+  for (const char* option : {"--shadows all", "--shadow-map-size 64", "--shadow-filter pcf3",
+                             "--shadow-bias 1:2", "--blend as-opaque"}) {
+    test::CliRun r = runTileshade(bench + " " + std::string(option));
+    EXPECT_NE(r.status, 0) << option;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << option << ": " << r.output;
+    EXPECT_NE(r.output.find("imported G-buffer"), std::string::npos) << option << ": " << r.output;
+  }
+}
+
 // A GL driver that draws nothing (Mesa's softpipe here: 0 geometry pixels against the software
 // rasterizer's thousands, and --check "max err 0") must not pass for a frame: either it drew,
 // or the render fails naming the driver.

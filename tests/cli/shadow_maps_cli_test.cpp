@@ -154,19 +154,25 @@ TEST(ShadowMapsCli, ForwardTechniquesRefuseShadowCastingLights) {
   EXPECT_FALSE(std::filesystem::exists(tmp / "forward"));
 }
 
-// A G-buffer dumped with shadow-casting lights, imported: shaded without shadows (no geometry to
-// draw maps from), and a note says so.
-TEST(ShadowMapsCli, AnImportedShadowedDumpSaysItIsUnshadowed) {
+// A G-buffer dumped with shadow-casting lights, imported: shaded with the maps it carries (the
+// same image as the render it was dumped from), and stats.json counts its casters.
+TEST(ShadowMapsCli, AnImportedShadowedDumpKeepsItsShadows) {
   if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
   const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_import";
   std::filesystem::remove_all(tmp);
-  CliRun r = runTileshade(kFrame + "--shadows 2 --dump --out " + (tmp / "dump").string());
+  CliRun r = runTileshade(kFrame + "--shadows 2 --technique tiled --dump --out " +
+                          (tmp / "dump").string());
   ASSERT_EQ(r.status, 0) << r.output;
-  r = runTileshade("render --device cpu --gbuffer-in " + (tmp / "dump").string() + " --out " +
-                       (tmp / "again").string(),
+  r = runTileshade("render --device cpu --technique tiled --gbuffer-in " + (tmp / "dump").string() +
+                       " --out " + (tmp / "again").string(),
                    test::Streams::StderrOnly);
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("shaded without shadows"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("without shadows"), std::string::npos) << r.output;
+  const nlohmann::json stats = nlohmann::json::parse(std::ifstream(tmp / "again" / "stats.json"));
+  EXPECT_EQ(stats["shadow_casting_lights"], 2);
+  const FloatImage a = readImage((tmp / "dump" / "image.exr").string());
+  const FloatImage b = readImage((tmp / "again" / "image.exr").string());
+  EXPECT_TRUE(a.data == b.data);
 }
 
 // bench draws the maps of a scene's own shadow-casting lights (extras castsShadow) every frame:

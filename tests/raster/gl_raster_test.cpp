@@ -26,6 +26,7 @@
 #include "shaders/material_planes.h"
 #include "util/error.h"
 #include "util/pi.h"
+#include "test_scenes.h"
 #include "gltf_builder.h"
 #include "png_bytes.h"
 #include "scene/scene_loader.h"
@@ -688,13 +689,7 @@ TEST(GlRaster, AlphaMaskLeavesTheSameFragmentsOutAsSoftware) {
   leaf.alphaMode = AlphaMode::Mask;
   leaf.diffuseTexture = leaf.baseColorTexture = 0;
   s.materials = {wall, leaf};
-  Texture t;
-  t.width = 2;
-  t.height = 1;
-  t.texels = {glm::vec4(1.0f, 1.0f, 1.0f, 0.2f), glm::vec4(1.0f)};
-  t.nearest = true;
-  t.wrapS = t.wrapT = TextureWrap::ClampToEdge;
-  s.textures.push_back(t);
+  s.textures.push_back(ts::test::halfCutOutTexture());
   auto at = [&](double x, double y, double d) { return unproject(in, x, y, d); };
   const glm::vec3 n(0.0f, 0.0f, 1.0f);
   addTriangle(s, at(0, 0, 5), at(0, H, 5), at(W, 0, 5), 0, n);

@@ -10,6 +10,7 @@
 #include <limits>
 #include <vector>
 
+#include "test_scenes.h"
 #include "raster/shadow_maps.h"
 #include "scene/mesh_builder.h"
 
@@ -29,8 +30,7 @@ Scene floorAndBox() {
   s.name = "floor-and-box";
   ts::MeshBuilder b(s);
   const uint32_t m = b.addMaterial(ts::Material{});
-  b.quad({-kFloor, 0.0f, kFloor}, {kFloor, 0.0f, kFloor}, {kFloor, 0.0f, -kFloor},
-         {-kFloor, 0.0f, -kFloor}, m);
+  ts::test::addFloor(b, kFloor, m);
   b.box(kBoxLo, kBoxHi, m, false);
   s.cameraPath.push_back(ts::SceneCamera::lookAt({0.0, 3.0, 12.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0},
                                                  1.0f, 0.1f, 100.0f));
@@ -281,15 +281,8 @@ Scene floorAndLeaf(ts::AlphaMode mode) {
   leaf.alphaMode = mode;
   leaf.diffuseTexture = leaf.baseColorTexture = 0;
   const uint32_t m = b.addMaterial(leaf);
-  ts::Texture t;
-  t.width = 2;
-  t.height = 1;
-  t.texels = {glm::vec4(1.0f, 1.0f, 1.0f, 0.2f), glm::vec4(1.0f)};
-  t.nearest = true;
-  t.wrapS = t.wrapT = ts::TextureWrap::ClampToEdge;
-  s.textures.push_back(t);
-  b.quad({-kFloor, 0.0f, kFloor}, {kFloor, 0.0f, kFloor}, {kFloor, 0.0f, -kFloor},
-         {-kFloor, 0.0f, -kFloor}, floor);
+  s.textures.push_back(ts::test::halfCutOutTexture());
+  ts::test::addFloor(b, kFloor, floor);
   // u runs along +x: u < 0.5 (alpha 0.2) where x < 0.
   b.quad({-kLeaf, kLeafY, kLeaf}, {kLeaf, kLeafY, kLeaf}, {kLeaf, kLeafY, -kLeaf},
          {-kLeaf, kLeafY, -kLeaf}, m);

@@ -21,6 +21,7 @@
 #include "shading/shading_cpu.h"
 #include "techniques/technique.h"
 #include "test_support.h"
+#include "test_scenes.h"
 #include "util/error.h"
 
 namespace ts {
@@ -36,8 +37,7 @@ Scene floorScene(bool withBox, glm::dvec3 eye) {
   s.ambient = glm::vec3(0.0f);  // a pixel is the sum of its lights' contributions
   MeshBuilder b(s);
   const uint32_t m = b.addMaterial(Material{});
-  b.quad({-kFloor, 0.0f, kFloor}, {kFloor, 0.0f, kFloor}, {kFloor, 0.0f, -kFloor},
-         {-kFloor, 0.0f, -kFloor}, m);
+  test::addFloor(b, kFloor, m);
   if (withBox) b.box(kBoxLo, kBoxHi, m, true);
   s.cameraPath.push_back(
       SceneCamera::lookAt(eye, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 1.2f, 0.1f, 100.0f));
@@ -321,13 +321,7 @@ Scene floorAndLeaf(AlphaMode mode) {
   leaf.alphaMode = mode;
   leaf.diffuseTexture = leaf.baseColorTexture = 0;
   const uint32_t m = b.addMaterial(leaf);
-  Texture t;
-  t.width = 2;
-  t.height = 1;
-  t.texels = {glm::vec4(1.0f, 1.0f, 1.0f, 0.2f), glm::vec4(1.0f)};
-  t.nearest = true;
-  t.wrapS = t.wrapT = TextureWrap::ClampToEdge;
-  s.textures.push_back(t);
+  s.textures.push_back(ts::test::halfCutOutTexture());
   b.quad({-kLeaf, kLeafY, kLeaf}, {kLeaf, kLeafY, kLeaf}, {kLeaf, kLeafY, -kLeaf},
          {-kLeaf, kLeafY, -kLeaf}, m);  // u runs along +x
   s.lights.push_back(casting(

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "scene/mesh_builder.h"
+#include "test_scenes.h"
 #include "util/error.h"
 #include "visibility/exact_visibility.h"
 
@@ -26,8 +27,7 @@ Scene floorBoxWall(glm::vec3 offset = glm::vec3(0.0f)) {
   Scene s;
   ts::MeshBuilder b(s);
   const uint32_t m = b.addMaterial(ts::Material{});
-  b.quad(offset + glm::vec3(-kFloor, 0.0f, kFloor), offset + glm::vec3(kFloor, 0.0f, kFloor),
-         offset + glm::vec3(kFloor, 0.0f, -kFloor), offset + glm::vec3(-kFloor, 0.0f, -kFloor), m);
+  ts::test::addFloor(b, kFloor, m, offset);
   b.box(offset + glm::vec3(-1.0f, 1.0f, -1.0f), offset + glm::vec3(1.0f, 2.0f, 1.0f), m, true);
   b.quad(offset + glm::vec3(5.0f, 0.0f, kFloor), offset + glm::vec3(5.0f, 0.0f, -kFloor),
          offset + glm::vec3(5.0f, 10.0f, -kFloor), offset + glm::vec3(5.0f, 10.0f, kFloor), m);
