@@ -13,6 +13,7 @@
 #include <embree3/rtcore.h>
 #endif
 
+#include "shaders/material_planes.h"
 #include "util/error.h"
 
 namespace ts {
@@ -70,6 +71,14 @@ std::vector<uint8_t> ExactVisibility::visibility(const SurfacePoints&, const Sce
 struct ExactVisibility::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
+  // alphaMode MASK, for the occlusion filter: per triangle whether its material is alpha-tested,
+  // its material and its vertices' UVs; the materials, and the textures the alpha test samples
+  // (copied: the object does not keep the scene; the others are left empty).
+  std::vector<uint8_t> masked;
+  std::vector<uint32_t> material;
+  std::vector<glm::vec2> uv;  // 3 per triangle
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
@@ -87,6 +96,27 @@ std::string embreeError(RTCDevice device) {
     case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
     case RTC_ERROR_CANCELLED: return "cancelled";
     default: return "unknown error";
+  }
+}
+
+// The occlusion filter of an alpha-tested triangle: a hit where the material's alpha test leaves
+// the surface out (ts_material_covered, the rasterizers' one test, at the hit's interpolated UV)
+// is no occluder, so the ray goes on through the cut-out.
+void maskedOccluderFilter(const RTCFilterFunctionNArguments* args) {
+  const auto& impl = *static_cast<const ExactVisibility::Impl*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const uint32_t tri = RTCHitN_primID(args->hit, args->N, i);
+    if (!impl.masked[tri]) continue;
+    const double u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    const glm::dvec2 uv0 = impl.uv[3 * tri], uv1 = impl.uv[3 * tri + 1], uv2 = impl.uv[3 * tri + 2];
+    const glm::vec2 uv((1.0 - u - v) * uv0 + u * uv1 + v * uv2);  // Embree's barycentrics
+    const Material& m = impl.materials[impl.material[tri]];
+    const bool covered = ts_material_covered(m, [&](int slot) {
+      const int texture = materialTexture(m, slot);
+      return texture < 0 ? glm::vec4(1.0f) : impl.textures[size_t(texture)].sample(uv);
+    });
+    if (!covered) args->valid[i] = 0;
   }
 }
 
@@ -119,6 +149,32 @@ ExactVisibility::ExactVisibility(const Scene& scene) : impl_(std::make_unique<Im
   }
   std::memcpy(indices, scene.indices.data(), scene.indices.size() * sizeof(uint32_t));
   diagonal_ = glm::length(glm::dvec3(bounds.extent()));
+  // Alpha-tested triangles get the filter; a scene without any pays nothing.
+  if (!scene.triangleMaterial.empty()) {
+    impl_->masked.assign(triangles_, 0);
+    bool any = false;
+    for (size_t t = 0; t < triangles_; ++t) {
+      impl_->masked[t] = scene.materials[scene.triangleMaterial[t]].alphaMode == AlphaMode::Mask;
+      any = any || impl_->masked[t];
+    }
+    if (any) {
+      Impl& m = *impl_;
+      m.material = scene.triangleMaterial;
+      m.materials = scene.materials;
+      m.uv.resize(3 * triangles_);
+      for (size_t k = 0; k < 3 * triangles_; ++k) m.uv[k] = scene.vertices[scene.indices[k]].uv;
+      m.textures.resize(scene.textures.size());
+      for (const Material& mat : scene.materials)
+        if (mat.alphaMode == AlphaMode::Mask)
+          for (int slot : {TS_TEXTURE_BASE_COLOR, TS_TEXTURE_DIFFUSE})
+            if (const int t = materialTexture(mat, slot); t >= 0)
+              m.textures[size_t(t)] = scene.textures[size_t(t)];
+      rtcSetGeometryUserData(geometry, impl_.get());
+      rtcSetGeometryOccludedFilterFunction(geometry, maskedOccluderFilter);
+    } else {
+      impl_->masked.clear();
+    }
+  }
   rtcCommitGeometry(geometry);
   impl_->scene = rtcNewScene(impl_->device);
   // Robust: watertight, so a ray through a shared edge or vertex hits one of its triangles.

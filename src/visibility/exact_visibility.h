@@ -44,9 +44,10 @@ SurfacePoints surfacePoints(const GBuffer& gbuffer, const SceneCamera& camera);
 double visibilityEpsilon(double sceneDiagonal, glm::dvec3 point);
 
 // One Embree scene of all the triangles of `scene` (world space), built once (robust, watertight
-// intersection: RTC_SCENE_FLAG_ROBUST; build quality high). Triangles of every material are
-// opaque occluders: an alpha-masked one (glTF MASK) blocks across its whole area. Throws
-// ts::Error for a scene without triangles or when Embree cannot start.
+// intersection: RTC_SCENE_FLAG_ROBUST; build quality high). Triangles are opaque occluders except
+// where an alpha-tested material (glTF MASK) leaves its surface out: there the ray goes through,
+// by the rasterizers' own test (ts_material_covered) at the hit's UV. Throws ts::Error for a
+// scene without triangles or when Embree cannot start.
 class ExactVisibility {
  public:
   explicit ExactVisibility(const Scene& scene);
@@ -66,8 +67,9 @@ class ExactVisibility {
   double buildMs() const { return buildMs_; }
   size_t triangles() const { return triangles_; }
 
+  struct Impl;  // public for Embree's filter callback (exact_visibility.cpp)
+
  private:
-  struct Impl;
   std::unique_ptr<Impl> impl_;
   double buildMs_ = 0.0;
   size_t triangles_ = 0;

@@ -124,7 +124,8 @@ void expectRefused(const Spoiled& bad) {
   } catch (const Error& e) {
     const std::string msg = e.what();
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-    for (const auto& m : bad.mentions) EXPECT_NE(msg.find(m), std::string::npos) << m << ": " << msg;
+    for (const auto& m : bad.mentions)
+      EXPECT_NE(msg.find(m), std::string::npos) << m << ": " << msg;
   }
 }
 
@@ -151,9 +152,7 @@ TEST(GBufferImportShadows, SpoiledShadowFilesAreRefused) {
        [](json&, json&, json& a, FloatImage&) { a["faces"][0]["x"] = a["width"]; },
        {"shadow_atlas.json", "face 0", "\"x\""}},
       {"a face overhanging the atlas",
-       [](json&, json&, json& a, FloatImage&) {
-         a["faces"][0]["x"] = a["width"].get<int>() - 1;
-       },
+       [](json&, json&, json& a, FloatImage&) { a["faces"][0]["x"] = a["width"].get<int>() - 1; },
        {"face 0", "outside"}},
       {"a light's faces beyond the list",
        [](json&, json& l, json& a, FloatImage&) {

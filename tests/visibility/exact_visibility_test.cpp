@@ -102,6 +102,33 @@ TEST(ExactVisibility, DirectionalLightCastsTheOrthographicProjection) {
   }
 }
 
+// alphaMode MASK: a leaf at y = 1.5 over [-2, 2] in x and z whose texture is cut out where x < 0
+// (test_scenes.h) lets a sun straight down through that half only; opaque, it blocks both.
+TEST(ExactVisibility, AnAlphaMaskedLeafShadowsUnderItsCoveredHalfOnly) {
+  for (const ts::AlphaMode mode : {ts::AlphaMode::Mask, ts::AlphaMode::Opaque}) {
+    Scene s;
+    ts::MeshBuilder b(s);
+    ts::test::addFloor(b, kFloor, b.addMaterial(ts::Material{}));
+    ts::Material leaf;
+    leaf.alphaMode = mode;
+    leaf.diffuseTexture = leaf.baseColorTexture = 0;
+    s.textures.push_back(ts::test::halfCutOutTexture());
+    const uint32_t m = b.addMaterial(leaf);
+    b.quad({-2.0f, 1.5f, 2.0f}, {2.0f, 1.5f, 2.0f}, {2.0f, 1.5f, -2.0f}, {-2.0f, 1.5f, -2.0f}, m);
+    const ExactVisibility ev(s);  // s may go: the filter keeps what it samples
+    s = Scene{};
+    const SurfacePoints p = floorGrid();
+    const std::vector<uint8_t> v =
+        ev.visibility(p, SceneLight::directional({0.0f, -1.0f, 0.0f}, {1, 1, 1}));
+    int inside = 0, outside = 0;
+    if (mode == ts::AlphaMode::Mask)
+      expectSquareShadow(p, v, glm::dvec3(0.0), {0, -2}, {2, 2}, inside, outside);
+    else expectSquareShadow(p, v, glm::dvec3(0.0), {-2, -2}, {2, 2}, inside, outside);
+    EXPECT_GT(inside, 100);
+    EXPECT_GT(outside, 1000);
+  }
+}
+
 TEST(ExactVisibility, AWallHidesTheFarSide) {
   const ExactVisibility ev(floorBoxWall());
   SurfacePoints p;
