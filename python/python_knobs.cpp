@@ -49,11 +49,14 @@ std::string listText(py::handle value, const std::string& name) {
   wrongType(value, name, "a str or a list of str");
 }
 
-// `--lanes auto|1|2|...`: the count as an int or its text.
-std::string lanesText(py::handle value, const std::string& name) {
+// `--lanes auto|1|2|...`, `--shadows none|all|N`: a count as an int, or the option's text.
+std::string countOrText(py::handle value, const std::string& name) {
   if (isInt(value)) return std::to_string(longValue(value, name, INT_MIN, INT_MAX));
   return textValue(value, name);
 }
+
+// `--shadow-bias C,S`: a (constant, slope) pair of numbers, or the command's text.
+std::string biasText(py::handle value, const std::string& name);
 
 // `--tile N|WxH`: an int, a (w, h) pair or the command's text.
 std::pair<int, int> tileSize(py::handle value, const std::string& name) {
@@ -108,6 +111,15 @@ const std::map<std::string, SceneKnob>& sceneKnobs() {
          r.normalMaps = v.cast<bool>();
        }},
       {"blend", [](R& r, py::handle v, const std::string& n) { r.blend = textValue(v, n); }},
+      {"shadows", [](R& r, py::handle v, const std::string& n) { r.shadows = countOrText(v, n); }},
+      {"shadow_map_size",
+       [](R& r, py::handle v, const std::string& n) { r.shadowMapSize = intValue(v, n); }},
+      {"shadow_budget",
+       [](R& r, py::handle v, const std::string& n) { r.shadowBudgetMB = floatValue(v, n); }},
+      {"shadow_filter",
+       [](R& r, py::handle v, const std::string& n) { r.shadowFilter = textValue(v, n); }},
+      {"shadow_bias",
+       [](R& r, py::handle v, const std::string& n) { r.shadowBias = biasText(v, n); }},
       {"shading_model",
        [](R& r, py::handle v, const std::string& n) { r.shadingModel = textValue(v, n); }},
       {"features", [](R& r, py::handle v, const std::string& n) { r.features = listText(v, n); }},
@@ -141,7 +153,7 @@ const std::map<std::string, TechniqueKnob>& techniqueKnobs() {
          s.depthSplit = v.cast<bool>();
        }},
       {"math", [](S& s, py::handle v, const std::string& n) { s.math = textValue(v, n); }},
-      {"lanes", [](S& s, py::handle v, const std::string& n) { s.lanes = lanesText(v, n); }},
+      {"lanes", [](S& s, py::handle v, const std::string& n) { s.lanes = countOrText(v, n); }},
       {"extra_build_options",
        [](S& s, py::handle v, const std::string& n) { s.extraBuildOptions = textValue(v, n); }},
   };
@@ -153,6 +165,18 @@ std::string names(const Table& table) {
   std::string text;
   for (const auto& entry : table) text += (text.empty() ? "" : ", ") + entry.first;
   return text;
+}
+
+std::string biasText(py::handle value, const std::string& name) {
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if ((py::isinstance<py::tuple>(value) || py::isinstance<py::list>(value)) &&
+      py::len(value) == 2) {
+    const py::sequence pair = value.cast<py::sequence>();
+    // repr of a Python float is its shortest round-trip text: the values as given.
+    return std::string(py::repr(py::float_(floatValue(pair[0], name)))) + "," +
+           std::string(py::repr(py::float_(floatValue(pair[1], name))));
+  }
+  wrongType(value, name, "a (constant, slope) pair or 'C,S'");
 }
 
 }  // namespace

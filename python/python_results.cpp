@@ -39,6 +39,34 @@ py::dict frameInfoDict(const ts::FrameInfo& i) {
   d["raster_ms"] = i.rasterMs;
   d["raster_setup_ms"] = i.rasterSetupMs;
   d["draws_scene"] = i.drawsScene;
+  d["shadow_casting_lights"] = i.shadowCastingLights;
+  if (i.shadowMaps) {
+    const ts::ShadowMapsInfo& s = *i.shadowMaps;
+    py::list lights;
+    for (const ts::ShadowMapLight& l : s.lights) {
+      py::dict o;
+      o["light"] = l.light;
+      o["type"] = l.type;
+      o["faces"] = l.faces;
+      o["requested_size"] = l.requestedSize;
+      o["size"] = l.size;
+      lights.append(o);
+    }
+    py::dict m;
+    m["faces"] = s.faces;
+    m["atlas_width"] = s.atlasWidth;
+    m["atlas_height"] = s.atlasHeight;
+    m["bytes"] = s.bytes;
+    m["triangles_drawn"] = s.trianglesDrawn;
+    m["draw_ms"] = s.drawMs;
+    m["lights"] = lights;
+    py::list notes;
+    for (const std::string& n : s.notes) notes.append(n);
+    m["notes"] = notes;
+    d["shadow_maps"] = m;
+  } else {
+    d["shadow_maps"] = py::none();
+  }
   return d;
 }
 

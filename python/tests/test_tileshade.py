@@ -69,6 +69,26 @@ def test_render_returns_an_image_and_stats():
     assert stats["check"] is None
 
 
+def test_shadow_knobs_draw_maps_and_shade_them(device):
+    kw = dict(scene="builtin:atrium", lights="big", width=W, height=H, device=device)
+    lit, plain = tileshade.render(**kw)
+    shadowed, stats = tileshade.render(shadows=3, shadow_map_size=32, shadow_filter="pcf3",
+                                       shadow_bias=(2.0, 1.0), shadow_budget=16, check=True, **kw)
+    frame = stats["frame"]
+    assert plain["frame"]["shadow_maps"] is None
+    assert frame["shadow_casting_lights"] == 3
+    maps = frame["shadow_maps"]
+    assert len(maps["lights"]) == 3 and all(l["size"] == 32 for l in maps["lights"])
+    assert maps["bytes"] == maps["atlas_width"] * maps["atlas_height"] * 4
+    assert stats["check"]["missed"] == 0
+    # A shadow only takes light away, and these three take some.
+    assert (shadowed <= lit + 1e-6).all() and shadowed.sum() < lit.sum()
+    with pytest.raises(TypeError, match=r"shadow_bias: expected a \(constant, slope\) pair"):
+        tileshade.render(shadow_bias=3, **kw)
+    with pytest.raises(tileshade.Error, match=r"--shadow-filter"):
+        tileshade.render(shadows="all", shadow_filter="pcf4", **kw)
+
+
 def test_two_techniques_agree_and_miss_nothing(device, street):
     tiled = tileshade.Renderer(device, "tiled", tile=(16, 8)).shade(street, check=True)
     clustered = tileshade.Renderer(device, technique="clustered", slices=8).shade(street,
