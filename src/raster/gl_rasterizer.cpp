@@ -31,6 +31,10 @@
 //  - alphaMode MASK: the shaders discard what ts_material_covered (material_planes.h) leaves out,
 //    the test the software visibility pass applies; the forward shader of a scene with MASK
 //    materials tests depth late (TS_ALPHA_MASK), since its discard must precede the depth write.
+//  - Shadow maps (drawShadowAtlas): depth_only.frag's linear depth into one R32F atlas, a viewport
+//    and scissor per face, the same reversed GL_GREATER test (orthographic faces: clip z linear
+//    in depth, w = 1), only the batches whose boxes touch the face (touchesFace, as the software
+//    maps); compared with the software maps in tests/raster/gl_shadow_maps_test.cpp.
 //  - Triangle ids: gl_PrimitiveID plus the draw's first triangle (one draw per run of triangles
 //    sharing a material, in scene order: raster/draw_batches.h, whose boxes the forward
 //    techniques cull lights against).
