@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -49,6 +50,32 @@ TEST(GlShadowMapsCli, RasterGlDrawsTheMapsAndTheImagePassesTheCheck) {
   EXPECT_EQ(softStats.at("shadow_maps").at("rasterizer"), "software");
   EXPECT_EQ(softStats.at("shadow_maps").at("read_ms"), 0.0);
   EXPECT_EQ(softStats.at("shadow_maps").at("triangles_drawn"), s.at("triangles_drawn"));
+  std::filesystem::remove_all(tmp);
+}
+
+// bench --raster gl draws each frame's maps with OpenGL too: shadow_ms and shadow_bytes in its
+// rows, the same atlas as the software rasterizer's, and within 1e-4 of the reference.
+TEST(GlShadowMapsCli, BenchDrawsTheMapsWithTheConfigurationsRasterizer) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  REQUIRE_GL();
+  const auto tmp = test::freshDir("cli", "gl_shadow_maps_bench");
+  const CliRun r = runTileshade(
+      "bench --scene builtin:atrium --raster software,gl --shadows 2 --shadow-map-size 32 "
+      "--resolution 96x54 --technique tiled --frames 1 --no-calibrate --error --quiet --device "
+      "cpu --out " +
+      tmp.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json bench = nlohmann::json::parse(std::ifstream(tmp / "bench.json"));
+  std::map<std::string, uint64_t> bytes;
+  for (const auto& row : bench.at("rows")) {
+    const std::string raster = row.at("config").at("raster");
+    EXPECT_GT(row.at("shadow_ms").get<double>(), 0.0) << raster;
+    EXPECT_LE(row.at("error").at("max_rel_peak").get<double>(), 1e-4) << raster;
+    bytes[raster] = row.at("shadow_bytes").get<uint64_t>();
+  }
+  ASSERT_EQ(bytes.size(), 2u) << bench.dump();
+  EXPECT_GT(bytes["gl"], 0u);
+  EXPECT_EQ(bytes["gl"], bytes["software"]);
   std::filesystem::remove_all(tmp);
 }
 
