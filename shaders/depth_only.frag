@@ -1,8 +1,10 @@
 #version 330 core
 // The depth-only pre-pass of tiled-forward-prez (src/raster/gl_rasterizer.cpp, depthPrepass):
 // the hardware depth buffer for the forward pass's EQUAL test, and the linear view depth -z_view
-// (as the G-buffer's depth plane) for the OpenCL tile_depth_bounds kernel. alphaMode MASK
-// fragments are left out as the G-buffer and forward passes leave them (material_planes.h).
+// (as the G-buffer's depth plane) for the OpenCL tile_depth_bounds kernel. The shadow maps
+// (drawShadowAtlas) are drawn with it too: -z_view of a face's view is the maps' linear depth.
+// alphaMode MASK fragments are left out as the G-buffer and forward passes leave them
+// (material_planes.h), and as the software maps do.
 in vec3 v_viewPosition;
 in vec2 v_uv;
 layout(location = 1) out float o_depth;

@@ -194,7 +194,9 @@ struct ShadowMapsInfo {
   int atlasWidth = 0, atlasHeight = 0;
   uint64_t bytes = 0;           // the atlas's
   uint64_t trianglesDrawn = 0;  // summed over the faces (each draws what its frustum touches)
-  double drawMs = 0.0;
+  double drawMs = 0.0;          // OpenGL: glFinish to glFinish around the pass
+  std::string rasterizer;       // who drew them: "software" or "gl"
+  double readMs = 0.0;          // OpenGL: the atlas's read-back (0 for software)
   std::vector<ShadowMapLight> lights;
   std::vector<std::string> notes;  // lights that lost resolution to the budget, wide spot cones
 };

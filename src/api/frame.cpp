@@ -53,6 +53,8 @@ FrameInfo describeFrame(const RenderInput& input) {
     s.bytes = a.layout.bytes();
     s.trianglesDrawn = a.trianglesDrawn();
     s.drawMs = a.drawMs;
+    s.rasterizer = a.rasterizer;
+    s.readMs = a.readMs;
     for (const ShadowLightMap& m : a.layout.lights)
       s.lights.push_back({m.light, toString(m.type), m.faces, m.requestedSize, m.size});
     s.notes = a.layout.notes;

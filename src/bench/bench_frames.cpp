@@ -86,9 +86,9 @@ PreparedFrame BenchScene::prepare(const BenchConfig& c, int frame) {
 }
 
 std::shared_ptr<const ShadowAtlas> BenchScene::drawShadows(const BenchConfig& c,
-                                                           PreparedFrame& frame) const {
+                                                           PreparedFrame& frame) {
   if (imported_) return nullptr;
-  return FrameShadows(c).draw(scene_, frame);
+  return FrameShadows(c).draw(*rasterizers_.at(c.raster), frame);
 }
 
 std::unique_ptr<ForwardScene> BenchScene::forwardScene(const BenchConfig& c,

@@ -40,10 +40,10 @@ class BenchScene {
   // layout from its gbuffer); raster_ms inside.
   PreparedFrame prepare(const BenchConfig& config, int frame);
   // The shadow maps of `frame` (prepare's, for `config`: its --shadow-* options), drawn and
-  // attached to frame.lights (FrameShadows, as `render` draws them); null when no light casts
-  // one or for an imported G-buffer. Their drawing time is the atlas's drawMs.
-  std::shared_ptr<const ShadowAtlas> drawShadows(const BenchConfig& config,
-                                                 PreparedFrame& frame) const;
+  // attached to frame.lights (FrameShadows, as `render` draws them, by the configuration's
+  // rasterizer); null when no light casts one or for an imported G-buffer. Their drawing time is
+  // the atlas's drawMs.
+  std::shared_ptr<const ShadowAtlas> drawShadows(const BenchConfig& config, PreparedFrame& frame);
   // The scene to draw at `frame`'s camera for the forward techniques (DeviceFrame::forward):
   // from the configuration's OpenGL rasterizer; null for the software one or an imported G-buffer.
   std::unique_ptr<ForwardScene> forwardScene(const BenchConfig& config, const PreparedFrame& frame);

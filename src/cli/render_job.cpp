@@ -109,6 +109,8 @@ nlohmann::json shadowMapsJson(const FrameInfo& info, const RenderOptions& o) {
           {"bytes", s.bytes},
           {"triangles_drawn", s.trianglesDrawn},
           {"draw_ms", s.drawMs},
+          {"rasterizer", s.rasterizer},
+          {"read_ms", s.readMs},
           {"lights", lights},
           {"notes", s.notes}};
 }
@@ -280,7 +282,8 @@ void runRender(const RenderOptions& options) {
               << info.shadowMaps->lights.size() << " light(s) in a " << info.shadowMaps->atlasWidth
               << "x" << info.shadowMaps->atlasHeight << " atlas (" << std::fixed
               << std::setprecision(1) << double(info.shadowMaps->bytes) / double(1 << 20)
-              << " MB), " << info.shadowMaps->drawMs << " ms (software, depth only)\n"
+              << " MB), " << info.shadowMaps->drawMs << " ms (" << info.shadowMaps->rasterizer
+              << ", depth only)\n"
               << std::defaultfloat;
   if (exact) std::cout << exact->summary << "\n";
   std::cout << "device: " << device.name() << "\n";

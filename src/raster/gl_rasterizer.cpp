@@ -31,6 +31,10 @@
 //  - alphaMode MASK: the shaders discard what ts_material_covered (material_planes.h) leaves out,
 //    the test the software visibility pass applies; the forward shader of a scene with MASK
 //    materials tests depth late (TS_ALPHA_MASK), since its discard must precede the depth write.
+//  - Shadow maps (drawShadowAtlas): depth_only.frag's linear depth into one R32F atlas, a viewport
+//    and scissor per face, the same reversed GL_GREATER test (orthographic faces: clip z linear
+//    in depth, w = 1), only the batches whose boxes touch the face (touchesFace, as the software
+//    maps); compared with the software maps in tests/raster/gl_shadow_maps_test.cpp.
 //  - Triangle ids: gl_PrimitiveID plus the draw's first triangle (one draw per run of triangles
 //    sharing a material, in scene order: raster/draw_batches.h, whose boxes the forward
 //    techniques cull lights against).
@@ -48,6 +52,7 @@
 #include <vector>
 
 #include <epoxy/gl.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "raster/draw_batches.h"
 #include "raster/egl_context.h"
@@ -84,6 +89,31 @@ glm::mat4 clipFromView(const CameraIntrinsics& in) {
   }
   p[3][2] = in.znear;
   return p;
+}
+
+// A shadow face's clip transform (rasterizeDepth's DepthView): x and y as the software's (clip y
+// negated, as above), z for the same GL_GREATER test as the G-buffer's: perspective clip z =
+// znear (window depth znear / depth, near-clipped at depth znear), orthographic clip z =
+// (zfar - depth) / (zfar - znear) with w = 1 (clipped to [znear, zfar], as the software's per
+// texel test). The texels get the linear depth itself (depth_only.frag), never the window depth.
+glm::mat4 clipFromFaceView(const DepthView& v) {
+  glm::dmat4 p(0.0);
+  p[0][0] = 1.0 / v.halfX;
+  p[1][1] = -1.0 / v.halfY;
+  if (v.orthographic) {
+    p[2][2] = 1.0 / (v.zfar - v.znear);  // Z = -depth
+    p[3][2] = v.zfar / (v.zfar - v.znear);
+    p[3][3] = 1.0;
+  } else {
+    p[3][2] = v.znear;
+    p[2][3] = -1.0;  // w = -Z = depth
+  }
+  return glm::mat4(p);
+}
+
+// The window depth of a face's far plane: what its depth buffer is cleared to.
+GLfloat farWindowDepth(const DepthView& v) {
+  return v.orthographic ? 0.0f : GLfloat(v.znear / v.zfar);
 }
 
 // The uniforms the scene's draws set (shaders/gbuffer.vert and the material of the fragment
@@ -171,7 +201,11 @@ struct GlRasterizer::State {
   // image, pre-pass depth, batch ids
   gl::Targets forwardTargets;  // ensureForwardFramebuffer's three
   GLuint storage[kForwardStorages] = {};
-  GLuint timer = 0;
+  GLuint timer = 0;  // the passes' GL_TIME_ELAPSED query (timed())
+  // The shadow maps (built on first use): the depth pre-pass's shaders into an R32F atlas.
+  GLuint shadowProgram = 0;
+  Uniforms su{};
+  gl::Targets shadowTargets;
 
   explicit State(const Scene& s) : scene(s) {}
 
@@ -184,12 +218,14 @@ struct GlRasterizer::State {
     }
     gbufferTargets.release();
     forwardTargets.release();
+    shadowTargets.release();
     if (forwardProgram) {
       glDeleteProgram(forwardProgram);
       glDeleteProgram(depthProgram);
       glDeleteBuffers(kForwardStorages, storage);
-      glDeleteQueries(1, &timer);
     }
+    if (shadowProgram) glDeleteProgram(shadowProgram);
+    if (timer) glDeleteQueries(1, &timer);
     if (!textures.empty()) glDeleteTextures(GLsizei(textures.size()), textures.data());
     glDeleteBuffers(1, &vertexBuffer);
     glDeleteBuffers(1, &indexBuffer);
@@ -388,8 +424,61 @@ struct GlRasterizer::State {
     forwardProgram = gl::buildProgram("gbuffer.vert", "tiled_forward.frag", defines());
     fu = uniformsOf(forwardProgram);
     glGenBuffers(kForwardStorages, storage);
-    glGenQueries(1, &timer);
+    if (!timer) glGenQueries(1, &timer);
     gl::checkErrors("setting up the forward programs");
+  }
+
+  // ---- Shadow maps ------------------------------------------------------------------------
+
+  // The depth pre-pass's shaders (OpenGL 3.3: no storage buffers), their linear depth output
+  // (location 1) into the atlas.
+  void buildShadow() {
+    shadowProgram = gl::buildProgram("gbuffer.vert", "depth_only.frag", defines());
+    su = uniformsOf(shadowProgram);
+    if (!timer) glGenQueries(1, &timer);
+    gl::checkErrors("setting up the shadow-map program");
+  }
+
+  // The atlas bound, its only colour target fed by output location 1, the G-buffer pass's
+  // fixed-function state plus the scissor (each face clears and draws its rectangle only).
+  void shadowPassState() {
+    glBindFramebuffer(GL_FRAMEBUFFER, shadowTargets.framebuffer);
+    const GLenum buffers[2] = {GL_NONE, GL_COLOR_ATTACHMENT0};
+    glDrawBuffers(2, buffers);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);  // nothing is culled, as in the software maps
+    glFrontFace(GL_CW);
+    glDisable(GL_BLEND);
+    glDisable(GL_DITHER);
+    glDisable(GL_STENCIL_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glUseProgram(shadowProgram);
+    glBindVertexArray(vao);
+  }
+
+  // One face: its rectangle cleared to far (linear depth zfar, window depth of the far plane),
+  // then the batches its frustum touches. Returns the triangles drawn.
+  uint64_t drawShadowFace(const ShadowFace& f) {
+    glViewport(f.x, f.y, f.size, f.size);
+    glScissor(f.x, f.y, f.size, f.size);
+    const GLfloat far[4] = {GLfloat(f.view.zfar), 0.0f, 0.0f, 0.0f};
+    glClearBufferfv(GL_COLOR, 1, far);
+    const GLfloat farDepth = farWindowDepth(f.view);
+    glClearBufferfv(GL_DEPTH, 0, &farDepth);
+    // In float, as the G-buffer's view transform (docs/opengl.md).
+    const glm::mat4 viewFromWorld(f.view.viewFromWorld), projection = clipFromFaceView(f.view);
+    glUniformMatrix4fv(su.viewFromWorld, 1, GL_FALSE, &viewFromWorld[0][0]);
+    glUniformMatrix4fv(su.clipFromView, 1, GL_FALSE, &projection[0][0]);
+    uint64_t triangles = 0;
+    for (size_t b = 0; b < draws.size(); ++b)
+      if (touchesFace(draws[b].bounds, f)) {
+        drawBatch(su, b, false, false);
+        triangles += draws[b].triangles;
+      }
+    return triangles;
   }
 
   // Colour 0: the shaded image (RGBA32F); colour 1: the pre-pass's linear depth (R32F); colour 2:
@@ -631,6 +720,72 @@ void GlRasterizer::warmUpForward() {
   emptyLists.counts.assign(state_->draws.size(), 0);
   lighting.lights = &none;
   singlePassForward(warmup, 8, 8, lighting, emptyLists);
+}
+
+void GlRasterizer::warmUpShadows() {
+  State& s = *state_;
+  if (s.shadowProgram) return;
+  s.buildShadow();
+  // A first small face (the scene seen from its centre): llvmpipe compiles the program's variants
+  // on first use, which belongs to setup, not to the first frame's map time.
+  s.shadowTargets.ensure(kShadowMinFaceSize, kShadowMinFaceSize, {GL_R32F},
+                         "shadow atlas framebuffer (R32F, float depth)");
+  s.shadowPassState();
+  glEnable(GL_SCISSOR_TEST);
+  ShadowFace face;
+  face.size = kShadowMinFaceSize;
+  const Bounds b = s.scene.bounds();
+  const glm::dvec3 centre =
+      b.min.x <= b.max.x ? (glm::dvec3(b.min) + glm::dvec3(b.max)) * 0.5 : glm::dvec3(0.0);
+  face.view.viewFromWorld = glm::translate(glm::dmat4(1.0), -centre);
+  s.drawShadowFace(face);
+  glDisable(GL_SCISSOR_TEST);
+  glBindVertexArray(0);
+  glFinish();
+  gl::checkErrors("warming up the shadow-map program");
+}
+
+ShadowAtlas GlRasterizer::drawShadowAtlas(ShadowAtlasLayout layout) {
+  ShadowAtlas atlas;
+  atlas.rasterizer = "gl";
+  atlas.layout = std::move(layout);
+  const ShadowAtlasLayout& l = atlas.layout;
+  atlas.depth.assign(size_t(l.width) * size_t(l.height), 0.0f);
+  atlas.faceTriangles.assign(l.faces.size(), 0);
+  if (l.faces.empty()) return atlas;
+  State& s = *state_;
+  if (l.width > s.maxSize || l.height > s.maxSize)
+    throw Error("--raster gl: the " + std::to_string(l.width) + "x" + std::to_string(l.height) +
+                " shadow atlas exceeds this OpenGL implementation's limit of " +
+                std::to_string(s.maxSize) +
+                " texels per side (lower --shadow-budget or --shadow-map-size, or use --raster "
+                "software)");
+  EglContext::shared().makeCurrent();
+  warmUpShadows();
+  s.shadowTargets.ensure(l.width, l.height, {GL_R32F},
+                         "shadow atlas framebuffer (R32F, float depth)");
+  s.shadowPassState();
+  double queryMs = 0.0;
+  atlas.drawMs = s.timed(
+      [&] {
+        glDisable(GL_SCISSOR_TEST);
+        const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        glClearBufferfv(GL_COLOR, 1, zero);  // texels of no face hold 0
+        glEnable(GL_SCISSOR_TEST);
+        for (size_t k = 0; k < l.faces.size(); ++k)
+          atlas.faceTriangles[k] = s.drawShadowFace(l.faces[k]);
+        glDisable(GL_SCISSOR_TEST);
+      },
+      queryMs);
+  glBindVertexArray(0);
+  gl::checkErrors("drawing the shadow maps of scene '" + s.scene.name + "'");
+  const auto t0 = Clock::now();
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glBindTexture(GL_TEXTURE_2D, s.shadowTargets.colour[0]);
+  glGetTexImage(GL_TEXTURE_2D, 0, GL_RED, GL_FLOAT, atlas.depth.data());
+  gl::checkErrors("reading back the shadow atlas");
+  atlas.readMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  return atlas;
 }
 
 std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int width, int height,

@@ -15,6 +15,7 @@
 #include "raster/batch_lights.h"
 #include "raster/draw_batches.h"
 #include "raster/rasterizer.h"
+#include "raster/shadow_maps.h"
 #include "scene/scene.h"
 #include "scene/scene_features.h"
 #include "shading/forward_grid.h"
@@ -77,10 +78,19 @@ class GlRasterizer {
   // ms: the draw's wall-clock time (ForwardImage::drawMs).
   std::vector<float> depthPrepass(const SceneCamera& camera, int width, int height, double& ms);
 
+  // The shadow maps of `layout` (planned for this scene's lights), drawn by OpenGL into one R32F
+  // atlas target with a depth buffer, each face in its rectangle (viewport and scissor) with the
+  // draw batches whose boxes touch its frustum (touchesFace, as the software maps), and read
+  // back: the software maps' convention (raster/shadow_maps.h; docs/shadows.md). drawMs: the
+  // pass's wall clock, glFinish to glFinish; readMs the read-back. Throws ts::Error (one line)
+  // for an atlas above the implementation's size limit, or any OpenGL error.
+  ShadowAtlas drawShadowAtlas(ShadowAtlasLayout layout);
+
   std::string renderer() const;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   double setupMs() const { return setupMs_; }  // context (first use) + upload + shader build
 
  private:
+  void warmUpShadows();  // builds the shadow-map program on first use, then a first small face
   void warmUpForward();  // builds the forward programs on first use, then a first small frame
   struct State;
   // The checks and setup every forward pass starts with (size limit, context, warm-up).

@@ -1,5 +1,7 @@
 #include "raster/raster_backend.h"
 
+#include <utility>
+
 #include "util/error.h"
 #include "util/short_text.h"
 #ifndef TILESHADE_NO_GL
@@ -15,6 +17,7 @@ class GlRasterizer {
  public:
   GBuffer rasterize(const SceneCamera&, int, int, const RasterOptions&) { return {}; }
   std::string renderer() const { return {}; }
+  ShadowAtlas drawShadowAtlas(ShadowAtlasLayout) { return {}; }
 };
 #else
 namespace {
@@ -117,6 +120,11 @@ GBuffer SceneRasterizer::rasterize(const SceneCamera& camera, int width, int hei
                   "use --raster software");
   }
   return g;
+}
+
+ShadowAtlas SceneRasterizer::drawShadowAtlas(ShadowAtlasLayout layout) {
+  if (!gl_) return ts::drawShadowAtlas(scene_, std::move(layout));
+  return gl_->drawShadowAtlas(std::move(layout));
 }
 
 std::unique_ptr<ForwardScene> SceneRasterizer::forwardScene(const SceneCamera& camera, int width,

@@ -7,6 +7,7 @@
 
 #include "raster/forward_scene.h"
 #include "raster/rasterizer.h"
+#include "raster/shadow_maps.h"
 #include "scene/scene.h"
 #include "util/enum_names.h"
 
@@ -31,6 +32,11 @@ class SceneRasterizer {
 
   // ts::rasterize or GlRasterizer::rasterize.
   GBuffer rasterize(const SceneCamera& camera, int width, int height, const RasterOptions& options);
+
+  // The shadow maps of `layout` (planned for this scene's lights) drawn by this rasterizer: the
+  // software's drawShadowAtlas (every thread) or OpenGL's (GlRasterizer::drawShadowAtlas), the
+  // same convention either way (raster/shadow_maps.h).
+  ShadowAtlas drawShadowAtlas(ShadowAtlasLayout layout);
 
   // The scene for the forward techniques at `camera` (DeviceFrame::forward), drawn by this
   // rasterizer's OpenGL context; null for the software rasterizer (it draws no forward passes).

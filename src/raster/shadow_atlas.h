@@ -40,7 +40,8 @@ struct ShadowAtlasOptions {
 
 // One face of one light's shadow map. Its texels hold the nearest linear depth -Z of the face's
 // view space (the distance along the face's axis, world units; not NDC depth), `far` where
-// nothing is drawn: the same convention for the software maps and a future OpenGL path.
+// nothing is drawn: the same convention for the software maps and the OpenGL ones
+// (GlRasterizer::drawShadowAtlas).
 struct ShadowFace {
   uint32_t light = 0;  // index into the scene's lights
   int face = 0;        // cube face 0..5 (+X, -X, +Y, -Y, +Z, -Z); 0 for spot and directional

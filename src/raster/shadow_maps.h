@@ -20,7 +20,11 @@ struct ShadowAtlas {
   // that belong to no face.
   std::vector<float> depth;
   std::vector<uint64_t> faceTriangles;  // per face of layout.faces: the triangles drawn
-  double drawMs = 0.0;                  // culling and drawing every face (not the planning)
+  // Culling and drawing every face (not the planning); OpenGL: the host's wall clock from
+  // glFinish to glFinish around the pass (docs/techniques.md), the read-back not included.
+  double drawMs = 0.0;
+  std::string rasterizer = "software";  // who drew it: "software" or "gl" (--raster)
+  double readMs = 0.0;                  // OpenGL: reading the atlas back (0 for software)
 
   uint64_t trianglesDrawn() const;
   float at(int x, int y) const { return depth[size_t(y) * size_t(layout.width) + size_t(x)]; }

@@ -38,12 +38,13 @@ FrameShadows::FrameShadows(const PipelineOptions& o) : options{o.shadowMapSize, 
   parseShadowBias(o.shadowBias, sampling);
 }
 
-std::shared_ptr<const ShadowAtlas> FrameShadows::draw(const Scene& scene,
+std::shared_ptr<const ShadowAtlas> FrameShadows::draw(SceneRasterizer& rasterizer,
                                                       PreparedFrame& frame) const {
+  const Scene& scene = rasterizer.scene();
   if (shadowCasterCount(scene.lights) == 0) return nullptr;
-  auto atlas = std::make_shared<const ShadowAtlas>(
-      drawShadowAtlas(scene, planShadowAtlas(scene.lights, scene.bounds(), frame.camera, options,
-                                             viewGeometryBounds(frame.gbuffer, frame.camera))));
+  auto atlas = std::make_shared<const ShadowAtlas>(rasterizer.drawShadowAtlas(
+      planShadowAtlas(scene.lights, scene.bounds(), frame.camera, options,
+                      viewGeometryBounds(frame.gbuffer, frame.camera))));
   attachShadowMaps(atlas, scene.lights, frame.camera.viewFromWorld, sampling, frame.lights);
   return atlas;
 }
@@ -61,7 +62,7 @@ RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
   input.forward = rasterizer.forwardScene(input.frame.camera, o.width, o.height);
   input.lightSummary = describeLights(scene.lights);
   input.shadowCasters = shadowCasterCount(scene.lights);
-  input.shadowAtlas = shadows.draw(scene, input.frame);
+  input.shadowAtlas = shadows.draw(rasterizer, input.frame);
   input.sceneName = scene.name;
   input.triangles = scene.triangleCount();
   input.raster = toString(rasterizer.backend());

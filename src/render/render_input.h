@@ -23,8 +23,8 @@ struct RenderInput {
   double rasterSetupMs = 0.0;  // one-time cost before the frame (OpenGL context, upload)
   std::string lightSummary;    // "924 lights" or "12 lights: 6 point, 5 spot, 1 directional"
   size_t shadowCasters = 0;    // lights marked to cast a shadow
-  // Their shadow maps (a scene with shadowCasters > 0; drawn by the software rasterizer for
-  // --raster gl too), else null; frame.lights samples them (attachShadowMaps).
+  // Their shadow maps (a scene with shadowCasters > 0; drawn by the frame's rasterizer, --raster
+  // software or gl), else null; frame.lights samples them (attachShadowMaps).
   std::shared_ptr<const ShadowAtlas> shadowAtlas;
   // The scene and its rasterizer, kept for the forward techniques, which draw the scene
   // (DeviceFrame::forward): `forward` is set for a scene rasterized with --raster gl, null for
@@ -39,9 +39,10 @@ struct RenderInput {
 // construction (ts::Error, one line, casters or not).
 struct FrameShadows {
   explicit FrameShadows(const PipelineOptions& o);
-  // Plans and draws the atlas of `scene`'s shadow-casting lights for `frame` (its camera and
-  // G-buffer) and attaches it to frame.lights; null (and nothing drawn) when no light casts one.
-  std::shared_ptr<const ShadowAtlas> draw(const Scene& scene, PreparedFrame& frame) const;
+  // Plans the atlas of the rasterizer's scene's shadow-casting lights for `frame` (its camera and
+  // G-buffer), draws it with that rasterizer (software or OpenGL) and attaches it to
+  // frame.lights; null (and nothing drawn) when no light casts one.
+  std::shared_ptr<const ShadowAtlas> draw(SceneRasterizer& rasterizer, PreparedFrame& frame) const;
 
   ShadowAtlasOptions options;
   ShadowSampling sampling;
