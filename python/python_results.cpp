@@ -59,6 +59,8 @@ py::dict frameInfoDict(const ts::FrameInfo& i) {
     m["bytes"] = s.bytes;
     m["triangles_drawn"] = s.trianglesDrawn;
     m["draw_ms"] = s.drawMs;
+    m["rasterizer"] = s.rasterizer;
+    m["read_ms"] = s.readMs;
     m["lights"] = lights;
     py::list notes;
     for (const std::string& n : s.notes) notes.append(n);
