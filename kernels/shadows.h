@@ -1,11 +1,14 @@
 /*
  * The shadow factor of a shadow-casting light (issue #18; docs/shadows.md): the one sampling
  * function of the kernels (kernels/gbuffer.h, lanes.h) and of the double reference
- * (src/shading/shading_cpu.h), written in the common subset of OpenCL C and C++ like
- * kernels/shading.h, so both sample the same float atlas with the same arithmetic.
+ * (src/shading/shading_cpu.h) and of the forward techniques' fragment shader
+ * (shaders/tiled_forward.frag), written in the common subset of OpenCL C, C++ and GLSL like
+ * kernels/shading.h (its TS_CAST for casts), so all sample the same float atlas with the same
+ * arithmetic.
  *
- * The includer defines TS_REAL, TS_REAL3, TS_REAL4 (as for shading.h) and, for C++, the face
- * table's and atlas's pointer types and loads (defaults: OpenCL __global buffers):
+ * The includer includes kernels/shading.h first (TS_REAL, TS_REAL3, TS_REAL4, TS_CAST) and, for
+ * C++ and GLSL, defines the face table's and atlas's parameter types and loads (defaults: OpenCL
+ * __global buffers; GLSL's are shader storage and a texture, the parameters unused):
  *   TS_SHADOW_FACES        pointer to the face table (float4 records)
  *   TS_SHADOW_ATLAS        pointer to the atlas (float texels, row-major, row 0 at the top)
  *   TS_SHADOW_FACE(t, i)   record float4 i of the table, as TS_REAL4
@@ -25,6 +28,10 @@
  */
 #ifndef TS_SHADOWS_H
 #define TS_SHADOWS_H
+
+#ifndef TS_CAST
+#error "include kernels/shading.h (its TS_CAST) before kernels/shadows.h"
+#endif
 
 #ifndef TS_SHADOW_FACES
 #define TS_SHADOW_FACES __global const float4 *
@@ -71,13 +78,13 @@ static inline TS_REAL ts_shadow_face(TS_SHADOW_FACES faces, TS_SHADOW_ATLAS atla
   /* bias = footprint (C + S tan(theta) n/2): a plane at angle theta to the light changes depth
    * by footprint tan(theta) per texel, and the filter's farthest texel centre is n/2 texels
    * from the receiver (none: half a texel); S is the margin over that. */
-  int n = (int)misc.x, isize = (int)size, stride = (int)rect.w;
+  int n = TS_CAST(int, misc.x), isize = TS_CAST(int, size), stride = TS_CAST(int, rect.w);
   TS_REAL footprint = bias.x + bias.y * depth;
-  TS_REAL reach = TS_LIT(0.5) * (TS_REAL)n;
+  TS_REAL reach = TS_LIT(0.5) * TS_CAST(TS_REAL, n);
   TS_REAL test = depth - footprint * (bias.z + bias.w * tan_theta * reach);
-  int x0 = (int)floor(u - TS_LIT(0.5) * (TS_REAL)(n - 1));
-  int y0 = (int)floor(v - TS_LIT(0.5) * (TS_REAL)(n - 1));
-  int origin = (int)rect.y * stride + (int)rect.x;
+  int x0 = TS_CAST(int, floor(u - TS_LIT(0.5) * TS_CAST(TS_REAL, n - 1)));
+  int y0 = TS_CAST(int, floor(v - TS_LIT(0.5) * TS_CAST(TS_REAL, n - 1)));
+  int origin = TS_CAST(int, rect.y) * stride + TS_CAST(int, rect.x);
   int lit = 0;
   /* N x N texels from (x0, y0), each clamped to the face's rectangle (never a neighbour's). */
   for (int j = 0; j < n; ++j) {
@@ -87,7 +94,7 @@ static inline TS_REAL ts_shadow_face(TS_SHADOW_FACES faces, TS_SHADOW_ATLAS atla
       if (test <= TS_SHADOW_TEXEL(atlas, origin + ty * stride + tx)) ++lit;
     }
   }
-  return (TS_REAL)lit / (TS_REAL)(n * n);
+  return TS_CAST(TS_REAL, lit) / TS_CAST(TS_REAL, n * n);
 }
 
 /* The visibility factor in [0, 1] of view-space point P (normal N, unit direction L towards the
@@ -96,7 +103,7 @@ static inline TS_REAL ts_shadow_face(TS_SHADOW_FACES faces, TS_SHADOW_ATLAS atla
  * face only, its footprint clamped to it: no seam between faces can crack. */
 static inline TS_REAL ts_shadow_factor(TS_SHADOW_FACES faces, TS_SHADOW_ATLAS atlas, int first,
                                        TS_REAL3 P, TS_REAL3 N, TS_REAL3 L) {
-  int count = (int)TS_SHADOW_FACE(faces, first * TS_SHADOW_FACE_RECORDS + 6).y;
+  int count = TS_CAST(int, TS_SHADOW_FACE(faces, first * TS_SHADOW_FACE_RECORDS + 6).y);
   int face = first;
   TS_REAL best = ts_shadow_row(TS_SHADOW_FACE(faces, first * TS_SHADOW_FACE_RECORDS + 3), P);
   for (int k = 1; k < count; ++k) {

@@ -5,6 +5,8 @@
 // reference. The list is the fragment's screen tile's in the light grid (tiled-forward and
 // tiled-forward-prez: the OpenCL binning kernels' grid, copied into shader storage buffers) or
 // its draw's (u_drawList: forward's one light per additive pass, forward-single's batch list).
+// Shadow-casting lights' contributions are multiplied by their shadow factor from
+// kernels/shadows.h (TS_HAS_SHADOWS), as the kernels do.
 
 // The depth test before the shader runs (a shader with buffer writes otherwise runs for every
 // fragment): with the pre-pass's EQUAL test each pixel is shaded once, without it each fragment
@@ -70,6 +72,29 @@ layout(std430, binding = 5) readonly buffer TileLights { uint tile_lights[]; };
 // (fragments later overwritten included), per tile so no counter wraps and few collide.
 layout(std430, binding = 6) buffer TileWork { uint tile_work[]; };
 
+#if TS_HAS_SHADOWS
+// Shadows (set by gl_rasterizer.cpp only when a light casts one: a scene without pays nothing),
+// sampled by kernels/shadows.h, the kernels' own file, from the buffers the kernels get: per light
+// its first face (-1: none), the face table, the atlas. The atlas is an R32F texture read with
+// texelFetch (the float texel itself, no filtering) rather than a storage buffer: it reaches the
+// texture size limit (llvmpipe: 16384^2 texels, 1 GiB) where a storage block may be capped at
+// 128 MiB; the texel index is the kernels' row-major one, split by the atlas's width.
+layout(std430, binding = 7) readonly buffer LightShadow { int light_shadow[]; };
+layout(std430, binding = 8) readonly buffer DirShadow { int dir_light_shadow[]; };
+layout(std430, binding = 9) readonly buffer ShadowFaces { vec4 shadow_faces[]; };
+uniform sampler2D u_shadowAtlas;
+ivec2 ts_atlas_texel(int i) {
+  int width = textureSize(u_shadowAtlas, 0).x;
+  return ivec2(i % width, i / width);
+}
+// GLSL passes no buffer: the parameters shadows.h threads through are unused ints (0).
+#define TS_SHADOW_FACES int
+#define TS_SHADOW_ATLAS int
+#define TS_SHADOW_FACE(t, i) shadow_faces[i]
+#define TS_SHADOW_TEXEL(a, i) texelFetch(u_shadowAtlas, ts_atlas_texel(i), 0).r
+#include "kernels/shadows.h"
+#endif
+
 uniform vec3 u_ambient;
 uniform int u_dirLightCount;
 uniform ivec3 u_tiles;  // tile width, height, tiles per row
@@ -124,13 +149,27 @@ void main() {
   for (uint k = 0u; k < bin.y; ++k) {
     uint i = tile_lights[bin.x + k];
     vec4 spot = u_spotOn != 0 ? light_spot[i] : vec4(0.0, 0.0, 0.0, -1.0);
-    sum += ts_punctual_light(p, kd, ks, light_pos_range[i], light_color[i], spot, u_model,
-                             u_shading, u_specularOn, u_spotOn);
+    vec3 c = ts_punctual_light(p, kd, ks, light_pos_range[i], light_color[i], spot, u_model,
+                               u_shading, u_specularOn, u_spotOn);
+#if TS_HAS_SHADOWS
+    // As the kernels' ts_shade_punctual (kernels/gbuffer.h): sampled only where the light reaches.
+    int first = light_shadow[i];
+    if (first >= 0 && c != vec3(0.0))
+      c *= ts_shadow_factor(0, 0, first, P, N, normalize(light_pos_range[i].xyz - P));
+#endif
+    sum += c;
   }
   vec3 directional = vec3(0.0);
-  for (int k = 0; k < u_dirLightCount; ++k)
-    directional += ts_directional_light(p, kd, ks, dir_light[2 * k].xyz, dir_light[2 * k + 1].xyz,
-                                        u_shading, u_specularOn);
+  for (int k = 0; k < u_dirLightCount; ++k) {
+    vec3 c = ts_directional_light(p, kd, ks, dir_light[2 * k].xyz, dir_light[2 * k + 1].xyz,
+                                  u_shading, u_specularOn);
+#if TS_HAS_SHADOWS
+    int first = dir_light_shadow[k];
+    if (first >= 0 && c != vec3(0.0))
+      c *= ts_shadow_factor(0, 0, first, P, N, dir_light[2 * k].xyz);
+#endif
+    directional += c;
+  }
   atomicAdd(tile_work[tile], bin.y + uint(u_dirLightCount));
   vec3 base = u_baseTerms ? ts_surface_base(ke, c_diff, u_ambient) : vec3(0.0);
   sum += directional + base;

@@ -102,8 +102,8 @@ int main(int argc, char** argv) {
                         "which lights cast shadows: none, all, or N (the N lights of largest "
                         "range); default the scene's own (glTF extras castsShadow). Their "
                         "shadow maps are drawn into one atlas (stats.json shadow_maps, --dump "
-                        "writes it) and every deferred technique shades with them; the forward "
-                        "ones refuse (docs/shadows.md)");
+                        "writes it) and every technique shades with them, the forward ones in "
+                        "their fragment shader (docs/shadows.md)");
   renderCmd
       ->add_option("--shadow-filter", render.shadowFilter,
                    "how shading samples a shadow map: none (one texel's depth comparison), "

@@ -214,24 +214,11 @@ void runRender(const RenderOptions& options) {
   if (info.shadowMaps)
     for (const std::string& note : info.shadowMaps->notes)
       std::cerr << "tileshade: note: " << note << "\n";
-  // The forward techniques (GLSL) have no shadows: never an unshadowed image of a shadowed frame.
-  const bool shadowed = info.shadowCastingLights > 0;
-  const std::vector<std::string> techniques =
-      expandTechniques(options.techniques, info.drawsScene && !shadowed);
+  const std::vector<std::string> techniques = expandTechniques(options.techniques, info.drawsScene);
   // The forward techniques draw the scene: a frame without one (software raster, imported
   // G-buffer) cannot be theirs. Said before any file is written.
   const bool all = std::count(options.techniques.begin(), options.techniques.end(), "all") > 0;
   for (const TechniqueDescription& t : listTechniques()) {
-    if (t.drawsScene && info.drawsScene && shadowed) {
-      if (all)
-        std::cout << "tileshade: --technique all leaves out " << t.name
-                  << " (forward techniques do not shade shadows yet)\n";
-      if (std::count(techniques.begin(), techniques.end(), t.name))
-        throw Error(t.name + ": forward techniques do not shade shadows yet (" +
-                    std::to_string(info.shadowCastingLights) +
-                    " light(s) cast a shadow; docs/shadows.md)");
-      continue;
-    }
     if (!t.drawsScene || info.drawsScene) continue;
     if (all)
       std::cout << "tileshade: --technique all leaves out " << t.name

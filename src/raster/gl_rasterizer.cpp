@@ -60,6 +60,7 @@
 #include "raster/gl_targets.h"
 #include "raster/scene_validation.h"
 #include "shaders/material_planes.h"
+#include "shading/shading_cpu.h"  // TS_SHADOW_FACE_RECORDS (kernels/shadows.h)
 #include "util/error.h"
 
 namespace ts {
@@ -127,8 +128,10 @@ struct Uniforms {
   GLint viewRotation, normalTexture, hasNormalTexture, normalScale;  // programs with normal maps
 };
 
-// The texture unit of a material's normal map (after the material planes' slots).
+// The texture unit of a material's normal map (after the material planes' slots), and of the
+// shadow atlas (the forward shader built with TS_HAS_SHADOWS).
 constexpr int kNormalTextureUnit = TS_TEXTURE_SLOTS;
+constexpr int kShadowAtlasUnit = TS_TEXTURE_SLOTS + 1;
 
 // Looks the uniforms up and points texture slot s at texture unit s (leaves `program` in use).
 Uniforms uniformsOf(GLuint program) {
@@ -175,6 +178,9 @@ enum ForwardStorage {
   kTileBins,
   kTileLights,
   kTileWork,
+  kLightShadow,  // TS_HAS_SHADOWS: the point/spot and directional first faces, the face table
+  kDirectionalShadow,
+  kShadowFaces,
   kForwardStorages
 };
 
@@ -196,8 +202,12 @@ struct GlRasterizer::State {
   GLint maxSize = 0;             // largest width/height the implementation renders
   Uniforms u{};
   // The forward passes (built on first use: they need OpenGL 4.3, the G-buffer pass 3.3).
+  // forwardProgram and fu are the variant in use (selectForward): [0] without shadows, [1] with
+  // TS_HAS_SHADOWS, built on the first frame with a shadow-casting light.
   GLuint forwardProgram = 0, depthProgram = 0;
-  Uniforms fu{}, du{};
+  GLuint forwardVariants[2] = {};
+  Uniforms fu{}, du{}, variantUniforms[2]{};
+  GLuint shadowAtlas = 0;  // R32F texture (tiled_forward.frag says why not a storage buffer)
   // image, pre-pass depth, batch ids
   gl::Targets forwardTargets;  // ensureForwardFramebuffer's three
   GLuint storage[kForwardStorages] = {};
@@ -219,8 +229,10 @@ struct GlRasterizer::State {
     gbufferTargets.release();
     forwardTargets.release();
     shadowTargets.release();
-    if (forwardProgram) {
-      glDeleteProgram(forwardProgram);
+    if (forwardVariants[0]) {
+      for (GLuint variant : forwardVariants)
+        if (variant) glDeleteProgram(variant);
+      if (shadowAtlas) glDeleteTextures(1, &shadowAtlas);
       glDeleteProgram(depthProgram);
       glDeleteBuffers(kForwardStorages, storage);
     }
@@ -415,14 +427,16 @@ struct GlRasterizer::State {
   // ---- Forward passes ----------------------------------------------------------------------
 
   void buildForward() {
-    if (forwardProgram) return;
+    if (forwardVariants[0]) return;
     if (epoxy_gl_version() < 43)
       throw Error("OpenGL " + EglContext::shared().version() +
                   " has no shader storage buffers (OpenGL 4.3), which forward shading needs");
     depthProgram = gl::buildProgram("gbuffer.vert", "depth_only.frag", defines());
     du = uniformsOf(depthProgram);
-    forwardProgram = gl::buildProgram("gbuffer.vert", "tiled_forward.frag", defines());
-    fu = uniformsOf(forwardProgram);
+    forwardVariants[0] = gl::buildProgram("gbuffer.vert", "tiled_forward.frag",
+                                          defines() + "#define TS_HAS_SHADOWS 0\n");
+    variantUniforms[0] = uniformsOf(forwardVariants[0]);
+    selectForward(false);
     glGenBuffers(kForwardStorages, storage);
     if (!timer) glGenQueries(1, &timer);
     gl::checkErrors("setting up the forward programs");
@@ -479,6 +493,22 @@ struct GlRasterizer::State {
         triangles += draws[b].triangles;
       }
     return triangles;
+  }
+
+  // The forward shader with kernels/shadows.h (TS_HAS_SHADOWS), its atlas on kShadowAtlasUnit.
+  void buildShadowForward() {
+    if (forwardVariants[1]) return;
+    forwardVariants[1] = gl::buildProgram("gbuffer.vert", "tiled_forward.frag",
+                                          defines() + "#define TS_HAS_SHADOWS 1\n");
+    variantUniforms[1] = uniformsOf(forwardVariants[1]);
+    glUniform1i(glGetUniformLocation(forwardVariants[1], "u_shadowAtlas"), kShadowAtlasUnit);
+    glGenTextures(1, &shadowAtlas);
+    gl::checkErrors("setting up the forward program with shadows");
+  }
+
+  void selectForward(bool shadows) {
+    forwardProgram = forwardVariants[shadows ? 1 : 0];
+    fu = variantUniforms[shadows ? 1 : 0];
   }
 
   // Colour 0: the shaded image (RGBA32F); colour 1: the pre-pass's linear depth (R32F); colour 2:
@@ -556,6 +586,46 @@ struct GlRasterizer::State {
       }
     storeVector(kDirectional, directional);
     return int(directional.size() / 2);
+  }
+
+  // A frame with shadow-casting lights (the TS_HAS_SHADOWS variant in use): the lights' first
+  // faces, the face table and the atlas, as DeviceFrame::upload gives them to the kernels.
+  // Returns the upload's time (host clock, glFinish after it), 0 without shadows.
+  double uploadShadows(const ViewLights& lights) {
+    if (!lights.hasShadows()) return 0.0;
+    const auto t0 = Clock::now();
+    std::vector<int32_t> first(lights.size()), directionalFirst(lights.directionalCount());
+    for (size_t i = 0; i < first.size(); ++i) first[i] = lights.shadowOf(i);
+    for (size_t k = 0; k < directionalFirst.size(); ++k)
+      directionalFirst[k] = lights.directionalShadowOf(k);
+    storeVector(kLightShadow, first);
+    storeVector(kDirectionalShadow, directionalFirst);
+    storeVector(kShadowFaces, lights.shadowFaces);
+    const size_t texels = lights.shadowAtlas ? lights.shadowAtlas->size() : 0;
+    const int width = lights.shadowAtlasWidth;
+    if (width < 1 || texels == 0 || texels % size_t(width) != 0)
+      throw Error("the shadow atlas does not match its width " + std::to_string(width));
+    const size_t height = texels / size_t(width);
+    GLint maxTexture = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
+    if (width > maxTexture || height > size_t(maxTexture))
+      throw Error("the shadow atlas is " + std::to_string(width) + "x" + std::to_string(height) +
+                  " texels, beyond this OpenGL implementation's texture limit " +
+                  std::to_string(maxTexture) + " (lower --shadow-budget or --shadow-map-size)");
+    glActiveTexture(GLenum(GL_TEXTURE0 + kShadowAtlasUnit));
+    glBindTexture(GL_TEXTURE_2D, shadowAtlas);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    // Row 0 of the atlas is texture row 0: texelFetch's (x, y) is the kernels' y * width + x.
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, width, GLsizei(height), 0, GL_RED, GL_FLOAT,
+                 lights.shadowAtlas->data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+    glActiveTexture(GL_TEXTURE0);  // the unit every other texture binding assumes
+    glFinish();                    // the copy is done before the draw's clock starts
+    gl::checkErrors("uploading the shadow maps");
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   }
 
   // Where the lists are the draws', the tiles only spread the work counters: bins unused (0),
@@ -687,14 +757,29 @@ GlRasterizer::GlRasterizer(const Scene& scene) : state_(std::make_unique<State>(
 
 GlRasterizer::~GlRasterizer() = default;
 
-void GlRasterizer::warmUpForward() {
-  if (state_->forwardProgram) return;
-  state_->buildForward();
+void GlRasterizer::warmUpForward(bool shadows) {
+  if (!state_->forwardVariants[0]) {
+    state_->buildForward();
+    warmUpPasses(ViewLights{});
+  }
+  if (shadows && !state_->forwardVariants[1]) {
+    state_->buildShadowForward();
+    // The same frames with one 1-texel face (never sampled: the light is out of reach), so the
+    // TS_HAS_SHADOWS variant is selected and compiled.
+    ViewLights shadowed;
+    shadowed.shadowFaces.assign(TS_SHADOW_FACE_RECORDS, glm::vec4(0.0f));
+    shadowed.shadowFaces.back() = glm::vec4(1.0f, 1.0f, 0.0f, 0.0f);  // one tap, one face
+    shadowed.shadowAtlas = std::make_shared<const std::vector<float>>(1, 0.0f);
+    shadowed.shadowAtlasWidth = 1;
+    warmUpPasses(shadowed);
+  }
+}
+
+void GlRasterizer::warmUpPasses(const ViewLights& none) {
   // First small frames of each pass: drivers compile shader variants on first use (llvmpipe's
   // JIT: hundreds of ms for the forward shader, again for the EQUAL variant), which belongs to
   // setup, not to the first frame's pass times.
   SceneCamera warmup;
-  const ViewLights none;
   ForwardLighting lighting;
   lighting.lights = &none;
   ForwardLightGrid grid;
@@ -707,8 +792,9 @@ void GlRasterizer::warmUpForward() {
   tiledForward(warmup, 8, 8, lighting, grid, false);
   // forward's blended light pass (a light far away, drawn with the first batch) and
   // forward-single's draw lists.
-  ViewLights one;
+  ViewLights one = none;
   one.addPoint(glm::vec3(0.0f, 0.0f, 1e6f), 1.0f, glm::vec3(1.0f));
+  if (none.hasShadows()) one.shadow.back() = 0;
   lighting.lights = &one;
   IndexLists lists;
   lists.offsets = {0};
@@ -796,7 +882,7 @@ std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int wid
                 " exceeds this OpenGL implementation's limit");
   EglContext::shared().makeCurrent();
   State& s = *state_;
-  warmUpForward();
+  warmUpForward(false);
   s.ensureForwardFramebuffer(width, height);
   s.passState(in);
   const GLenum buffers[2] = {GL_NONE, GL_COLOR_ATTACHMENT1};
@@ -828,7 +914,7 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
       grid.counts.size() != tiles)
     throw Error("tiled forward: the light grid does not match the " + std::to_string(width) + "x" +
                 std::to_string(height) + " frame");
-  State& s = beginForward(width, height);
+  State& s = beginForward(width, height, lighting.lights->hasShadows());
   if (depthEqual && (s.forwardTargets.width != width || s.forwardTargets.height != height))
     throw Error("tiled forward with depth EQUAL needs a depth pre-pass of the same size first");
   s.ensureForwardFramebuffer(width, height);
@@ -844,6 +930,7 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
   s.storeVector(kTileWork, work);
   gl::checkErrors("uploading the lights and the light grid");
   out.uploadMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  out.shadowUploadMs = s.uploadShadows(*lighting.lights);
 
   s.setForwardUniforms(lighting, directionals, {grid.tileW, grid.tileH, grid.tilesX});
   glUniform1i(s.forwardUniform("u_drawList"), 0);
@@ -875,7 +962,7 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
   const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
   if (!lighting.lights || lightBatches.size() != lighting.lights->size())
     throw Error("forward: the lights' batch lists do not match the frame's lights");
-  State& s = beginForward(width, height);
+  State& s = beginForward(width, height, lighting.lights->hasShadows());
   s.checkLists(lightBatches, s.draws.size(), "a light's batch list");
   s.ensureForwardFramebuffer(width, height);
 
@@ -890,6 +977,7 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
   const size_t tiles = s.uploadWorkTiles(width, height);
   gl::checkErrors("uploading the lights");
   out.uploadMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  out.shadowUploadMs = s.uploadShadows(*lighting.lights);
 
   const int workTilesX = (width + kWorkTile - 1) / kWorkTile;
   s.setForwardUniforms(lighting, directionals, {kWorkTile, kWorkTile, workTilesX});
@@ -951,8 +1039,9 @@ ForwardImage GlRasterizer::singlePassForward(const SceneCamera& camera, int widt
                                              const ForwardLighting& lighting,
                                              const IndexLists& batchLights) {
   const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
-  State& s = beginForward(width, height);
-  if (!lighting.lights || batchLights.size() != s.draws.size())
+  if (!lighting.lights) throw Error("forward-single: no lights given");
+  State& s = beginForward(width, height, lighting.lights->hasShadows());
+  if (batchLights.size() != s.draws.size())
     throw Error("forward-single: the batches' light lists do not match the scene's " +
                 std::to_string(s.draws.size()) + " draw batches");
   s.checkLists(batchLights, lighting.lights->size(), "a batch's light list");
@@ -965,6 +1054,7 @@ ForwardImage GlRasterizer::singlePassForward(const SceneCamera& camera, int widt
   const size_t tiles = s.uploadWorkTiles(width, height);
   gl::checkErrors("uploading the lights and the batch lists");
   out.uploadMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  out.shadowUploadMs = s.uploadShadows(*lighting.lights);
 
   const int workTilesX = (width + kWorkTile - 1) / kWorkTile;
   s.setForwardUniforms(lighting, directionals, {kWorkTile, kWorkTile, workTilesX});
@@ -1003,12 +1093,14 @@ std::vector<ViewBox> GlRasterizer::batchBoxes(const SceneCamera& camera) const {
 
 size_t GlRasterizer::batchCount() const { return state_->draws.size(); }
 
-GlRasterizer::State& GlRasterizer::beginForward(int width, int height) {
+GlRasterizer::State& GlRasterizer::beginForward(int width, int height, bool shadows) {
   if (width > state_->maxSize || height > state_->maxSize)
     throw Error("--raster gl: " + std::to_string(width) + "x" + std::to_string(height) +
                 " exceeds this OpenGL implementation's limit");
   EglContext::shared().makeCurrent();
-  warmUpForward();
+  warmUpForward(shadows);
+  // The frame's variant: with kernels/shadows.h only when a light casts a shadow.
+  state_->selectForward(shadows);
   return *state_;
 }
 

@@ -25,7 +25,8 @@ namespace ts {
 
 // What a forward pass shades with, as the kernels get it.
 struct ForwardLighting {
-  const ViewLights* lights = nullptr;  // view space
+  const ViewLights* lights = nullptr;  // view space; with shadow maps where some light casts
+                                       // one (sampled by kernels/shadows.h as GLSL)
   glm::vec3 ambient{0.0f};
   SceneFeatures features;  // features.model: the materials' terms (RasterOptions::model)
   int rangeModel = 0;      // TS_MODEL_* (kernels/shading.h)
@@ -91,10 +92,14 @@ class GlRasterizer {
 
  private:
   void warmUpShadows();  // builds the shadow-map program on first use, then a first small face
-  void warmUpForward();  // builds the forward programs on first use, then a first small frame
+  // Builds the forward programs on first use (the TS_HAS_SHADOWS variant on the first frame with
+  // shadows), then first small frames of each pass (warmUpPasses, with `none`'s shadow tables).
+  void warmUpForward(bool shadows);
+  void warmUpPasses(const ViewLights& none);
   struct State;
-  // The checks and setup every forward pass starts with (size limit, context, warm-up).
-  State& beginForward(int width, int height);
+  // The checks and setup every forward pass starts with (size limit, context, warm-up), and the
+  // program variant for a frame with or without shadow-casting lights.
+  State& beginForward(int width, int height, bool shadows);
   std::unique_ptr<State> state_;
   double setupMs_ = 0.0;
 };

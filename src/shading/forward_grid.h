@@ -22,6 +22,9 @@ struct ForwardImage {
   double drawMs = 0.0;           // the draw: host wall clock, glFinish before and after
   double queryMs = 0.0;   // the same draw by an OpenGL timer query (llvmpipe: submission only)
   double uploadMs = 0.0;  // lights and grid into shader storage (host clock)
+  // The shadow maps (first faces, face table, atlas texture) into OpenGL: host clock, glFinish
+  // after; 0 for a frame without shadow-casting lights.
+  double shadowUploadMs = 0.0;
   uint64_t lightingComputations = 0;  // fragment invocations x lights evaluated (an atomic
                                       // counter per tile in the fragment shader)
   // Multi-pass forward: its base pass apart (drawMs and queryMs are then its light passes), and

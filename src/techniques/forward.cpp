@@ -36,6 +36,7 @@ class ForwardTechnique : public Technique {
                       {"upload", drawn.uploadMs, 1},
                       {"base", drawn.baseMs, 1},
                       {"light_passes", drawn.drawMs, int(drawn.passes)}};
+    addShadowUploadRow(*frame.lights, drawn, result.kernels);
     for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
     result.image = drawn.image;
     // The paper's count: fragment shader invocations x lights evaluated, from the shader's own

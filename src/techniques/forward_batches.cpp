@@ -31,6 +31,11 @@ void setBatchListCounters(const IndexLists& batchLights, WorkCounters& counters)
   counters.listMean = double(batchLights.items.size()) / double(batchLights.size());
 }
 
+void addShadowUploadRow(const ViewLights& lights, const ForwardImage& drawn,
+                        std::vector<KernelTime>& kernels) {
+  if (lights.hasShadows()) kernels.push_back({"shadow_upload", drawn.shadowUploadMs, 1});
+}
+
 LightAssignment batchAssignment(const IndexLists& batchLights, const ForwardImage& drawn) {
   LightAssignment a;
   a.binOffset = batchLights.offsets;

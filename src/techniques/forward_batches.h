@@ -21,6 +21,11 @@ IndexLists findBatchLights(ForwardScene& scene, const ViewLights& lights, double
 // The lists' lengths as WorkCounters' list statistics (lights per batch).
 void setBatchListCounters(const IndexLists& batchLights, WorkCounters& counters);
 
+// A frame with shadow-casting lights: the maps' upload into OpenGL, its own row (shadow_upload,
+// like tiled forward's grid_copy) after the others; nothing without shadows.
+void addShadowUploadRow(const ViewLights& lights, const ForwardImage& drawn,
+                        std::vector<KernelTime>& kernels);
+
 // Bins = batches, each pixel in the bin of the batch whose surface it shows.
 LightAssignment batchAssignment(const IndexLists& batchLights, const ForwardImage& drawn);
 

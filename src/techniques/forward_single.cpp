@@ -26,6 +26,7 @@ class ForwardSingleTechnique : public Technique {
     FrameResult result;
     result.kernels = {
         {"batch_lists", listMs, 1}, {"upload", drawn.uploadMs, 1}, {"forward", drawn.drawMs, 1}};
+    addShadowUploadRow(*frame.lights, drawn, result.kernels);
     for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
     result.image = drawn.image;
     // Fragment shader invocations x (its batch's list + directional lights), overdrawn fragments

@@ -91,14 +91,10 @@ std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& c
                 std::to_string(config.lanes));
   std::unique_ptr<Technique> technique = info.create(cl, resolved);
   technique->features_ = resolved.features;
-  technique->drawsScene_ = info.drawsScene;
   return technique;
 }
 
 FrameResult Technique::render(DeviceFrame& frame, const FrameRequest& request) {
-  // Never an unshadowed image where a light casts a shadow: the GLSL passes have no shadows.h.
-  if (drawsScene_ && frame.lights->hasShadows())
-    throw Error("technique '" + name() + "': forward techniques do not shade shadows yet");
   checkFrameFeatures(features_, frame);
   return renderFrame(frame, request);
 }

@@ -69,6 +69,7 @@ class TiledForwardTechnique : public Technique {
     if (prez_) result.kernels.push_back({"depth_prepass", prepassMs, 1});
     result.kernels.push_back({"grid_copy", readMs + drawn.uploadMs, 1});
     result.kernels.push_back({"forward", drawn.drawMs, 1});
+    addShadowUploadRow(*frame.lights, drawn, result.kernels);
     result.totalMs = 0.0;
     for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
     result.image = drawn.image;

@@ -131,27 +131,32 @@ TEST(ShadowMapsCli, BadOptionsFailWithOneLine) {
   }
 }
 
-// The forward techniques (GLSL) shade no shadows: named, they are refused before any file is
-// written; `all` leaves them out with a line, and renders the others.
-TEST(ShadowMapsCli, ForwardTechniquesRefuseShadowCastingLights) {
+// The forward techniques shade shadows too (kernels/shadows.h as GLSL): `all` with --raster gl
+// renders every technique of a shadowed frame, and --check holds each forward image within 1e-4
+// of the reference that samples the same maps, 0 missed, with the maps' upload as its own row.
+TEST(ShadowMapsCli, ForwardTechniquesShadeShadowCastingLights) {
   if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
   REQUIRE_GL();
   const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_forward";
   std::filesystem::remove_all(tmp);
-  CliRun r =
-      runTileshade(kFrame + "--raster gl --technique forward --shadows 2 --out " + tmp.string());
-  EXPECT_NE(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("error: forward: forward techniques do not shade shadows yet"),
-            std::string::npos)
-      << r.output;
-  EXPECT_FALSE(std::filesystem::exists(tmp));
-  r = runTileshade(kFrame + "--raster gl --technique all --shadows 2 --out " + tmp.string());
+  const CliRun r = runTileshade(kFrame + "--raster gl --technique all --shadows 2 --check --out " +
+                                tmp.string());
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("leaves out forward-single (forward techniques do not shade shadows"),
-            std::string::npos)
-      << r.output;
-  EXPECT_TRUE(std::filesystem::exists(tmp / "tiled" / "image.exr"));
-  EXPECT_FALSE(std::filesystem::exists(tmp / "forward"));
+  EXPECT_EQ(r.output.find("leaves out"), std::string::npos) << r.output;
+  const nlohmann::json stats = nlohmann::json::parse(std::ifstream(tmp / "stats.json"));
+  size_t forward = 0;
+  for (const auto& t : stats["techniques"]) {
+    const std::string name = t["technique"];
+    EXPECT_TRUE(std::filesystem::exists(tmp / name / "image.exr")) << name;
+    EXPECT_LE(t["error"]["max_rel_peak"].get<double>(), 1e-4) << name;
+    EXPECT_EQ(t["missed_contributions"], 0) << name;
+    bool upload = false;
+    for (const auto& k : t["kernels"]) upload = upload || k["name"] == "shadow_upload";
+    const bool drawsScene = name.rfind("forward") != std::string::npos;
+    EXPECT_EQ(upload, drawsScene) << name;
+    forward += drawsScene;
+  }
+  EXPECT_EQ(forward, 4u);
 }
 
 // A G-buffer dumped with shadow-casting lights, imported: shaded with the maps it carries (the
