@@ -225,10 +225,10 @@ int main(int argc, char** argv) {
                       "gbuffer.json (the descriptor --gbuffer-in reads); with shadow-casting "
                       "lights, shadow_atlas.exr and shadow_atlas.json");
   // An imported G-buffer brings its own scene, size, frame, lights and shading model.
-  for (const char* name :
-       {"--lights", "--light-count", "--light-range", "--light-threshold", "--seed", "--width",
-        "--height", "--frame", "--variant", "--normal-maps", "--shadows", "--shadow-map-size",
-        "--shadow-budget", "--shadow-filter", "--shadow-bias", "--blend", "--shading-model"})
+  for (const char* name : {"--lights", "--light-count", "--light-range", "--light-threshold",
+                           "--seed", "--width", "--height", "--frame", "--variant", "--normal-maps",
+                           "--shadows", "--shadow-map-size", "--shadow-budget", "--shadow-filter",
+                           "--shadow-bias", "--shadow-storage", "--blend", "--shading-model"})
     gbufferInOpt->excludes(renderCmd->get_option(name));
   gbufferInOpt->excludes(sceneOpt);
   gbufferInOpt->excludes(rasterOpt);

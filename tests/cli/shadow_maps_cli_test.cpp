@@ -255,6 +255,13 @@ TEST(ShadowMapsCli, PerLightStorageGivesTheAtlasImageWithLessResident) {
   EXPECT_NE(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("--shadow-storage: expected one of atlas, per-light"), std::string::npos)
       << r.output;
+  // An imported G-buffer has no geometry to draw maps from: the option does not apply.
+  r = runTileshade("render --device cpu --gbuffer-in " + (tmp / "none").string() +
+                   " --shadow-storage per-light --technique deferred --out " +
+                   (tmp / "imported").string());
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("--shadow-storage"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(tmp / "imported"));
 }
 
 }  // namespace
