@@ -156,6 +156,8 @@ const std::map<std::string, TechniqueKnob>& techniqueKnobs() {
       {"lanes", [](S& s, py::handle v, const std::string& n) { s.lanes = countOrText(v, n); }},
       {"extra_build_options",
        [](S& s, py::handle v, const std::string& n) { s.extraBuildOptions = textValue(v, n); }},
+      {"shadow_storage",
+       [](S& s, py::handle v, const std::string& n) { s.shadowStorage = textValue(v, n); }},
   };
   return knobs;
 }
@@ -245,6 +247,7 @@ py::dict settingsDict(const ts::Settings& s) {
   d["math"] = s.math;
   d["lanes"] = s.lanes;
   d["extra_build_options"] = s.extraBuildOptions;
+  d["shadow_storage"] = s.shadowStorage;
   return d;
 }
 

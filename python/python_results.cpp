@@ -139,6 +139,17 @@ py::dict resultStats(const ts::ShadeResult& r) {
   d["nonfinite_pixels"] = r.nonfinitePixels;
   d["check"] = checkDict(r.check);
   d["kernel_options"] = r.kernelOptions;
+  if (r.shadowUse) {
+    py::dict s;
+    s["passes"] = r.shadowUse->passes;
+    s["draw_ms"] = r.shadowUse->drawMs;
+    s["resident_bytes"] = r.shadowUse->residentBytes;
+    s["written_bytes"] = r.shadowUse->writtenBytes;
+    s["triangles_drawn"] = r.shadowUse->trianglesDrawn;
+    d["shadow_use"] = s;
+  } else {
+    d["shadow_use"] = py::none();
+  }
   return d;
 }
 

@@ -70,7 +70,8 @@ int main(int argc, char** argv) {
   std::string tile = "16", format = ts::toString(render.format),
               raster = ts::toString(render.raster), culling = ts::toString(render.culling),
               spotCulling = ts::toString(render.spotCulling), math = ts::toString(render.math),
-              lanes = ts::lanesName(render.lanes);
+              lanes = ts::lanesName(render.lanes),
+              shadowStorage = ts::toString(render.shadowStorage);
   auto* renderCmd = app.add_subcommand("render", "render one frame with one or more techniques");
   auto* sceneOpt = renderCmd
                        ->add_option("--scene", render.scene,
@@ -125,6 +126,11 @@ int main(int argc, char** argv) {
   renderCmd
       ->add_option("--shadow-budget", render.shadowBudgetMB,
                    "the shadow atlas's memory budget in MB (MiB), > 0 and <= 4096")
+      ->capture_default_str();
+  renderCmd
+      ->add_option("--shadow-storage", shadowStorage,
+                   "where the shadow maps live while shading: " + ts::shadowStorageNames().help() +
+                       "; the other techniques refuse per-light (docs/shadows.md)")
       ->capture_default_str();
   std::string blend = "refuse";
   renderCmd
@@ -219,10 +225,10 @@ int main(int argc, char** argv) {
                       "gbuffer.json (the descriptor --gbuffer-in reads); with shadow-casting "
                       "lights, shadow_atlas.exr and shadow_atlas.json");
   // An imported G-buffer brings its own scene, size, frame, lights and shading model.
-  for (const char* name :
-       {"--lights", "--light-count", "--light-range", "--light-threshold", "--seed", "--width",
-        "--height", "--frame", "--variant", "--normal-maps", "--shadows", "--shadow-map-size",
-        "--shadow-budget", "--shadow-filter", "--shadow-bias", "--blend", "--shading-model"})
+  for (const char* name : {"--lights", "--light-count", "--light-range", "--light-threshold",
+                           "--seed", "--width", "--height", "--frame", "--variant", "--normal-maps",
+                           "--shadows", "--shadow-map-size", "--shadow-budget", "--shadow-filter",
+                           "--shadow-bias", "--shadow-storage", "--blend", "--shading-model"})
     gbufferInOpt->excludes(renderCmd->get_option(name));
   gbufferInOpt->excludes(sceneOpt);
   gbufferInOpt->excludes(rasterOpt);
@@ -272,6 +278,8 @@ int main(int argc, char** argv) {
       render.spotCulling = ts::spotCullingNames().parseOption("--spot-culling", spotCulling);
       render.math = ts::mathModeNames().parseOption("--math", math);
       render.lanes = ts::laneNames().parseOption("--lanes", lanes);
+      render.shadowStorage =
+          ts::shadowStorageNames().parseOption("--shadow-storage", shadowStorage);
       render.normalMaps = normalMaps == "on";
       render.blend = ts::blendPolicyNames().parseOption("--blend", blend);
       render.keepInputLayout = gbufferOpt->count() == 0;

@@ -260,6 +260,9 @@ struct TechniqueDescription {
   // It draws the scene itself (the forward family, docs/techniques.md): it shades only frames
   // whose FrameInfo::drawsScene is true, and refuses (ts::Error) the others.
   bool drawsScene = false;
+  // It shades one light per pass and so can reuse one small shadow atlas per light
+  // (Settings::shadowStorage "per-light"; deferred, deferred-stencil).
+  bool reusesShadowMaps = false;
 };
 std::vector<TechniqueDescription> listTechniques();
 
@@ -274,6 +277,10 @@ struct Settings {
   std::string math = "precise";   // precise, fast, native
   std::string lanes = "auto";     // auto, 1, 2, 4, 8, 16
   std::string extraBuildOptions;  // appended to the OpenCL build options
+  // Where the shadow maps live: "atlas" (the frame's, every map resident) or "per-light" (only
+  // techniques with TechniqueDescription::reusesShadowMaps: each light's maps drawn into one
+  // reused atlas just before its pass; ShadeResult::shadowUse). docs/shadows.md.
+  std::string shadowStorage = "atlas";
 };
 
 struct KernelTiming {
@@ -311,6 +318,15 @@ struct CheckReport {
   double referencePeak = 0.0;  // the reference's largest channel value (non-finite ones too)
 };
 
+// The shadow maps a renderer drew itself during the frame (Settings::shadowStorage per-light).
+struct ShadowUse {
+  int passes = 0;               // map draws: the directional lights' together, one per light
+  double drawMs = 0.0;          // drawing them on the host, summed (not in totalMs)
+  uint64_t residentBytes = 0;   // the reused atlas on the device (the largest pass's maps)
+  uint64_t writtenBytes = 0;    // written to it over the frame
+  uint64_t trianglesDrawn = 0;  // over every pass's faces
+};
+
 struct ShadeResult {
   std::string technique;
   int width = 0, height = 0;
@@ -320,8 +336,9 @@ struct ShadeResult {
   int lanes = 1;         // as it ran
   Counters counters;
   uint64_t nonfinitePixels = 0;
-  std::optional<CheckReport> check;  // when ShadeOptions::check
-  std::string kernelOptions;         // the OpenCL build options of its kernels
+  std::optional<CheckReport> check;    // when ShadeOptions::check
+  std::string kernelOptions;           // the OpenCL build options of its kernels
+  std::optional<ShadowUse> shadowUse;  // per-light shadow storage on a frame with casters
 };
 
 struct ShadeOptions {

@@ -259,6 +259,27 @@ def test_unknown_or_mistyped_keywords_name_the_knob(device):
         tileshade.Renderer(device, "tiled", culling="no-such-test")
 
 
+def test_shadow_storage_per_light_is_for_traditional_deferred(device):
+    # Where the shadow maps live (docs/shadows.md): per-light is refused by a technique that
+    # needs every map resident, taken by deferred; a frame without casters draws none.
+    with pytest.raises(tileshade.Error) as caught:
+        tileshade.Renderer(device, "tiled", shadow_storage="per-light")
+    assert "needs every map resident" in str(caught.value)
+    with pytest.raises(tileshade.Error, match=r"--shadow-storage"):
+        tileshade.Renderer(device, "deferred", shadow_storage="per-tile")
+    renderer = tileshade.Renderer(device, "deferred", shadow_storage="per-light")
+    assert renderer.settings["shadow_storage"] == "per-light"
+    p = plane_gbuffer()
+    camera = tileshade.Camera.perspective(W, H, 0.9, 0.1, 100.0)
+    lights = [tileshade.Light.point([0.5, 0.3, -4.0], [2, 2, 2], 6.0)]
+    frame = tileshade.Frame.from_numpy(device, p["depth"], p["normal"], p["diffuse"],
+                                       p["specular"], camera=camera, lights=lights)
+    result = renderer.shade(frame)
+    assert result.stats()["shadow_use"] is None
+    np.testing.assert_array_equal(result.image, tileshade.Renderer(device, "deferred")
+                                  .shade(frame).image)
+
+
 def test_bench_returns_rows_with_numbers(tmp_path):
     config = {"scene": "builtin:street", "resolution": f"{W}x{H}", "light_count": 20,
               "technique": ["tiled", "clustered"], "frames": "1", "warmup": 0, "repeat": 1}

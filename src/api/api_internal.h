@@ -64,6 +64,8 @@ struct Frame::Impl {
   std::unique_ptr<SceneRasterizer> rasterizer;
   std::unique_ptr<ForwardScene> forward;
   std::shared_ptr<const ShadowAtlas> shadowAtlas;  // Frame::fromScene with shadow casters
+  // Its maps one light at a time, for per-light shadow storage (onDevice.perLightShadows).
+  std::unique_ptr<PerLightShadowMaps> perLightShadows;
 
   // Frame::fromDevice: reads the caller's planes back (for the reference and for dump).
   void readHostPlanes();

@@ -75,6 +75,10 @@ std::shared_ptr<Frame::Impl> uploaded(Device& device, RenderInput input) {
   impl->rasterizer = std::move(input.rasterizer);
   impl->forward = std::move(input.forward);
   impl->shadowAtlas = std::move(input.shadowAtlas);
+  if (impl->shadowAtlas && impl->scene)
+    impl->perLightShadows =
+        std::make_unique<PerLightShadowMaps>(*impl->scene, impl->shadowAtlas->layout);
+  impl->onDevice.perLightShadows = impl->perLightShadows.get();
   impl->onDevice.forward = impl->forward.get();
   impl->info.drawsScene = impl->forward != nullptr;
   return impl;

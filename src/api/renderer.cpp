@@ -72,6 +72,9 @@ Renderer::Renderer(Device& device, const Settings& s) : impl_(std::make_unique<I
   c.math = mathModeNames().parseOption("--math", s.math);
   c.lanes = laneNames().parseOption("--lanes", s.lanes);
   c.buildOptions = s.extraBuildOptions;
+  c.shadowStorage = shadowStorageNames().parseOption("--shadow-storage", s.shadowStorage);
+  if (c.shadowStorage == ShadowStorage::PerLight && !findTechnique(s.technique).reusesShadowMaps)
+    throw Error(shadowStorageRefusal(s.technique));
 }
 
 Renderer::~Renderer() = default;
@@ -113,6 +116,10 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
     out.counters.listMean = c.listMean;
     out.counters.notes = c.notes;
     out.nonfinitePixels = countNonFinitePixels(r.image);
+    if (r.shadowUse)
+      out.shadowUse =
+          ShadowUse{r.shadowUse->passes, r.shadowUse->drawMs, r.shadowUse->residentBytes,
+                    r.shadowUse->writtenBytes, r.shadowUse->trianglesDrawn};
     const TechniqueConfig config = impl_->configFor(frame);
     out.kernelOptions = config.kernelOptions();
     if (options.check) {
@@ -140,7 +147,7 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
 std::vector<TechniqueDescription> listTechniques() {
   std::vector<TechniqueDescription> out;
   for (const TechniqueInfo& t : techniqueRegistry())
-    out.push_back({t.name, t.description, t.drawsScene});
+    out.push_back({t.name, t.description, t.drawsScene, t.reusesShadowMaps});
   return out;
 }
 

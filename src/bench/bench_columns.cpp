@@ -38,6 +38,7 @@ const std::vector<BenchColumn>& measurementColumns() {
       {"raster_ms", "/raster_ms", Type::Time, true, ""},
       {"shadow_ms", "/shadow_ms", Type::Time, false, ""},
       {"shadow_bytes", "/shadow_bytes", Type::Integer, false, ""},
+      {"shadow_bytes_written", "/shadow_bytes_written", Type::Integer, false, ""},
       {"warmup", "/warmup", Type::Integer, true, ""},
       {"repeat", "/repeat", Type::Integer, true, ""},
       {"lighting_computations", "/lighting_computations", Type::Integer, true, ""},

@@ -176,6 +176,17 @@ std::vector<BenchDimension> makeDimensions() {
       [](const BenchConfig& c) { return std::to_string(c.shadowMapSize); });
   d.back().keyedOffDefault = true;
   add(
+      "shadow_budget",
+      "the shadow atlas's memory budget(s) in MB (MiB, > 0 and <= 4096): lights lose resolution "
+      "beyond it, the least important first",
+      true,
+      [](BenchConfig& c, const std::string& v) {
+        c.shadowBudgetMB = double(parseNumber("--shadow-budget", v, NumberRule::AboveZero));
+        checkShadowAtlasOptions({c.shadowMapSize, c.shadowBudgetMB});
+      },
+      [](const BenchConfig& c) { return floatText(float(c.shadowBudgetMB)); });
+  d.back().keyedOffDefault = true;
+  add(
       "shadow_filter", "how shading samples a shadow map: none, pcf2, pcf3, pcf5", true,
       [](BenchConfig& c, const std::string& v) {
         c.shadowFilter = shadowFilterName(parseShadowFilter(trimmed(v)));
@@ -297,6 +308,17 @@ std::vector<BenchDimension> makeDimensions() {
       "lanes", "pixels shaded together per light: " + laneNames().help(), false,
       [](BenchConfig& c, const std::string& v) { c.lanes = laneNames().parseOption("--lanes", v); },
       [](const BenchConfig& c) { return lanesName(c.lanes); });
+  add(
+      "shadow_storage",
+      "where the shadow maps live: " + shadowStorageNames().list() +
+          " (per-light: deferred and deferred-stencil only; the sweep leaves out the other "
+          "techniques' per-light configurations, with a line)",
+      false,
+      [](BenchConfig& c, const std::string& v) {
+        c.shadowStorage = shadowStorageNames().parseOption("--shadow-storage", v);
+      },
+      [](const BenchConfig& c) { return toString(c.shadowStorage); });
+  d.back().keyedOffDefault = true;  // added after bench.csv files existed
   return d;
 }
 
@@ -366,7 +388,7 @@ std::string BenchConfig::id() const {
   return buf;
 }
 
-std::vector<BenchConfig> expandSweep(const BenchSweep& sweep) {
+std::vector<BenchConfig> expandSweep(const BenchSweep& sweep, std::vector<std::string>* notes) {
   for (const auto& [name, list] : sweep.values) findDimension(name);
   // Each dimension's values, each once (" 16" and "16x16" are one tile size), validated; then the
   // size of the product, before any of it is built.
@@ -414,8 +436,23 @@ std::vector<BenchConfig> expandSweep(const BenchSweep& sweep) {
   }
   std::vector<BenchConfig> unique;
   std::set<std::string> seen;
-  for (auto& c : configs)
+  // Per-light shadow storage is for the techniques that shade one light per pass: a sweep of
+  // techniques x storages leaves the others' per-light points out, and says how many.
+  std::map<std::string, size_t> leftOut;
+  for (auto& c : configs) {
+    if (c.shadowStorage == ShadowStorage::PerLight &&
+        !findTechnique(c.technique).reusesShadowMaps) {
+      ++leftOut[c.technique];
+      continue;
+    }
     if (seen.insert(c.key()).second) unique.push_back(std::move(c));
+  }
+  if (unique.empty() && !leftOut.empty()) throw Error(shadowStorageRefusal(leftOut.begin()->first));
+  if (notes)
+    for (const auto& [technique, count] : leftOut)
+      notes->push_back("left out " + std::to_string(count) + " configuration(s) of " + technique +
+                       " with shadow_storage per-light (it shades every light at once and needs "
+                       "every map resident)");
   return unique;
 }
 

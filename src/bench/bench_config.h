@@ -65,7 +65,11 @@ struct BenchSweep {
 // At most kMaxBenchConfigurations configurations (ts::Error beyond: a config file of long lists
 // would otherwise exhaust memory before anything runs).
 constexpr size_t kMaxBenchConfigurations = 100000;
-std::vector<BenchConfig> expandSweep(const BenchSweep& sweep);
+// `notes`, when given, receives a line per technique whose per-light shadow-storage
+// configurations were left out (only deferred and deferred-stencil reuse one map per light; a
+// sweep with nothing else left is refused).
+std::vector<BenchConfig> expandSweep(const BenchSweep& sweep,
+                                     std::vector<std::string>* notes = nullptr);
 
 // parseTileSize, parseResolution and splitList, shared with `render`, are in util/option_values.h.
 

@@ -50,6 +50,8 @@ class BenchScene {
   // The lights with the scene's own ranges (before light_threshold), in the frame's view space:
   // the error reference of every configuration of the scene; with frame.lights' shadow maps.
   ViewLights ownRangeLights(const PreparedFrame& frame) const;
+  // The scene drawn (shadow maps per light); empty for an imported G-buffer.
+  const Scene& scene() const { return scene_; }
 
  private:
   Scene scene_;

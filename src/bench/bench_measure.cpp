@@ -95,13 +95,21 @@ const ReferenceImage& GroupFrame::sceneReference() {
   return *sceneReference_;
 }
 
+const PerLightShadowMaps* GroupFrame::perLightShadows() {
+  if (shadows_ && !perLightShadows_)
+    perLightShadows_ = std::make_unique<PerLightShadowMaps>(scene_.scene(), shadows_->layout);
+  return perLightShadows_.get();
+}
+
 TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFrame& prepared,
-                     ForwardScene* forward, int warmup, int repeat) {
+                     ForwardScene* forward, const PerLightShadowMaps* perLight, int warmup,
+                     int repeat) {
   ClContext& cl = *e.cl;
   auto upload = [&] {
     DeviceFrame df =
         DeviceFrame::upload(cl, enc, prepared.intrinsics, prepared.lights, prepared.ambient);
     df.forward = forward;
+    df.perLightShadows = perLight;
     return df;
   };
   if (!e.warmed) {
@@ -166,8 +174,13 @@ json measurementRow(const BenchEntry& e, const GroupFrame& frame, int f, const E
   row["compile_ms"] = e.compileMs;
   row["raster_ms"] = prepared.rasterMs;
   // Drawn once per frame for the group, like the G-buffer: 0 without a shadow-casting light.
-  row["shadow_ms"] = frame.shadows() ? frame.shadows()->drawMs : 0.0;
-  row["shadow_bytes"] = frame.shadows() ? frame.shadows()->layout.bytes() : uint64_t(0);
+  // Per-light storage: the technique drew the maps itself, light by light (their sum), into one
+  // reused atlas (its bytes: the largest light's maps; written: every drawn light's).
+  const std::optional<FrameShadowUse>& own = m.r.shadowUse;
+  const uint64_t atlasBytes = frame.shadows() ? frame.shadows()->layout.bytes() : uint64_t(0);
+  row["shadow_ms"] = own ? own->drawMs : frame.shadows() ? frame.shadows()->drawMs : 0.0;
+  row["shadow_bytes"] = own ? own->residentBytes : atlasBytes;
+  row["shadow_bytes_written"] = own ? own->writtenBytes : atlasBytes;
   row["features_used"] = e.features.describe();
   row["gbuffer_bytes_per_pixel"] = enc.bytesPerPixel();
   row["kernel_options"] = e.kernelOptions;

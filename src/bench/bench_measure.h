@@ -55,6 +55,9 @@ class GroupFrame {
   ForwardScene* forward() const { return forward_.get(); }
   // Its shadow maps (BenchScene::drawShadows), null without a shadow-casting light.
   const ShadowAtlas* shadows() const { return shadows_.get(); }
+  // The same maps one light at a time, for per-light shadow storage (made at the first call);
+  // null without a shadow-casting light.
+  const PerLightShadowMaps* perLightShadows();
   size_t pixels() const { return pixels_; }
   uint64_t geometryPixels() const { return geometry_; }
 
@@ -73,6 +76,7 @@ class GroupFrame {
   BenchScene& scene_;
   PreparedFrame prepared_;
   std::shared_ptr<const ShadowAtlas> shadows_;
+  std::unique_ptr<PerLightShadowMaps> perLightShadows_;
   std::unique_ptr<ForwardScene> forward_;
   size_t pixels_;
   uint64_t geometry_;
@@ -90,8 +94,11 @@ struct TimedFrame {
 // Renders `repeat` times after the configuration's `warmup` untimed renders (before its first
 // frame only); keeps the median by kernel time (the lower middle one for an even count).
 // forward: the frame's scene to draw (GroupFrame::forward), null for a G-buffer-only frame.
+// perLight: the frame's maps one light at a time (GroupFrame::perLightShadows), for a
+// configuration with per-light shadow storage; else null.
 TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFrame& prepared,
-                     ForwardScene* forward, int warmup, int repeat);
+                     ForwardScene* forward, const PerLightShadowMaps* perLight, int warmup,
+                     int repeat);
 
 // The error of one frame against the references (on the frames --error-frames selects).
 struct FrameErrors {

@@ -105,7 +105,9 @@ class BenchRunner {
 };
 
 void BenchRunner::selectConfigurations() {
-  std::vector<BenchConfig> configs = expandSweep(o_.sweep);
+  std::vector<std::string> notes;
+  std::vector<BenchConfig> configs = expandSweep(o_.sweep, &notes);
+  for (const std::string& note : notes) log_ << "bench: " << note << "\n";
   result_.configurations = configs.size();
   sweep_ =
       sweepRecord(o_.sweep, configs,
@@ -395,7 +397,10 @@ void BenchRunner::measureFrame(const std::vector<BenchEntry*>& group, BenchScene
 json BenchRunner::measure(BenchEntry& e, GroupFrame& frame, int f) {
   const EncodedGBuffer& enc = frame.encoded(e.config.format, e.features);
   TechniqueConfig tc = e.config.techniqueConfig(e.features);
-  TimedFrame m = timeFrame(e, enc, frame.prepared(), frame.forward(), o_.warmup, o_.repeat);
+  const PerLightShadowMaps* perLight =
+      e.config.shadowStorage == ShadowStorage::PerLight ? frame.perLightShadows() : nullptr;
+  TimedFrame m =
+      timeFrame(e, enc, frame.prepared(), frame.forward(), perLight, o_.warmup, o_.repeat);
   FrameErrors errors;
   if (e.errorFrames.count(f)) errors = measureErrors(e, frame, enc, tc, m.r.image);
   return measurementRow(e, frame, f, enc, m, errors, o_.warmup, o_.repeat);

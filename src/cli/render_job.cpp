@@ -115,6 +115,18 @@ nlohmann::json shadowMapsJson(const FrameInfo& info, const RenderOptions& o) {
           {"notes", s.notes}};
 }
 
+// A technique's record of the maps it drew itself (per-light storage), null where it sampled the
+// frame's atlas (shadow_maps) or no light casts a shadow.
+nlohmann::json shadowUseJson(const ShadeResult& r) {
+  if (!r.shadowUse) return nullptr;
+  const ShadowUse& s = *r.shadowUse;
+  return {{"passes", s.passes},
+          {"draw_ms", s.drawMs},
+          {"resident_bytes", s.residentBytes},
+          {"written_bytes", s.writtenBytes},
+          {"triangles_drawn", s.trianglesDrawn}};
+}
+
 std::string kernelSummary(const ShadeResult& r) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(3);
@@ -167,6 +179,7 @@ Settings settingsOf(const RenderOptions& o, const std::string& technique) {
   s.depthSplit = o.depthSplit;
   s.math = toString(o.math);
   s.lanes = lanesName(o.lanes);
+  s.shadowStorage = toString(o.shadowStorage);
   return s;
 }
 
@@ -214,7 +227,20 @@ void runRender(const RenderOptions& options) {
   if (info.shadowMaps)
     for (const std::string& note : info.shadowMaps->notes)
       std::cerr << "tileshade: note: " << note << "\n";
-  const std::vector<std::string> techniques = expandTechniques(options.techniques, info.drawsScene);
+  std::vector<std::string> techniques = expandTechniques(options.techniques, info.drawsScene);
+  // Per-light shadow storage: `all` means the techniques that can reuse one map per light; one
+  // named explicitly that cannot is refused below (Renderer), before any file.
+  if (options.shadowStorage == ShadowStorage::PerLight)
+    for (const TechniqueDescription& t : listTechniques()) {
+      const bool named =
+          std::count(options.techniques.begin(), options.techniques.end(), t.name) > 0;
+      auto it = std::find(techniques.begin(), techniques.end(), t.name);
+      if (t.reusesShadowMaps || named || it == techniques.end()) continue;
+      std::cout << "tileshade: --technique all leaves out " << t.name
+                << " (--shadow-storage per-light: it shades every light at once and needs every "
+                   "map resident)\n";
+      techniques.erase(it);
+    }
   // The forward techniques draw the scene: a frame without one (software raster, imported
   // G-buffer) cannot be theirs. Said before any file is written.
   const bool all = std::count(options.techniques.begin(), options.techniques.end(), "all") > 0;
@@ -329,6 +355,7 @@ void runRender(const RenderOptions& options) {
     if (errorShading) results.back()["error_shading"] = errorJson(*errorShading);
     if (errorPhysical) results.back()["error_vs_physical"] = errorJson(*errorPhysical);
     if (errorVsExact) results.back()["error_vs_exact"] = errorJson(*errorVsExact);
+    results.back()["shadow_use"] = shadowUseJson(r);
 
     auto relPeak = [](const std::optional<ErrorStats>& e) {
       std::ostringstream text;
@@ -347,6 +374,12 @@ void runRender(const RenderOptions& options) {
       table << "    vs exact visibility (the perfect shadow): max err/peak "
             << relPeak(errorVsExact) << ", rmse " << std::scientific << std::setprecision(2)
             << errorVsExact->rmse << std::defaultfloat << "\n";
+    if (r.shadowUse)
+      table << "    shadow maps per light: " << r.shadowUse->passes << " pass(es), " << std::fixed
+            << std::setprecision(1) << r.shadowUse->drawMs << " ms drawing, "
+            << double(r.shadowUse->residentBytes) / double(1 << 20) << " MB resident, "
+            << double(r.shadowUse->writtenBytes) / double(1 << 20) << " MB written"
+            << std::defaultfloat << "\n";
     for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
     if (r.nonfinitePixels)
       table << "    note: " << r.nonfinitePixels
@@ -377,6 +410,7 @@ void runRender(const RenderOptions& options) {
       {"blend", toString(o.blend)},
       {"shadow_casting_lights", info.shadowCastingLights},
       {"shadow_maps", shadowMapsJson(info, o)},
+      {"shadow_storage", toString(o.shadowStorage)},
       {"exact_visibility", exact ? exact->stats : nlohmann::json(nullptr)},
       {"geometry_pixels", info.geometryPixels},
       {"tile", {o.tileWidth, o.tileHeight}},

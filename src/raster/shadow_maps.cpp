@@ -121,14 +121,23 @@ bool touchesFace(const Bounds& world, const ShadowFace& face) {
 
 ShadowAtlas drawShadowAtlas(const Scene& scene, ShadowAtlasLayout layout, int threads) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (layout.faces.empty()) return drawShadowAtlas(scene, {}, std::move(layout), threads);
+  validateForRaster(scene);
+  ShadowAtlas atlas = drawShadowAtlas(scene, drawBatches(scene), std::move(layout), threads);
+  atlas.drawMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return atlas;
+}
+
+ShadowAtlas drawShadowAtlas(const Scene& scene, const std::vector<DrawBatch>& batches,
+                            ShadowAtlasLayout layout, int threads) {
+  const auto t0 = std::chrono::steady_clock::now();
   ShadowAtlas atlas;
   atlas.layout = std::move(layout);
   const ShadowAtlasLayout& l = atlas.layout;
   atlas.depth.assign(size_t(l.width) * size_t(l.height), 0.0f);
   atlas.faceTriangles.assign(l.faces.size(), 0);
   if (!l.faces.empty()) {
-    validateForRaster(scene);
-    const std::vector<DrawBatch> batches = drawBatches(scene);
     const int workers =
         threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
     auto draw = [&](size_t k, std::vector<uint32_t>& triangles, int faceThreads) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "raster/draw_batches.h"
 #include "raster/shadow_atlas.h"
 #include "scene/scene.h"
 #include "shading/view_lights.h"
@@ -33,6 +34,10 @@ struct ShadowAtlas {
 // Draws every face of `layout` (planned for this scene's lights). threads: 0 = all hardware
 // threads; the same atlas for any count. Throws ts::Error for a scene the rasterizer refuses.
 ShadowAtlas drawShadowAtlas(const Scene& scene, ShadowAtlasLayout layout, int threads = 0);
+// The same with the scene's draw batches (drawBatches of a scene that passed validateForRaster)
+// given: for callers that draw many layouts of one scene (raster/per_light_shadows.h).
+ShadowAtlas drawShadowAtlas(const Scene& scene, const std::vector<DrawBatch>& batches,
+                            ShadowAtlasLayout layout, int threads = 0);
 
 // How the maps are sampled (kernels/shadows.h; docs/shadows.md): --shadow-filter's taps a side
 // (1: none, one texel's comparison; 2, 3, 5: pcfN, N x N comparisons averaged) and --shadow-bias

@@ -14,6 +14,7 @@ TechniqueConfig PipelineOptions::techniqueConfig(const SceneFeatures& sceneFeatu
   t.depthSplit = depthSplit;
   t.math = math;
   t.lanes = lanes;
+  t.shadowStorage = shadowStorage;
   return t;
 }
 

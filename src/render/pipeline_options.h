@@ -28,10 +28,11 @@ struct PipelineOptions {
                                 // "" = none
   bool normalMaps = true;       // the scene's normal maps applied (--normal-maps)
   std::string shadows;          // shadow-casting lights (--shadows; shadow_casters.h)
-  int shadowMapSize = kDefaultShadowMapSize;       // --shadow-map-size (shadow_atlas.h)
-  double shadowBudgetMB = kDefaultShadowBudgetMB;  // --shadow-budget, MiB
-  std::string shadowFilter = "none";               // --shadow-filter (shadow_maps.h)
-  std::string shadowBias = "1.5,1.5";              // --shadow-bias CONSTANT,SLOPE
+  int shadowMapSize = kDefaultShadowMapSize;           // --shadow-map-size (shadow_atlas.h)
+  double shadowBudgetMB = kDefaultShadowBudgetMB;      // --shadow-budget, MiB
+  std::string shadowFilter = "none";                   // --shadow-filter (shadow_maps.h)
+  std::string shadowBias = "1.5,1.5";                  // --shadow-bias CONSTANT,SLOPE
+  ShadowStorage shadowStorage = ShadowStorage::Atlas;  // --shadow-storage (technique_knobs.h)
   BlendPolicy blend = BlendPolicy::Refuse;  // alphaMode BLEND materials (--blend; scene_loader.h)
   std::string shadingModel = "auto";        // auto (the scene's own) or a shadingModelNames() name
   std::string features = "auto";            // auto (the scene's needs), general, or a list

@@ -21,7 +21,15 @@
 //                         other planes and the accumulation value only inside the sphere
 //   listMin/Mean/Max      0: there are no bins (lights are applied per rectangle)
 // The light assignment is the rectangle per light (pixelBin empty).
+//
+// Shadow storage (TechniqueConfig::shadowStorage, docs/shadows.md): with the atlas, every pass
+// samples the frame's one atlas; with per-light, the technique draws the maps itself
+// (DeviceFrame::perLightShadows): the directional lights' before the base pass, each point or
+// spot light's just before its launch, each into the one reused device buffer (a blocking write:
+// the in-order queue lets the previous launch finish reading it first, while the host draws the
+// next light's maps). A light whose rectangle misses the screen has no launch and draws no map.
 #include <algorithm>
+#include <chrono>
 
 #include "shading/shading_cpu.h"
 #include "cl/kernel_args.h"
@@ -113,9 +121,14 @@ class DeferredTechnique : public Technique {
       rects[i] = lightRectangle(*frame.lights, i, frame.camera, int(config_.spotCulling));
 
     timer_.clear();
+    shadowUse_.reset();
+    if (config_.shadowStorage == ShadowStorage::PerLight && config_.features.shadows &&
+        frame.lights->hasShadows())
+      preparePerLightMaps(frame);
     enqueueFrame(frame, rects);
     cl_.queue().finish();
     FrameResult result;
+    result.shadowUse = shadowUse_;
     result.kernels = timer_.kernels();
     result.totalMs = timer_.totalMs();
     result.image = readImage(cl_, accum_, frame);
@@ -129,11 +142,52 @@ class DeferredTechnique : public Technique {
   }
 
  private:
+  // The face table pointing into the passes' atlas, and the reused buffer (grown when a frame's
+  // largest pass needs more).
+  void preparePerLightMaps(const DeviceFrame& frame) {
+    if (!frame.perLightShadows)
+      throw Error(name() +
+                  ": --shadow-storage per-light draws each light's maps from the frame's scene, "
+                  "and this frame has none");
+    const PerLightShadowMaps& maps = *frame.perLightShadows;
+    const std::vector<glm::vec4> table = maps.passFaceTable(frame.lights->shadowFaces);
+    passFaces_ = cl::Buffer(cl_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                            table.size() * sizeof(glm::vec4), const_cast<glm::vec4*>(table.data()));
+    const uint64_t bytes = std::max<uint64_t>(maps.residentBytes(), sizeof(float));
+    if (bytes > passAtlasBytes_) {
+      passAtlas_ = cl::Buffer(cl_.context(), CL_MEM_READ_ONLY, size_t(bytes));
+      passAtlasBytes_ = bytes;
+    }
+    shadowUse_ = FrameShadowUse{};
+    shadowUse_->residentBytes = maps.residentBytes();
+  }
+
+  // Draws one pass's maps on the host and writes them into the reused buffer.
+  void drawPass(const ShadowPass& pass, const PerLightShadowMaps& maps) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const ShadowAtlas drawn = maps.draw(pass);
+    shadowUse_->drawMs +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    shadowUse_->passes += 1;
+    shadowUse_->writtenBytes += pass.layout.bytes();
+    shadowUse_->trianglesDrawn += drawn.trianglesDrawn();
+    cl_.queue().enqueueWriteBuffer(passAtlas_, CL_TRUE, 0, drawn.depth.size() * sizeof(float),
+                                   drawn.depth.data(), nullptr, timer_.next("shadow_write"));
+  }
+
   void enqueueFrame(DeviceFrame& frame, const std::vector<glm::ivec4>& rects) {
     auto& q = cl_.queue();
     cl_float4 camera = toCl(frame.camera.kernelCamera());
     GroupShape baseGroup = fitGroup(kGroup, kGroup, groupLimit(cl_, base_));
     GroupShape lightGroup = fitGroup(kGroup, kGroup, groupLimit(cl_, light_));
+    const PerLightShadowMaps* maps = shadowUse_ ? frame.perLightShadows : nullptr;
+    const auto directionalShadows =
+        maps ? std::tie(frame.directionalShadow, passFaces_, passAtlas_)
+             : std::tie(frame.directionalShadow, frame.shadowFaces, frame.shadowAtlas);
+    const auto lightShadows =
+        maps ? std::tie(frame.lightShadow, passFaces_, passAtlas_)
+             : std::tie(frame.lightShadow, frame.shadowFaces, frame.shadowAtlas);
+    if (maps && maps->directionalPass()) drawPass(*maps->directionalPass(), *maps);
 
     // 1. Base: every pixel, so the accumulation buffer needs no separate clear.
     KernelArgs baseArgs(base_);
@@ -141,22 +195,23 @@ class DeferredTechnique : public Technique {
         .add(toCl(glm::vec4(frame.ambient, 0.0f)))
         .add(frame.gbufferArgs())
         .add(frame.directionalArgs())
-        .addIf(config_.features.shadows, frame.directionalShadowArgs())
+        .addIf(config_.features.shadows, directionalShadows)
         .add(accum_);
     if (lanes_ > 1) baseArgs.add(laneLocalMemory(config_, baseGroup.size()));
     baseArgs.done();
     q.enqueueNDRangeKernel(base_, cl::NullRange, baseGroup.global(frame.width(), frame.height()),
                            baseGroup.local(), nullptr, timer_.next("base"));
 
-    // 2. One launch per light, all enqueued before waiting: arguments are captured at enqueue
-    // time, and the in-order queue serialises the read-modify-writes of successive lights.
+    // 2. One launch per light, all enqueued before waiting (per-light storage: its maps' blocking
+    // write first): arguments are captured at enqueue time, and the in-order queue serialises
+    // the read-modify-writes of successive lights.
     cl_uint lightArg = 0, rectArg = 0;
     KernelArgs lightArgs(light_);
     lightArgs.add(camera)
         .add(toCl(glm::vec4(frame.ambient, 0.0f)))
         .add(frame.gbufferArgs())
         .add(frame.lightArgs())
-        .addIf(config_.features.shadows, frame.lightShadowArgs())
+        .addIf(config_.features.shadows, lightShadows)
         .later(lightArg)
         .later(rectArg)
         .add(accum_);
@@ -165,6 +220,8 @@ class DeferredTechnique : public Technique {
     for (size_t i = 0; i < rects.size(); ++i) {
       const glm::ivec4& r = rects[i];
       if (isEmpty(r)) continue;
+      if (maps && frame.lights->shadowOf(i) >= 0)
+        drawPass(maps->passOf(frame.lights->shadowOf(i)), *maps);
       light_.setArg(lightArg, cl_int(i));
       light_.setArg(rectArg, cl_int4{{r.x, r.y, r.z, r.w}});
       q.enqueueNDRangeKernel(light_, cl::NullRange, lightGroup.global(r.z - r.x, r.w - r.y),
@@ -180,6 +237,9 @@ class DeferredTechnique : public Technique {
   cl::Kernel base_, light_;
   cl::Buffer accum_;
   size_t accumPixels_ = 0;
+  cl::Buffer passFaces_, passAtlas_;  // per-light storage: the passes' face table and atlas
+  uint64_t passAtlasBytes_ = 0;
+  std::optional<FrameShadowUse> shadowUse_;  // this frame's, with per-light storage
   FrameTimer timer_;
 };
 

@@ -9,6 +9,7 @@
 #include "gbuffer/gbuffer_layout.h"
 #include "scene/scene.h"
 #include "raster/forward_scene.h"
+#include "raster/per_light_shadows.h"
 #include "shading/view_lights.h"
 
 namespace ts {
@@ -23,6 +24,10 @@ struct DeviceFrame {
   // The scene to draw, for the forward techniques (raster/forward_scene.h): set where the frame
   // was rasterized from a scene with OpenGL, null otherwise (software raster, imported G-buffer).
   ForwardScene* forward = nullptr;
+  // The frame's shadow maps one light at a time, for a technique built with
+  // ShadowStorage::PerLight (it draws them itself): set where the frame came from a scene with
+  // shadow-casting lights, null otherwise.
+  const PerLightShadowMaps* perLightShadows = nullptr;
 
   cl::Buffer depth, normal, diffuse, specular, emissive;  // G-buffer planes (absent: 1 element)
   cl::Buffer lightPositionRange, lightColor, lightSpot;   // at least one element each

@@ -27,11 +27,13 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
       {"deferred",
        "traditional deferred: one launch per light over its screen rectangle, each pixel re-reads "
        "the G-buffer and blends into an accumulation buffer",
-       [](ClContext& cl, const TechniqueConfig& c) { return makeDeferredTechnique(cl, c, false); }},
+       [](ClContext& cl, const TechniqueConfig& c) { return makeDeferredTechnique(cl, c, false); },
+       1, false, true},
       {"deferred-stencil",
        "traditional deferred with the stencil test's effect: only pixels inside the light sphere "
        "read the full G-buffer and shade",
-       [](ClContext& cl, const TechniqueConfig& c) { return makeDeferredTechnique(cl, c, true); }},
+       [](ClContext& cl, const TechniqueConfig& c) { return makeDeferredTechnique(cl, c, true); },
+       1, false, true},
       {"brute", "every light for every pixel, range test only: the naive baseline",
        makeBruteTechnique, 16},
       {"tiled-forward",
@@ -89,6 +91,8 @@ std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& c
   else if (lanesName(config.lanes) == "?")  // a width the kernels have no build for
     throw Error("lanes must be one of " + laneNames().list() + ", not " +
                 std::to_string(config.lanes));
+  if (config.shadowStorage == ShadowStorage::PerLight && !info.reusesShadowMaps)
+    throw Error(shadowStorageRefusal(name));
   std::unique_ptr<Technique> technique = info.create(cl, resolved);
   technique->features_ = resolved.features;
   return technique;
@@ -115,6 +119,13 @@ void checkFrameFeatures(const SceneFeatures& features, const DeviceFrame& frame)
   if (!features.shadows && frame.lights->hasShadows()) fail("it has shadow-casting lights");
 }
 
+std::string shadowStorageRefusal(const std::string& technique) {
+  return technique +
+         ": --shadow-storage per-light is for deferred and deferred-stencil, which shade one "
+         "light per pass; " +
+         technique + " shades every light at once and needs every map resident (atlas)";
+}
+
 std::string TechniqueConfig::kernelOptions() const {
   std::ostringstream o;
   const std::string layout = gbufferKernelDefines(format);
@@ -131,7 +142,7 @@ std::string TechniqueConfig::kernelOptions() const {
 std::string TechniqueConfig::key() const {
   std::ostringstream k;
   k << kernelOptions() << '|' << tileWidth << 'x' << tileHeight << '|' << clusterSlices << '|'
-    << localListCapacity << '|' << presizeLists << '|' << lanes;
+    << localListCapacity << '|' << presizeLists << '|' << lanes << '|' << toString(shadowStorage);
   return k.str();
 }
 

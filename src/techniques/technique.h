@@ -41,6 +41,9 @@ struct TechniqueConfig {
   bool depthSplit = false;  // tiles: split the depth range at its middle (TS_DEPTH_SPLIT, tiled.cl)
   SpotCulling spotCulling = SpotCulling::Cone;  // TS_SPOT_CULL
   MathMode math = MathMode::Precise;            // shading arithmetic
+  // Where the shadow maps live (technique_knobs.h); PerLight only for the techniques whose
+  // TechniqueInfo::reusesShadowMaps (createTechnique refuses the others).
+  ShadowStorage shadowStorage = ShadowStorage::Atlas;
   std::string buildOptions;  // extra OpenCL build options (e.g. -cl-fast-relaxed-math)
   // Pixels shaded together against each light (kernels/lanes.h): 0 = auto (createTechnique resolves
   // it: on CPU devices 16 for tiled, tiled-single, clustered and brute, 1 for the rest; 1 on
@@ -80,12 +83,24 @@ struct WorkCounters {
   std::vector<std::string> notes;  // e.g. "light list buffer grown to N entries"
 };
 
+// The shadow maps a technique drew itself during the frame (--shadow-storage per-light): each
+// light's maps into one reused atlas just before its pass (raster/per_light_shadows.h).
+struct FrameShadowUse {
+  int passes = 0;               // map draws (the directional lights' together, one per light)
+  double drawMs = 0.0;          // their drawing on the host, summed (culling and rasterizing)
+  uint64_t residentBytes = 0;   // the reused atlas on the device: the largest pass's maps
+  uint64_t writtenBytes = 0;    // written to it over the frame (every pass's maps)
+  uint64_t trianglesDrawn = 0;  // over every pass's faces
+};
+
 struct FrameResult {
   std::vector<glm::vec4> image;  // linear RGB per pixel (w unused), row 0 = top
   std::vector<KernelTime> kernels;
   double totalMs = 0.0;  // sum of kernel times
   WorkCounters counters;
   std::optional<LightAssignment> assignment;  // filled when asked for
+  // Set by a technique that drew the frame's maps itself (ShadowStorage::PerLight with casters).
+  std::optional<FrameShadowUse> shadowUse;
 };
 
 struct FrameRequest {
@@ -129,9 +144,15 @@ struct TechniqueInfo {
   // Draws the scene (the forward family) instead of reading the G-buffer: runs only on frames
   // with a DeviceFrame::forward scene (`--raster gl`); `all` leaves it out elsewhere.
   bool drawsScene = false;
+  // Shades one light per pass, so it can reuse one small shadow atlas per light
+  // (ShadowStorage::PerLight); the others shade every light at once and need every map resident.
+  bool reusesShadowMaps = false;
 };
 
 const std::vector<TechniqueInfo>& techniqueRegistry();
+// The one line createTechnique (and render's, bench's checks) refuse ShadowStorage::PerLight
+// with for a technique that does not reuse shadow maps.
+std::string shadowStorageRefusal(const std::string& technique);
 std::vector<std::string> techniqueNames();
 // The techniques that shade the frame's G-buffer (all but the drawsScene ones): what `all` means
 // where the frame has no scene to draw (software raster, imported G-buffer, bench, check).

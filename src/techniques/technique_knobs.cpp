@@ -45,6 +45,16 @@ const EnumNames<RangeModel>& rangeModelNames() {
   return names;
 }
 
+const EnumNames<ShadowStorage>& shadowStorageNames() {
+  static const EnumNames<ShadowStorage> names(
+      "shadow storage",
+      {{ShadowStorage::Atlas, "atlas", "every light's maps resident in one atlas"},
+       {ShadowStorage::PerLight, "per-light",
+        "deferred and deferred-stencil: one small atlas reused, each light's maps drawn just "
+        "before its pass"}});
+  return names;
+}
+
 const EnumNames<int>& laneNames() {
   static const EnumNames<int> names(
       "lanes width",

@@ -20,16 +20,22 @@ enum class MathMode { Precise, Fast, Native };
 // to zero at the range, what the kernels shade) or physical (inverse square, no cut; the
 // reference's "truth" for the bias of the cut).
 enum class RangeModel { Windowed = 0, Physical = 1 };
+// Where the shadow maps live while a frame is shaded (issue #18; docs/shadows.md): one atlas
+// holding every light's maps, or (traditional deferred only, which shades one light per launch)
+// one small atlas reused by every light, its maps drawn just before its launch.
+enum class ShadowStorage { Atlas, PerLight };
 
 const EnumNames<CullTest>& cullTestNames();
 const EnumNames<SpotCulling>& spotCullingNames();
 const EnumNames<MathMode>& mathModeNames();
 const EnumNames<RangeModel>& rangeModelNames();
+const EnumNames<ShadowStorage>& shadowStorageNames();
 
 inline std::string toString(CullTest v) { return cullTestNames().name(v); }
 inline std::string toString(SpotCulling v) { return spotCullingNames().name(v); }
 inline std::string toString(MathMode v) { return mathModeNames().name(v); }
 inline std::string toString(RangeModel v) { return rangeModelNames().name(v); }
+inline std::string toString(ShadowStorage v) { return shadowStorageNames().name(v); }
 
 // TechniqueConfig::lanes, pixels shaded together per light (kernels/lanes.h): 0 = auto, or a
 // width the kernels are built for (TS_LANES; floatN exists for these N).

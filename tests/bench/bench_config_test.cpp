@@ -103,7 +103,11 @@ TEST(BenchSweep, ShadowDimensionsRefuseBadValuesInOneLine) {
            {"shadow_map_size", "8", "--shadow-map-size"},
            {"shadow_filter", "pcf4", "--shadow-filter"},
            {"shadow_bias", "1", "--shadow-bias"},
-           {"shadow_bias", "-1:2", "--shadow-bias"}}) {
+           {"shadow_bias", "-1:2", "--shadow-bias"},
+           {"shadow_budget", "0", "--shadow-budget"},
+           {"shadow_budget", "5000", "--shadow-budget"},
+           {"shadow_budget", "lots", "--shadow-budget"},
+           {"shadow_storage", "per-tile", "--shadow-storage"}}) {
     BenchSweep s;
     s.set(dim, {value});
     expectOneLineError([&] { ts::expandSweep(s); }, {needle});
@@ -125,6 +129,46 @@ TEST(BenchSweep, ShadowDimensionsCanonicalAndKeyedOffDefault) {
   EXPECT_EQ(configs[0].key(), ts::BenchConfig{}.key());
   EXPECT_EQ(configs[0].key().find("shadow"), std::string::npos) << configs[0].key();
   EXPECT_NE(configs[1].key().find("shadow_bias=0.5:2"), std::string::npos) << configs[1].key();
+}
+
+// shadow_budget (frame) and shadow_storage (technique) dimensions: canonical values, keyed off
+// their defaults; a technique that needs every map resident has its per-light points left out,
+// with a note, and a sweep of nothing else is refused in one line.
+TEST(BenchSweep, ShadowBudgetAndStorageDimensions) {
+  BenchSweep s;
+  s.set("technique", {"tiled,deferred,deferred-stencil"});
+  s.set("shadow_budget", {"64,0.50"});
+  s.set("shadow_storage", {"atlas,per-light"});
+  std::vector<std::string> notes;
+  const auto configs = ts::expandSweep(s, &notes);
+  ASSERT_EQ(configs.size(), 10u);  // 3 x 2 x 2, less tiled's two per-light points
+  for (const auto& c : configs)
+    EXPECT_FALSE(c.technique == "tiled" && c.shadowStorage == ts::ShadowStorage::PerLight);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("left out 2 configuration(s) of tiled with shadow_storage per-light"),
+            std::string::npos)
+      << notes[0];
+  EXPECT_EQ(configs[0].key().find("shadow"), std::string::npos) << configs[0].key();
+  size_t budgets = 0, storages = 0;
+  for (const auto& c : configs) {
+    budgets += c.key().find("shadow_budget=0.5") != std::string::npos;
+    storages += c.key().find("shadow_storage=per-light") != std::string::npos;
+    EXPECT_EQ(c.frameKey().find("shadow_storage"), std::string::npos) << c.frameKey();
+  }
+  EXPECT_EQ(budgets, 5u);
+  EXPECT_EQ(storages, 4u);
+  const ts::BenchDimension& budget = ts::findDimension("shadow_budget");
+  ts::BenchConfig c;
+  budget.set(c, "0.50");
+  EXPECT_EQ(c.shadowBudgetMB, 0.5);
+  EXPECT_EQ(budget.get(c), "0.5");
+  EXPECT_TRUE(budget.affectsFrame);
+  EXPECT_FALSE(ts::findDimension("shadow_storage").affectsFrame);
+  // Nothing but tiled per-light: refused.
+  BenchSweep only;
+  only.set("technique", {"tiled"});
+  only.set("shadow_storage", {"per-light"});
+  expectOneLineError([&] { ts::expandSweep(only); }, {"--shadow-storage per-light", "tiled"});
 }
 
 TEST(BenchSweep, OptionsAndColumnsAreUnique) {

@@ -209,6 +209,53 @@ TEST(BenchRun, WritesOneRowPerConfigurationAndFrameThenResumes) {
 // With every light casting, bench draws the maps each frame (shadow_ms, shadow_bytes) and the
 // kernels and the references shade with the same maps: the error stays fp32's. Without casters
 // the columns say that nothing was drawn.
+// The shadow_storage and shadow_budget dimensions: deferred's per-light rows count the maps it
+// drew itself (shadow_ms) and keep only the largest light's maps resident (shadow_bytes), less
+// than the atlas, with the same error; the atlas rows fit their budget; tiled's per-light points
+// are left out (expandSweep's note).
+TEST(BenchRun, PerLightShadowStorageKeepsLessResident) {
+  std::string dir = tempDir("shadow_storage");
+  ts::BenchOptions o = tinyOptions(dir);
+  o.sweep.set("scene", {"builtin:atrium"});
+  o.sweep.set("tile", {"16"});
+  o.sweep.set("technique", {"tiled,deferred"});
+  o.sweep.set("shadows", {"4"});
+  o.sweep.set("shadow_map_size", {"64"});
+  o.sweep.set("shadow_budget", {"64,0.25"});
+  o.sweep.set("shadow_storage", {"atlas,per-light"});
+  o.frames.text = "1";
+  o.error = true;
+  o.calibrate = false;
+  ts::BenchRunResult r = ts::runBench(o);
+  EXPECT_TRUE(r.failures.empty());
+  ASSERT_EQ(r.measuredRows, 6u);
+  std::vector<std::map<std::string, std::string>> rows;
+  ASSERT_EQ(csvRows(dir + "/bench.csv", nullptr, &rows), 6u);
+  size_t perLight = 0;
+  for (auto& row : rows) {
+    const std::string what =
+        row["technique"] + " " + row["shadow_storage"] + " " + row["shadow_budget"];
+    EXPECT_LE(std::stod(row["err_max_rel_peak"]), 1e-4) << what;
+    const uint64_t resident = std::stoull(row["shadow_bytes"]);
+    const uint64_t written = std::stoull(row["shadow_bytes_written"]);
+    const uint64_t budget = row["shadow_budget"] == "64" ? 64u << 20 : 1u << 18;
+    if (row["shadow_storage"] == "atlas") {
+      EXPECT_EQ(resident, written) << what;
+      EXPECT_LE(resident, budget) << what;
+      EXPECT_GE(resident, 6u * 16u * 16u * 4u) << what;
+      continue;
+    }
+    ++perLight;
+    EXPECT_EQ(row["technique"], "deferred");
+    EXPECT_GT(std::stod(row["shadow_ms"]), 0.0) << what;
+    // One point light's six faces at most (64^2, or smaller within the budget).
+    EXPECT_LE(resident, 6u * 64u * 64u * 4u) << what;
+    EXPECT_GT(resident, 0u) << what;
+    EXPECT_GE(written, resident) << what;
+  }
+  EXPECT_EQ(perLight, 2u);
+}
+
 TEST(BenchRun, ShadowsAllDrawsTheMapsAndShadesWithThem) {
   std::string dir = tempDir("shadows");
   ts::BenchOptions o = tinyOptions(dir);

@@ -204,5 +204,76 @@ TEST(ShadowMapsCli, BenchDrawsTheScenesOwnShadowCasters) {
   EXPECT_NE(row["features_used"].get<std::string>().find("shadows"), std::string::npos);
 }
 
+// --shadow-storage per-light: deferred draws each light's maps just before its pass into one
+// reused atlas; its image is the atlas path's bit for bit (--check passes), its stats.json says
+// what it drew and kept resident; a technique that needs every map resident refuses, and `all`
+// leaves those out with a line.
+TEST(ShadowMapsCli, PerLightStorageGivesTheAtlasImageWithLessResident) {
+  if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
+  const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_per_light";
+  std::filesystem::remove_all(tmp);
+  const std::string frame = kFrame + "--shadows 3 --shadow-map-size 64 --shadow-filter pcf3 ";
+  CliRun r = runTileshade(frame + "--technique deferred deferred-stencil --check --out " +
+                          (tmp / "atlas").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = runTileshade(frame +
+                   "--technique deferred deferred-stencil --check --shadow-storage per-light "
+                   "--out " +
+                   (tmp / "own").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("shadow maps per light: "), std::string::npos) << r.output;
+  const nlohmann::json atlas = nlohmann::json::parse(std::ifstream(tmp / "atlas" / "stats.json"));
+  const nlohmann::json own = nlohmann::json::parse(std::ifstream(tmp / "own" / "stats.json"));
+  EXPECT_EQ(atlas["shadow_storage"], "atlas");
+  EXPECT_EQ(own["shadow_storage"], "per-light");
+  const uint64_t atlasBytes = own["shadow_maps"]["bytes"];
+  for (size_t t = 0; t < 2; ++t) {
+    const std::string name = own["techniques"][t]["technique"];
+    EXPECT_TRUE(atlas["techniques"][t]["shadow_use"].is_null()) << name;
+    const nlohmann::json& use = own["techniques"][t]["shadow_use"];
+    ASSERT_TRUE(use.is_object()) << own.dump();
+    // Three point lights of 6 faces at 64^2 (each drawn only if its rectangle is on screen).
+    EXPECT_EQ(use["resident_bytes"].get<uint64_t>(), 6u * 64u * 64u * 4u) << name;
+    EXPECT_LT(use["resident_bytes"].get<uint64_t>(), atlasBytes) << name;
+    EXPECT_EQ(use["written_bytes"].get<uint64_t>(),
+              use["passes"].get<uint64_t>() * use["resident_bytes"].get<uint64_t>())
+        << name;
+    EXPECT_GE(use["passes"].get<int>(), 1) << name;
+    EXPECT_LE(own["techniques"][t]["error"]["max_rel_peak"].get<double>(), 1e-4) << name;
+    const FloatImage a = readImage((tmp / "atlas" / name / "image.exr").string());
+    const FloatImage b = readImage((tmp / "own" / name / "image.exr").string());
+    EXPECT_EQ(a.data, b.data) << name;
+  }
+  // Tiled needs every map resident: one line, before any file.
+  r = runTileshade(frame + "--technique tiled --shadow-storage per-light --out " +
+                   (tmp / "tiled").string());
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_NE(r.output.find("tiled: --shadow-storage per-light is for deferred and "
+                          "deferred-stencil"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(tmp / "tiled"));
+  r = runTileshade(frame + "--technique all --shadow-storage per-light --out " +
+                   (tmp / "all").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("--technique all leaves out clustered (--shadow-storage per-light"),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(std::filesystem::exists(tmp / "all" / "deferred-stencil" / "image.exr"));
+  EXPECT_FALSE(std::filesystem::exists(tmp / "all" / "tiled"));
+  r = runTileshade(frame + "--shadow-storage per-tile --out " + (tmp / "bad").string());
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("--shadow-storage: expected one of atlas, per-light"), std::string::npos)
+      << r.output;
+  // An imported G-buffer has no geometry to draw maps from: the option does not apply.
+  r = runTileshade("render --device cpu --gbuffer-in " + (tmp / "none").string() +
+                   " --shadow-storage per-light --technique deferred --out " +
+                   (tmp / "imported").string());
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("--shadow-storage"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(tmp / "imported"));
+}
+
 }  // namespace
 }  // namespace ts

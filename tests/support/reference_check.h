@@ -84,11 +84,11 @@ inline Checked renderAndCheck(const PreparedFrame& f, Technique& technique) {
 // part of these tests. Never destroyed, like the context (test_support.h).
 inline Technique& cachedTechnique(const std::string& name, const TechniqueConfig& config) {
   static auto& cache = *new std::map<std::string, std::unique_ptr<Technique>>;
-  std::string key = name + "|" + config.kernelOptions() + "|" + std::to_string(config.tileWidth) +
-                    "x" + std::to_string(config.tileHeight) + "|" +
-                    std::to_string(config.clusterSlices) + "|" +
-                    std::to_string(config.localListCapacity) + "|" +
-                    std::to_string(config.presizeLists) + "|" + std::to_string(config.lanes);
+  std::string key =
+      name + "|" + config.kernelOptions() + "|" + std::to_string(config.tileWidth) + "x" +
+      std::to_string(config.tileHeight) + "|" + std::to_string(config.clusterSlices) + "|" +
+      std::to_string(config.localListCapacity) + "|" + std::to_string(config.presizeLists) + "|" +
+      std::to_string(config.lanes) + "|" + toString(config.shadowStorage);
   auto& t = cache[key];
   if (!t) t = createTechnique(name, context(), config);
   return *t;
