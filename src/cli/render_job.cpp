@@ -48,14 +48,15 @@ class ReferenceProgress {
 };
 
 // "all": every technique that can run on the frame; without a scene to draw (withScene false:
-// software raster, imported G-buffer) those that shade the G-buffer only.
+// software raster, imported G-buffer) those that shade the G-buffer only; with transparent
+// surfaces to composite (gbufferToo false) those that draw the scene only.
 std::vector<std::string> expandTechniques(const std::vector<std::string>& names,
-                                          bool withScene = true) {
+                                          bool withScene = true, bool gbufferToo = true) {
   std::vector<std::string> out;
   for (const auto& n : names) {
     if (n == "all") {
       for (const TechniqueDescription& t : listTechniques())
-        if (withScene || !t.drawsScene) out.push_back(t.name);
+        if ((withScene || !t.drawsScene) && (gbufferToo || t.drawsScene)) out.push_back(t.name);
     } else {
       out.push_back(n);
     }
@@ -224,12 +225,26 @@ void runRender(const RenderOptions& options) {
   }
   // The forward techniques (GLSL) have no shadows: never an unshadowed image of a shadowed frame.
   const bool shadowed = info.shadowCastingLights > 0;
+  // The G-buffer holds the opaque surfaces only: never a G-buffer image without the frame's glass.
+  const bool transparent = info.transparentDraws > 0;
   const std::vector<std::string> techniques =
-      expandTechniques(options.techniques, info.drawsScene && !shadowed);
+      expandTechniques(options.techniques, info.drawsScene && !shadowed, !transparent);
   // The forward techniques draw the scene: a frame without one (software raster, imported
   // G-buffer) cannot be theirs. Said before any file is written.
   const bool all = std::count(options.techniques.begin(), options.techniques.end(), "all") > 0;
   for (const TechniqueDescription& t : listTechniques()) {
+    if (!t.drawsScene && transparent) {
+      if (all)
+        std::cout << "tileshade: --technique all leaves out " << t.name
+                  << " (it shades the G-buffer, which holds the opaque surfaces only)\n";
+      if (std::count(techniques.begin(), techniques.end(), t.name))
+        throw Error("technique '" + t.name +
+                    "' shades the G-buffer, which holds the opaque surfaces only: this frame has " +
+                    std::to_string(info.transparentDraws) +
+                    " alphaMode BLEND draw(s) to composite (--blend blend; a forward technique "
+                    "draws them, or --blend as-opaque|as-mask)");
+      continue;
+    }
     if (t.drawsScene && info.drawsScene && shadowed) {
       if (all)
         std::cout << "tileshade: --technique all leaves out " << t.name

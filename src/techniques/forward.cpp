@@ -36,6 +36,8 @@ class ForwardTechnique : public Technique {
                       {"upload", drawn.uploadMs, 1},
                       {"base", drawn.baseMs, 1},
                       {"light_passes", drawn.drawMs, int(drawn.passes)}};
+    if (drawn.transparentDraws > 0)  // --blend blend: back to front, each with its batch's list
+      result.kernels.push_back({"transparent", drawn.transparentMs, int(drawn.transparentDraws)});
     for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
     result.image = drawn.image;
     // The paper's count: fragment shader invocations x lights evaluated, from the shader's own

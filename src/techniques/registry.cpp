@@ -99,6 +99,12 @@ FrameResult Technique::render(DeviceFrame& frame, const FrameRequest& request) {
   // Never an unshadowed image where a light casts a shadow: the GLSL passes have no shadows.h.
   if (drawsScene_ && frame.lights->hasShadows())
     throw Error("technique '" + name() + "': forward techniques do not shade shadows yet");
+  // Never a G-buffer image of a frame whose transparent surfaces it would leave out.
+  if (!drawsScene_ && frame.forward && frame.forward->transparentDraws() > 0)
+    throw Error("technique '" + name() +
+                "' shades the G-buffer, which holds the opaque surfaces only: this frame has "
+                "alphaMode BLEND surfaces to composite (--blend blend; a forward technique draws "
+                "them, or --blend as-opaque|as-mask)");
   checkFrameFeatures(features_, frame);
   return renderFrame(frame, request);
 }
