@@ -14,7 +14,9 @@
 // A scene with alphaMode MASK materials (TS_ALPHA_MASK, set by gl_rasterizer.cpp) tests late
 // instead: its discard must come before the depth write, so fragments that then fail the depth
 // test are shaded and counted too (docs/opengl.md).
-#if !TS_ALPHA_MASK
+// The capture pass always tests early: it records only what passes (its BLEND surfaces never
+// discard).
+#if !TS_ALPHA_MASK || TS_CAPTURE
 layout(early_fragment_tests) in;
 #endif
 
@@ -109,6 +111,27 @@ uniform uvec2 u_list;
 // Ambient and emission (and the directional lights, u_dirLightCount): off in forward's light
 // passes, which add one light each onto the base pass's image.
 uniform bool u_baseTerms;
+// The transparent pass (alphaMode BLEND, --blend blend): the colour premultiplied by the
+// fragment's alpha (ts_material_alpha), blended "over" the image (ONE, ONE_MINUS_SRC_ALPHA).
+uniform bool u_transparent;
+
+#if TS_CAPTURE
+// The capture pass of the reference's composite (GlRasterizer::captureTransparent): the same
+// fragments as the transparent pass, each recorded with what the double reference shades it
+// from; a slot past the capacity is counted, not written, so an overflow is seen and grown.
+struct TsCapturedFragment {
+  ivec4 where;      // pixel x, y, the draw's place in the back-to-front order, gl_PrimitiveID
+  vec4 position;    // view-space P, alpha
+  vec4 normal;      // the shading normal N (after normal map and double-sided flip)
+  vec4 diffuse;     // the material planes (material_planes.h)
+  vec4 specular;
+  vec4 emissive;
+};
+layout(std430, binding = 10) buffer CaptureCount { uint capture_count; };
+layout(std430, binding = 11) writeonly buffer Captured { TsCapturedFragment captured[]; };
+uniform uint u_captureCapacity;
+uniform int u_drawOrder;
+#endif
 
 void main() {
   vec3 faceNormal = cross(dFdx(v_viewPosition), dFdy(v_viewPosition));
@@ -123,6 +146,14 @@ void main() {
   TsMaterialPlanes planes = ts_material_planes(u_metallicRoughness, u_material);
   // The position interpolated from the vertices (forward shading's own), not rebuilt from depth.
   vec3 P = v_viewPosition;
+#if TS_CAPTURE
+  uint slot = atomicAdd(capture_count, 1u);
+  if (slot < u_captureCapacity)
+    captured[slot] = TsCapturedFragment(ivec4(ivec2(gl_FragCoord.xy), u_drawOrder, gl_PrimitiveID),
+                                        vec4(P, ts_material_alpha(u_material)), vec4(N, 0.0),
+                                        planes.diffuse, planes.specular, planes.emissive);
+  return;
+#endif
   vec3 V = normalize(-P);
   vec3 c_diff, kd, ks;
   float gloss, view_term = 1.0;
@@ -173,6 +204,11 @@ void main() {
   atomicAdd(tile_work[tile], bin.y + uint(u_dirLightCount));
   vec3 base = u_baseTerms ? ts_surface_base(ke, c_diff, u_ambient) : vec3(0.0);
   sum += directional + base;
-  o_color = vec4(sum, 0.0);
+  if (u_transparent) {
+    float alpha = ts_material_alpha(u_material);
+    o_color = vec4(sum * alpha, alpha);
+  } else {
+    o_color = vec4(sum, 0.0);
+  }
   o_batch = u_batch;
 }

@@ -167,8 +167,9 @@ struct SceneRequest {
   double shadowBudgetMB = 64.0;        // the shadow atlas's budget, MiB (docs/shadows.md)
   std::string shadowFilter = "none";   // how shading samples the maps: none, pcf2, pcf3, pcf5
   std::string shadowBias = "1.5,1.5";  // depth bias CONSTANT,SLOPE in texel footprints
-  // alphaMode BLEND materials: "refuse" (the frame is refused: no technique renders
-  // transparency yet), "as-opaque" or "as-mask" (drawn so)
+  // alphaMode BLEND materials: "refuse" (the frame is refused), "blend" (composited back to
+  // front by the forward techniques; the G-buffer ones refuse the frame), "as-opaque" or
+  // "as-mask" (drawn so)
   std::string blend = "refuse";
   std::string shadingModel = "auto";
   std::string features = "auto";
@@ -222,6 +223,9 @@ struct FrameInfo {
   // A scene rasterized with raster "gl": the techniques that draw the scene (forward) can shade
   // it, through the same OpenGL context (TechniqueDescription::drawsScene).
   bool drawsScene = false;
+  // Draws with an alphaMode BLEND material composited by the forward techniques ("blend"
+  // policy); a technique that shades the G-buffer refuses a frame with any.
+  uint64_t transparentDraws = 0;
 };
 
 // One frame's inputs on a device, shared by every Renderer that shades it.

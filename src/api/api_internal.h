@@ -43,6 +43,9 @@ struct FrameReferences {
   ReferenceImage reference;    // windowed model, positions from depth in double
   ReferenceImage shadingOnly;  // the same with the kernels' float positions
   ReferenceImage physical;     // physical model from the fp32 planes
+  // --blend blend, a technique that draws the scene: the transparent fragments composited over
+  // all three (reference/transparent_composite.h); 0 otherwise.
+  size_t transparentFragments = 0;
 };
 
 struct Frame::Impl {
@@ -75,6 +78,9 @@ struct Frame::Impl {
   // The planes a technique shades: the frame's layout, or its fp32 encoding for one that draws
   // the scene (the reference and the missed-contribution count use the same ones).
   const EncodedGBuffer& planesShadedBy(bool drawsScene);
+  // The transparent surfaces over the three references of a technique that draws the scene
+  // (none without transparent draws).
+  void compositeTransparentSurfaces(FrameReferences& r, bool drawsScene);
 };
 
 // The frame's references (computed now if no check asked for them yet): the command's heatmap.

@@ -8,6 +8,7 @@
 #include "api/api_internal.h"
 #include "gbuffer/gbuffer_checks.h"
 #include "render/gbuffer_dump.h"
+#include "reference/transparent_composite.h"
 #include "render/render_input.h"
 #include "scene/scene_loader.h"
 #include "scene/shading_range.h"
@@ -81,6 +82,7 @@ std::shared_ptr<Frame::Impl> uploaded(Device& device, RenderInput input) {
   impl->onDevice.perLightShadows = impl->perLightShadows.get();
   impl->onDevice.forward = impl->forward.get();
   impl->info.drawsScene = impl->forward != nullptr;
+  impl->info.transparentDraws = impl->forward ? impl->forward->transparentDraws() : 0;
   return impl;
 }
 
@@ -469,8 +471,29 @@ const EncodedGBuffer& Frame::Impl::planesShadedBy(bool drawsScene) {
   return *fp32Planes;
 }
 
+void Frame::Impl::compositeTransparentSurfaces(FrameReferences& r, bool drawsScene) {
+  // --blend blend: the G-buffer holds the opaque surfaces; the forward techniques blend the
+  // transparent ones over them, so their references composite the same fragments in the same
+  // order (the G-buffer techniques refuse such a frame).
+  if (!drawsScene || !forward || forward->transparentDraws() == 0) return;
+  const PreparedFrame& p = prepared;
+  const std::vector<TransparentFragment> fragments =
+      forward->captureTransparent(p.features, kCaptureBound);
+  const EncodedGBuffer& planes = planesShadedBy(true);
+  compositeTransparent(r.reference, fragments, p.lights, p.ambient, int(RangeModel::Windowed),
+                       planes);
+  compositeTransparent(r.shadingOnly, fragments, p.lights, p.ambient, int(RangeModel::Windowed),
+                       planes);
+  compositeTransparent(r.physical, fragments, p.lights, p.ambient, int(RangeModel::Physical),
+                       planes);
+  r.transparentFragments = fragments.size();
+}
+
 const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass, bool drawsScene) {
-  const bool drawn = drawsScene && prepared.encoded.format != GBufferFormat::FP32;
+  // The references of the techniques that draw the scene apart where they differ: other planes
+  // than the frame's layout, or transparent surfaces composited.
+  const bool transparent = forward && forward->transparentDraws() > 0;
+  const bool drawn = drawsScene && (prepared.encoded.format != GBufferFormat::FP32 || transparent);
   std::optional<FrameReferences>& cached = drawn ? drawnReferences : references;
   if (cached) return *cached;
   const EncodedGBuffer& planes = planesShadedBy(drawsScene);
@@ -497,6 +520,7 @@ const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass, b
           r.physical = shadeReference(fp32, p.intrinsics, p.lights, p.ambient,
                                       int(RangeModel::Physical), 0, progress("physical model"));
         }
+        compositeTransparentSurfaces(r, drawsScene);
         cached = std::move(r);
       });
   return *cached;

@@ -104,8 +104,8 @@ std::vector<BenchDimension> makeDimensions() {
       });
   add(
       "blend",
-      "glTF alphaMode BLEND materials, which no technique renders yet: " +
-          blendPolicyNames().list() + " (refuse: such a scene is refused)",
+      "glTF alphaMode BLEND materials: " + blendPolicyNames().list() +
+          " (refuse: such a scene is refused; blend: composited by the forward techniques)",
       true,
       [](BenchConfig& c, const std::string& v) {
         c.blend = blendPolicyNames().parseOption("--blend", v);

@@ -1,5 +1,7 @@
 #include "bench/bench_measure.h"
 
+#include "reference/transparent_composite.h"
+
 #include <algorithm>
 #include <chrono>
 
@@ -79,19 +81,22 @@ const ReferenceImage& GroupFrame::storedReference(const EncodedGBuffer& enc, GBu
   auto& cache = positions == ReferencePositions::KernelFloat ? shadingReferences_ : references_;
   std::pair<int, int> key{int(format), model};
   auto it = cache.find(key);
-  if (it == cache.end())
-    it = cache
-             .emplace(key, shadeReference(enc, prepared_.intrinsics, prepared_.lights,
-                                          prepared_.ambient, model, 0, {}, positions))
-             .first;
+  if (it == cache.end()) {
+    ReferenceImage ref = shadeReference(enc, prepared_.intrinsics, prepared_.lights,
+                                        prepared_.ambient, model, 0, {}, positions);
+    withTransparentSurfaces(ref, prepared_.lights, model);
+    it = cache.emplace(key, std::move(ref)).first;
+  }
   return it->second;
 }
 
 const ReferenceImage& GroupFrame::sceneReference() {
-  if (!sceneReference_)
-    sceneReference_ =
-        shadeReference(prepared_.encoded, prepared_.intrinsics, scene_.ownRangeLights(prepared_),
-                       prepared_.ambient, TS_MODEL_WINDOWED);
+  if (!sceneReference_) {
+    const ViewLights lights = scene_.ownRangeLights(prepared_);
+    sceneReference_ = shadeReference(prepared_.encoded, prepared_.intrinsics, lights,
+                                     prepared_.ambient, TS_MODEL_WINDOWED);
+    withTransparentSurfaces(*sceneReference_, lights, TS_MODEL_WINDOWED);
+  }
   return *sceneReference_;
 }
 
@@ -99,6 +104,16 @@ const PerLightShadowMaps* GroupFrame::perLightShadows() {
   if (shadows_ && !perLightShadows_)
     perLightShadows_ = std::make_unique<PerLightShadowMaps>(scene_.scene(), shadows_->layout);
   return perLightShadows_.get();
+}
+
+void GroupFrame::withTransparentSurfaces(ReferenceImage& ref, const ViewLights& lights, int model) {
+  // --blend blend: only the forward techniques render such a frame (the G-buffer ones refuse
+  // it), and they blend its transparent surfaces over the opaque ones: so do the references.
+  if (!forward_ || forward_->transparentDraws() == 0) return;
+  if (!transparentFragments_)
+    transparentFragments_ = forward_->captureTransparent(prepared_.features, kCaptureBound);
+  compositeTransparent(ref, *transparentFragments_, lights, prepared_.ambient, model,
+                       prepared_.encoded);
 }
 
 TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFrame& prepared,

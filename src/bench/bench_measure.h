@@ -73,6 +73,10 @@ class GroupFrame {
   const ReferenceImage& sceneReference();
 
  private:
+  // The frame's transparent fragments (captured once) composited over `ref` where the frame has
+  // transparent draws (--blend blend); nothing otherwise.
+  void withTransparentSurfaces(ReferenceImage& ref, const ViewLights& lights, int model);
+
   BenchScene& scene_;
   PreparedFrame prepared_;
   std::shared_ptr<const ShadowAtlas> shadows_;
@@ -83,6 +87,7 @@ class GroupFrame {
   std::map<std::pair<GBufferFormat, std::string>, EncodedGBuffer> layouts_;
   std::map<std::pair<int, int>, ReferenceImage> references_, shadingReferences_;
   std::optional<ReferenceImage> sceneReference_;
+  std::optional<std::vector<TransparentFragment>> transparentFragments_;
 };
 
 // The median of a configuration's timed renders of one frame.

@@ -48,14 +48,15 @@ class ReferenceProgress {
 };
 
 // "all": every technique that can run on the frame; without a scene to draw (withScene false:
-// software raster, imported G-buffer) those that shade the G-buffer only.
+// software raster, imported G-buffer) those that shade the G-buffer only; with transparent
+// surfaces to composite (gbufferToo false) those that draw the scene only.
 std::vector<std::string> expandTechniques(const std::vector<std::string>& names,
-                                          bool withScene = true) {
+                                          bool withScene = true, bool gbufferToo = true) {
   std::vector<std::string> out;
   for (const auto& n : names) {
     if (n == "all") {
       for (const TechniqueDescription& t : listTechniques())
-        if (withScene || !t.drawsScene) out.push_back(t.name);
+        if ((withScene || !t.drawsScene) && (gbufferToo || t.drawsScene)) out.push_back(t.name);
     } else {
       out.push_back(n);
     }
@@ -227,7 +228,10 @@ void runRender(const RenderOptions& options) {
   if (info.shadowMaps)
     for (const std::string& note : info.shadowMaps->notes)
       std::cerr << "tileshade: note: " << note << "\n";
-  std::vector<std::string> techniques = expandTechniques(options.techniques, info.drawsScene);
+  // The G-buffer holds the opaque surfaces only: never a G-buffer image without the frame's glass.
+  const bool transparent = info.transparentDraws > 0;
+  std::vector<std::string> techniques =
+      expandTechniques(options.techniques, info.drawsScene, !transparent);
   // Per-light shadow storage: `all` means the techniques that can reuse one map per light; one
   // named explicitly that cannot is refused below (Renderer), before any file.
   if (options.shadowStorage == ShadowStorage::PerLight)
@@ -245,6 +249,18 @@ void runRender(const RenderOptions& options) {
   // G-buffer) cannot be theirs. Said before any file is written.
   const bool all = std::count(options.techniques.begin(), options.techniques.end(), "all") > 0;
   for (const TechniqueDescription& t : listTechniques()) {
+    if (!t.drawsScene && transparent) {
+      if (all)
+        std::cout << "tileshade: --technique all leaves out " << t.name
+                  << " (it shades the G-buffer, which holds the opaque surfaces only)\n";
+      if (std::count(techniques.begin(), techniques.end(), t.name))
+        throw Error("technique '" + t.name +
+                    "' shades the G-buffer, which holds the opaque surfaces only: this frame has " +
+                    std::to_string(info.transparentDraws) +
+                    " alphaMode BLEND draw(s) to composite (--blend blend; a forward technique "
+                    "draws them, or --blend as-opaque|as-mask)");
+      continue;
+    }
     if (!t.drawsScene || info.drawsScene) continue;
     if (all)
       std::cout << "tileshade: --technique all leaves out " << t.name

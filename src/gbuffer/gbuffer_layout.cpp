@@ -337,23 +337,30 @@ bool decodeSurface(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera
     if (gbuffer.model == ShadingModel::MetallicRoughness) specular.x = normal.w;
     else if (gbuffer.hasSpecularPlane()) specular = load4(gbuffer.specular, i, gbuffer.format);
   }
+  const glm::vec4 emissive =
+      gbuffer.hasEmissive
+          ? load4(gbuffer.emissive, i, packedLayout ? GBufferFormat::FP16 : gbuffer.format)
+          : glm::vec4(0.0f);
+  surfaceTerms(normal, diffuse, specular, emissive, gbuffer.model, gbuffer.hasSpecularPlane(),
+               surface);
+  return true;
+}
+
+void surfaceTerms(glm::vec4 normal, glm::vec4 diffuse, glm::vec4 specular, glm::vec4 emissive,
+                  ShadingModel model, bool hasSpecular, SurfaceD& surface) {
   surface.N = normalizeLikeOpenCL(glm::dvec3(glm::vec3(normal)));
-  if (gbuffer.model == ShadingModel::MetallicRoughness) {
+  if (model == ShadingModel::MetallicRoughness) {
     shading_d::ts_metallic_roughness_terms(glm::dvec3(glm::vec3(diffuse)), double(diffuse.w),
                                            double(specular.x), &surface.cDiff, &surface.kd,
                                            &surface.ks, &surface.gloss);
     surface.viewTerm = shading_d::ts_smith_view_term(surface.N, surface.V, surface.gloss);
   } else {
     surface.kd = surface.cDiff = glm::dvec3(glm::vec3(diffuse));
-    surface.ks = gbuffer.hasSpecularPlane() ? glm::dvec3(glm::vec3(specular)) : glm::dvec3(0.0);
-    surface.gloss = gbuffer.hasSpecularPlane() ? double(specular.w) : 1.0;
+    surface.ks = hasSpecular ? glm::dvec3(glm::vec3(specular)) : glm::dvec3(0.0);
+    surface.gloss = hasSpecular ? double(specular.w) : 1.0;
     surface.viewTerm = 1.0;
   }
-  surface.ke = glm::dvec3(0.0);
-  if (gbuffer.hasEmissive)
-    surface.ke = glm::dvec3(
-        glm::vec3(load4(gbuffer.emissive, i, packedLayout ? GBufferFormat::FP16 : gbuffer.format)));
-  return true;
+  surface.ke = glm::dvec3(glm::vec3(emissive));
 }
 
 }  // namespace ts

@@ -115,4 +115,10 @@ glm::vec4 decodeStored(const EncodedGBuffer& gbuffer, GBufferPlane plane, size_t
 bool decodeSurface(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera, int x, int y,
                    SurfaceD& surface);
 
+// The rest of ts_load_surface once the planes are decoded (surface.P and V already set): the
+// normal renormalised, the model's colour weights, gloss and view term, the emission. Also what
+// the reference shades a transparent fragment's planes with (reference/transparent_composite.h).
+void surfaceTerms(glm::vec4 normal, glm::vec4 diffuse, glm::vec4 specular, glm::vec4 emissive,
+                  ShadingModel model, bool hasSpecular, SurfaceD& surface);
+
 }  // namespace ts

@@ -13,9 +13,14 @@
 #include "raster/draw_batches.h"
 #include "scene/scene_features.h"
 #include "shading/forward_grid.h"
+#include "shading/transparent_fragments.h"
 #include "shading/view_lights.h"
 
 namespace ts {
+
+// The capture's default bound: 4 Mi fragments (96 bytes each, 384 MiB), about 18 layers of a
+// 640x360 frame.
+constexpr size_t kCaptureBound = size_t(1) << 22;
 
 class ForwardScene {
  public:
@@ -26,10 +31,20 @@ class ForwardScene {
   // both sides; see ForwardImage::drawMs).
   virtual std::vector<float> depthPrepass(double& ms) = 0;
   // The scene drawn once, each fragment shading the lights of its tile in `grid` with
-  // kernels/shading.h (the terms of `features`, range model `rangeModel`).
+  // kernels/shading.h (the terms of `features`, range model `rangeModel`); then the transparent
+  // draws back to front, blended, with transparentGrid's lists (null: grid's).
   virtual ForwardImage tiledForward(const ViewLights& lights, glm::vec3 ambient,
                                     const SceneFeatures& features, int rangeModel,
-                                    const ForwardLightGrid& grid, bool depthEqual) = 0;
+                                    const ForwardLightGrid& grid, bool depthEqual,
+                                    const ForwardLightGrid* transparentGrid) = 0;
+  // The draws with an alphaMode BLEND material (--blend blend): every forward pass draws them
+  // after the opaque ones, back to front, blended "over" (GlRasterizer::tiledForward); a frame
+  // with any is refused by the techniques that shade a G-buffer.
+  virtual size_t transparentDraws() const = 0;
+  // Every transparent fragment the forward passes blend, for the reference's composite
+  // (GlRasterizer::captureTransparent); features: the material planes' model and normal maps.
+  virtual std::vector<TransparentFragment> captureTransparent(const SceneFeatures& features,
+                                                              size_t maxFragments) = 0;
   // The scene's draw batches (raster/draw_batches.h) as view-space boxes at this frame's camera,
   // in draw order: what the forward techniques test the lights against.
   virtual std::vector<ViewBox> batchBoxes() = 0;

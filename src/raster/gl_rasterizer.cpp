@@ -181,8 +181,21 @@ enum ForwardStorage {
   kLightShadow,  // TS_HAS_SHADOWS: the point/spot and directional first faces, the face table
   kDirectionalShadow,
   kShadowFaces,
+  kCaptureCount,  // the capture pass's (shaders/tiled_forward.frag, TS_CAPTURE): bindings 10, 11
+  kCaptured,
+  kGlassBins,  // tiled forward's transparent grid, bound at kTileBins, kTileLights for its pass
+  kGlassLights,
   kForwardStorages
 };
+
+// The captured fragment of shaders/tiled_forward.frag (std430: six 16-byte members).
+struct CapturedRecord {
+  int32_t x, y, order, primitive;
+  float position[4];  // P, alpha
+  float normal[4];
+  float diffuse[4], specular[4], emissive[4];
+};
+static_assert(sizeof(CapturedRecord) == 96, "std430 layout of TsCapturedFragment");
 
 // The work counter's tiles where the lists are the draws' (forward, forward-single): only
 // spreads the atomics, as tiled forward's per-tile counters do.
@@ -204,9 +217,9 @@ struct GlRasterizer::State {
   // The forward passes (built on first use: they need OpenGL 4.3, the G-buffer pass 3.3).
   // forwardProgram and fu are the variant in use (selectForward): [0] without shadows, [1] with
   // TS_HAS_SHADOWS, built on the first frame with a shadow-casting light.
-  GLuint forwardProgram = 0, depthProgram = 0;
+  GLuint forwardProgram = 0, depthProgram = 0, captureProgram = 0;
   GLuint forwardVariants[2] = {};
-  Uniforms fu{}, du{}, variantUniforms[2]{};
+  Uniforms fu{}, du{}, cu{}, variantUniforms[2]{};
   GLuint shadowAtlas = 0;  // R32F texture (tiled_forward.frag says why not a storage buffer)
   // image, pre-pass depth, batch ids
   gl::Targets forwardTargets;  // ensureForwardFramebuffer's three
@@ -234,6 +247,7 @@ struct GlRasterizer::State {
         if (variant) glDeleteProgram(variant);
       if (shadowAtlas) glDeleteTextures(1, &shadowAtlas);
       glDeleteProgram(depthProgram);
+      if (captureProgram) glDeleteProgram(captureProgram);
       glDeleteBuffers(kForwardStorages, storage);
     }
     if (shadowProgram) glDeleteProgram(shadowProgram);
@@ -304,13 +318,15 @@ struct GlRasterizer::State {
     }
   }
 
-  // The programs' TS_NORMAL_MAPS and TS_ALPHA_MASK (some material is alphaMode MASK: the
+  // The programs' TS_NORMAL_MAPS, TS_ALPHA_MASK (some material is alphaMode MASK: the
   // forward shader's depth test runs after its discard).
-  std::string defines() const {
+  // capture: the forward shader's TS_CAPTURE build (captureTransparent).
+  std::string defines(bool capture = false) const {
     bool masks = false;
     for (const Material& m : scene.materials) masks = masks || m.alphaMode == AlphaMode::Mask;
     return std::string("#define TS_NORMAL_MAPS ") + (normalMaps ? "1" : "0") + "\n" +
-           "#define TS_ALPHA_MASK " + (masks ? "1" : "0") + "\n";
+           "#define TS_ALPHA_MASK " + (masks ? "1" : "0") + "\n" + "#define TS_CAPTURE " +
+           (capture ? "1" : "0") + "\n";
   }
 
   void buildProgram() {
@@ -392,13 +408,79 @@ struct GlRasterizer::State {
     gl::checkErrors("drawing scene '" + scene.name + "'");
   }
 
-  // Every draw of the scene with `u`'s program in use: the camera, then per draw its material.
+  // Every opaque draw of the scene with `u`'s program in use: the camera, then per draw its
+  // material. The transparent ones (--blend blend) are drawn after, back to front
+  // (drawTransparent); the G-buffer and the depth passes never hold them.
   void drawScene(const Uniforms& u, const SceneCamera& camera, const CameraIntrinsics& in,
                  bool metallicRoughness, bool applyNormalMaps) {
     setCamera(u, camera, in);
     glBindVertexArray(vao);
-    for (size_t b = 0; b < draws.size(); ++b) drawBatch(u, b, metallicRoughness, applyNormalMaps);
+    for (size_t b = 0; b < draws.size(); ++b)
+      if (!transparent(b)) drawBatch(u, b, metallicRoughness, applyNormalMaps);
     glBindVertexArray(0);
+  }
+
+  // alphaMode BLEND: only in a scene that composites them (validateForRaster refuses others).
+  bool transparent(size_t b) const { return draws[b].material->alphaMode == AlphaMode::Blend; }
+
+  // The transparent draws, farthest first: by the distance from the eye to the centre of each
+  // draw's world box (in double), ties in draw order. Within a draw the triangles blend in their
+  // order (OpenGL's primitive order), not by depth.
+  std::vector<uint32_t> backToFront(const SceneCamera& camera) const {
+    std::vector<std::pair<double, uint32_t>> keyed;
+    for (size_t b = 0; b < draws.size(); ++b) {
+      if (!transparent(b)) continue;
+      const glm::dvec3 centre =
+          0.5 * (glm::dvec3(draws[b].bounds.min) + glm::dvec3(draws[b].bounds.max));
+      const glm::dvec3 view(camera.viewFromWorld * glm::dvec4(centre, 1.0));
+      keyed.emplace_back(glm::length(view), uint32_t(b));
+    }
+    std::stable_sort(keyed.begin(), keyed.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<uint32_t> order;
+    for (const auto& k : keyed) order.push_back(k.second);
+    return order;
+  }
+
+  // The transparent pass over the image of an opaque pass (its depth buffer in place): the draws
+  // back to front, depth test on (GREATER, reversed depth) and depth writes off, premultiplied
+  // "over" blending into the image (alpha left at 0), each fragment shaded by the forward
+  // program with u_transparent. beforeDraw(b): the draw's list (u_list) where lists are the
+  // draws'. Adds its time and draws to `out`.
+  void drawTransparent(const SceneCamera& camera, const CameraIntrinsics& in,
+                       const ForwardLighting& lighting, int directionals,
+                       const std::function<void(size_t)>& beforeDraw, ForwardImage& out) {
+    const std::vector<uint32_t> order = backToFront(camera);
+    if (order.empty()) return;
+    const bool metallicRoughness = lighting.features.model == ShadingModel::MetallicRoughness;
+    const GLenum image[1] = {GL_COLOR_ATTACHMENT0};
+    glDrawBuffers(1, image);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+    glUniform1i(forwardUniform("u_transparent"), 1);
+    glUniform1i(forwardUniform("u_baseTerms"), 1);
+    glUniform1i(forwardUniform("u_dirLightCount"), GLint(directionals));
+    out.transparentMs = timed(
+        [&] {
+          setCamera(fu, camera, in);
+          glBindVertexArray(vao);
+          for (uint32_t b : order) {
+            if (beforeDraw) beforeDraw(b);
+            drawBatch(fu, b, metallicRoughness, lighting.features.normalMaps);
+          }
+          glBindVertexArray(0);
+        },
+        out.transparentQueryMs);
+    out.transparentDraws = order.size();
+    out.draws += order.size();
+    glUniform1i(forwardUniform("u_transparent"), 0);
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    gl::checkErrors("the transparent pass of scene '" + scene.name + "'");
   }
 
   void setCamera(const Uniforms& u, const SceneCamera& camera, const CameraIntrinsics& in) {
@@ -436,6 +518,7 @@ struct GlRasterizer::State {
     forwardVariants[0] = gl::buildProgram("gbuffer.vert", "tiled_forward.frag",
                                           defines() + "#define TS_HAS_SHADOWS 0\n");
     variantUniforms[0] = uniformsOf(forwardVariants[0]);
+    glUniform1i(glGetUniformLocation(forwardVariants[0], "u_transparent"), 0);
     selectForward(false);
     glGenBuffers(kForwardStorages, storage);
     if (!timer) glGenQueries(1, &timer);
@@ -511,6 +594,14 @@ struct GlRasterizer::State {
     fu = variantUniforms[shadows ? 1 : 0];
   }
 
+  // The forward shader as the capture pass (TS_CAPTURE), built on first use.
+  void buildCapture() {
+    if (captureProgram) return;
+    captureProgram = gl::buildProgram("gbuffer.vert", "tiled_forward.frag", defines(true) + "#define TS_HAS_SHADOWS 0\n");
+    cu = uniformsOf(captureProgram);
+    gl::checkErrors("setting up the capture program");
+  }
+
   // Colour 0: the shaded image (RGBA32F); colour 1: the pre-pass's linear depth (R32F); colour 2:
   // the draw batch of each pixel's surface (R32I, forward and forward-single); the reversed float
   // depth buffer of the G-buffer pass.
@@ -569,6 +660,16 @@ struct GlRasterizer::State {
   template <typename T>
   void storeVector(int binding, const std::vector<T>& v) {
     storageData(binding, v.data(), v.size() * sizeof(T));
+  }
+  // Into buffer `buffer`, bound at `binding` (a buffer that is not a binding's own).
+  template <typename T>
+  void storeVectorAt(int buffer, int binding, const std::vector<T>& v) {
+    static const uint32_t kZero[4] = {0, 0, 0, 0};
+    const size_t bytes = v.size() * sizeof(T);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, storage[buffer]);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(bytes ? bytes : sizeof kZero),
+                 bytes ? static_cast<const void*>(v.data()) : kZero, GL_STREAM_DRAW);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(binding), storage[buffer]);
   }
 
   // The frame's lights into shader storage (the directional ones where the features shade them);
@@ -788,8 +889,8 @@ void GlRasterizer::warmUpPasses(const ViewLights& none) {
   grid.offsets = grid.counts = {0};
   double ms = 0.0;
   depthPrepass(warmup, 8, 8, ms);
-  tiledForward(warmup, 8, 8, lighting, grid, true);
-  tiledForward(warmup, 8, 8, lighting, grid, false);
+  tiledForward(warmup, 8, 8, lighting, grid, true, nullptr);
+  tiledForward(warmup, 8, 8, lighting, grid, false, nullptr);
   // forward's blended light pass (a light far away, drawn with the first batch) and
   // forward-single's draw lists.
   ViewLights one = none;
@@ -903,17 +1004,29 @@ std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int wid
   return depth;
 }
 
-ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, int height,
-                                        const ForwardLighting& lighting,
-                                        const ForwardLightGrid& grid, bool depthEqual) {
-  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+// Throws ts::Error unless `grid` tiles a width x height frame.
+static void checkGrid(const ForwardLightGrid& grid, int width, int height) {
   const size_t tiles = size_t(grid.tilesX) * size_t(grid.tilesY);
-  if (!lighting.lights || grid.tileW < 1 || grid.tileH < 1 ||
-      grid.tilesX != (width + grid.tileW - 1) / grid.tileW ||
+  if (grid.tileW < 1 || grid.tileH < 1 || grid.tilesX != (width + grid.tileW - 1) / grid.tileW ||
       grid.tilesY != (height + grid.tileH - 1) / grid.tileH || grid.offsets.size() != tiles ||
       grid.counts.size() != tiles)
     throw Error("tiled forward: the light grid does not match the " + std::to_string(width) + "x" +
                 std::to_string(height) + " frame");
+}
+
+ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, int height,
+                                        const ForwardLighting& lighting,
+                                        const ForwardLightGrid& grid, bool depthEqual,
+                                        const ForwardLightGrid* transparentGrid) {
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+  const size_t tiles = size_t(grid.tilesX) * size_t(grid.tilesY);
+  if (!lighting.lights) throw Error("tiled forward: no lights");
+  checkGrid(grid, width, height);
+  if (transparentGrid) {
+    checkGrid(*transparentGrid, width, height);
+    if (transparentGrid->tileW != grid.tileW || transparentGrid->tileH != grid.tileH)
+      throw Error("tiled forward: the transparent pass's grid has other tiles than the opaque's");
+  }
   State& s = beginForward(width, height, lighting.lights->hasShadows());
   if (depthEqual && (s.forwardTargets.width != width || s.forwardTargets.height != height))
     throw Error("tiled forward with depth EQUAL needs a depth pre-pass of the same size first");
@@ -926,6 +1039,15 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
   for (size_t t = 0; t < tiles; ++t) bins[t] = {grid.offsets[t], grid.counts[t]};
   s.storeVector(kTileBins, bins);
   s.storeVector(kTileLights, grid.lights);
+  if (transparentGrid) {
+    for (size_t t = 0; t < tiles; ++t)
+      bins[t] = {transparentGrid->offsets[t], transparentGrid->counts[t]};
+    s.storeVectorAt(kGlassBins, kTileBins, bins);
+    s.storeVectorAt(kGlassLights, kTileLights, transparentGrid->lights);
+    // The opaque pass's grid bound again (storeVectorAt bound the transparent one).
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileBins, s.storage[kTileBins]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileLights, s.storage[kTileLights]);
+  }
   const std::vector<uint32_t> work(tiles, 0);
   s.storeVector(kTileWork, work);
   gl::checkErrors("uploading the lights and the light grid");
@@ -949,9 +1071,14 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
   out.drawMs = s.timed(
       [&] { s.drawScene(s.fu, camera, in, metallicRoughness, lighting.features.normalMaps); },
       out.queryMs);
-  out.draws = s.draws.size();
+  out.draws = s.draws.size() - s.backToFront(camera).size();
   glDepthMask(GL_TRUE);
   gl::checkErrors("the tiled forward pass of scene '" + s.scene.name + "'");
+  if (transparentGrid) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileBins, s.storage[kGlassBins]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileLights, s.storage[kGlassLights]);
+  }
+  s.drawTransparent(camera, in, lighting, directionals, {}, out);
   s.readForward(out, width, height, tiles);
   return out;
 }
@@ -998,7 +1125,7 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
   out.baseMs = s.timed(
       [&] { s.drawScene(s.fu, camera, in, metallicRoughness, lighting.features.normalMaps); },
       out.baseQueryMs);
-  out.draws = s.draws.size();
+  out.draws = s.draws.size() - s.backToFront(camera).size();
   gl::checkErrors("the forward base pass of scene '" + s.scene.name + "'");
 
   // One additive pass per light over the batches its sphere touches; EQUAL: only the visible
@@ -1019,18 +1146,31 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
         for (size_t p = 0; p < passLights.size(); ++p) {
           glUniform2ui(list, GLuint(p), 1);
           const uint32_t light = passLights[p];
-          for (uint32_t k = 0; k < lightBatches.counts[light]; ++k)
-            s.drawBatch(s.fu, lightBatches.items[lightBatches.offsets[light] + k],
-                        metallicRoughness, lighting.features.normalMaps);
+          for (uint32_t k = 0; k < lightBatches.counts[light]; ++k) {
+            const uint32_t b = lightBatches.items[lightBatches.offsets[light] + k];
+            if (!s.transparent(b))  // the transparent pass shades those with all their lights
+              s.drawBatch(s.fu, b, metallicRoughness, lighting.features.normalMaps);
+          }
         }
         glBindVertexArray(0);
       },
       out.queryMs);
   out.passes = passLights.size();
-  out.draws += lightBatches.items.size();
+  for (size_t k = 0; k < lightBatches.items.size(); ++k)
+    out.draws += s.transparent(lightBatches.items[k]) ? 0 : 1;
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
   gl::checkErrors("the forward light passes of scene '" + s.scene.name + "'");
+  // A blended surface cannot take one additive pass per light (each pass would blend "over"
+  // again): each transparent draw is one pass with all the lights its batch touches (the
+  // batch lists of batchLights, found per light for the light passes, transposed back).
+  if (!s.backToFront(camera).empty()) {
+    const IndexLists batchLights = transposeLists(lightBatches, s.draws.size());
+    s.storeVector(kTileLights, batchLights.items);
+    s.drawTransparent(
+        camera, in, lighting, directionals,
+        [&](size_t b) { glUniform2ui(list, batchLights.offsets[b], batchLights.counts[b]); }, out);
+  }
   s.readForward(out, width, height, tiles, true);
   return out;
 }
@@ -1072,15 +1212,100 @@ ForwardImage GlRasterizer::singlePassForward(const SceneCamera& camera, int widt
         s.setCamera(s.fu, camera, in);
         glBindVertexArray(s.vao);
         for (size_t b = 0; b < s.draws.size(); ++b) {
+          if (s.transparent(b)) continue;  // after the opaque ones, back to front
           glUniform2ui(list, batchLights.offsets[b], batchLights.counts[b]);
           s.drawBatch(s.fu, b, metallicRoughness, lighting.features.normalMaps);
         }
         glBindVertexArray(0);
       },
       out.queryMs);
-  out.draws = s.draws.size();
+  out.draws = s.draws.size() - s.backToFront(camera).size();
   gl::checkErrors("the forward-single pass of scene '" + s.scene.name + "'");
+  // Each transparent draw shades its batch's list, as its opaque neighbours do.
+  s.drawTransparent(
+      camera, in, lighting, directionals,
+      [&](size_t b) { glUniform2ui(list, batchLights.offsets[b], batchLights.counts[b]); }, out);
   s.readForward(out, width, height, tiles, true);
+  return out;
+}
+
+std::vector<TransparentFragment> GlRasterizer::captureTransparent(const SceneCamera& camera,
+                                                                  int width, int height,
+                                                                  const SceneFeatures& features,
+                                                                  size_t maxFragments) {
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+  State& s = beginForward(width, height);
+  const std::vector<uint32_t> order = s.backToFront(camera);
+  if (order.empty()) return {};
+  s.buildCapture();
+  s.ensureForwardFramebuffer(width, height);
+  const bool metallicRoughness = features.model == ShadingModel::MetallicRoughness;
+
+  // The opaque depth, as every forward pass leaves it before its transparent pass.
+  s.passState(in);
+  const GLenum none[1] = {GL_NONE};
+  glDrawBuffers(1, none);
+  s.clearDepth(in);
+  glDepthFunc(GL_GREATER);
+  glUseProgram(s.depthProgram);
+  s.drawScene(s.du, camera, in, false, false);
+
+  // The transparent draws in their order, depth test on, writes off: nothing drawn, each
+  // fragment recorded. A first capacity of two fragments a pixel; an overflow (the counter runs
+  // on past it) redraws with room for all, up to the bound.
+  glDepthMask(GL_FALSE);
+  glUseProgram(s.captureProgram);
+  const GLint capacityAt = glGetUniformLocation(s.captureProgram, "u_captureCapacity");
+  const GLint orderAt = glGetUniformLocation(s.captureProgram, "u_drawOrder");
+  size_t capacity = std::min(maxFragments, std::max<size_t>(1, 2 * size_t(width) * size_t(height)));
+  uint32_t count = 0;
+  for (;;) {
+    const uint32_t zero = 0;
+    s.storageData(kCaptureCount, &zero, sizeof zero);
+    s.storageData(kCaptured, nullptr, capacity * sizeof(CapturedRecord));
+    glUniform1ui(capacityAt, GLuint(capacity));
+    s.setCamera(s.cu, camera, in);
+    glBindVertexArray(s.vao);
+    for (size_t k = 0; k < order.size(); ++k) {
+      glUniform1i(orderAt, GLint(k));
+      s.drawBatch(s.cu, order[k], metallicRoughness, features.normalMaps);
+    }
+    glBindVertexArray(0);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, s.storage[kCaptureCount]);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof count, &count);
+    gl::checkErrors("the capture of the transparent fragments of scene '" + s.scene.name + "'");
+    if (count <= capacity) break;
+    if (count > maxFragments)
+      throw Error("the reference's capture of the transparent fragments: " + std::to_string(count) +
+                  " fragments pass the depth test, more than its bound of " +
+                  std::to_string(maxFragments) + " (" +
+                  std::to_string(maxFragments * sizeof(CapturedRecord) >> 20) +
+                  " MiB); render a smaller frame");
+    capacity = count;
+  }
+  glDepthMask(GL_TRUE);
+  std::vector<CapturedRecord> records(count);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, s.storage[kCaptured]);
+  if (count > 0)
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(count * sizeof(CapturedRecord)),
+                       records.data());
+  gl::checkErrors("reading back the transparent fragments");
+  std::vector<TransparentFragment> out(count);
+  for (size_t i = 0; i < count; ++i) {
+    const CapturedRecord& r = records[i];
+    TransparentFragment& f = out[i];
+    f.x = r.x;
+    f.y = r.y;
+    f.order = r.order;
+    f.primitive = r.primitive;
+    f.position = glm::vec3(r.position[0], r.position[1], r.position[2]);
+    f.alpha = r.position[3];
+    f.normal = glm::vec3(r.normal[0], r.normal[1], r.normal[2]);
+    f.diffuse = glm::vec4(r.diffuse[0], r.diffuse[1], r.diffuse[2], r.diffuse[3]);
+    f.specular = glm::vec4(r.specular[0], r.specular[1], r.specular[2], r.specular[3]);
+    f.emissive = glm::vec4(r.emissive[0], r.emissive[1], r.emissive[2], r.emissive[3]);
+  }
   return out;
 }
 
@@ -1092,6 +1317,12 @@ std::vector<ViewBox> GlRasterizer::batchBoxes(const SceneCamera& camera) const {
 }
 
 size_t GlRasterizer::batchCount() const { return state_->draws.size(); }
+
+size_t GlRasterizer::transparentDraws() const {
+  size_t n = 0;
+  for (size_t b = 0; b < state_->draws.size(); ++b) n += state_->transparent(b) ? 1 : 0;
+  return n;
+}
 
 GlRasterizer::State& GlRasterizer::beginForward(int width, int height, bool shadows) {
   if (width > state_->maxSize || height > state_->maxSize)

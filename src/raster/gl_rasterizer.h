@@ -19,6 +19,7 @@
 #include "scene/scene.h"
 #include "scene/scene_features.h"
 #include "shading/forward_grid.h"
+#include "shading/transparent_fragments.h"
 #include "shading/view_lights.h"
 
 namespace ts {
@@ -54,9 +55,11 @@ class GlRasterizer {
   // shading its tile's lights with kernels/shading.h. depthEqual: after depthPrepass() of the same
   // camera and size, with the depth test EQUAL (each pixel shaded once); else the depth test of
   // the G-buffer pass (every fragment that passes it at its time is shaded). Needs OpenGL 4.3.
+  // The scene's transparent draws (--blend blend) come after the opaque ones, back to front,
+  // blended over them (drawn with transparentGrid's lists where given, else grid's).
   ForwardImage tiledForward(const SceneCamera& camera, int width, int height,
                             const ForwardLighting& lighting, const ForwardLightGrid& grid,
-                            bool depthEqual);
+                            bool depthEqual, const ForwardLightGrid* transparentGrid);
   // Multi-pass forward shading (`forward`, the thesis's): a base pass of every draw batch
   // (ambient, emission, directional lights; the G-buffer pass's depth test), then for each light
   // with a non-empty list in lightBatches (one list per light: the batches its volume touches,
@@ -73,6 +76,16 @@ class GlRasterizer {
   // The view-space boxes of the draw batches at `camera`, in draw order (raster/draw_batches.h).
   std::vector<ViewBox> batchBoxes(const SceneCamera& camera) const;
   size_t batchCount() const;
+  // Draw batches with an alphaMode BLEND material (a scene with Scene::blendComposited).
+  size_t transparentDraws() const;
+  // The reference's capture of the transparent draws (shading/transparent_fragments.h): an
+  // opaque depth pass, then the transparent draws in the forward passes' back-to-front order with
+  // the forward shader's TS_CAPTURE build, which records every fragment that passes the depth
+  // test into a shader storage buffer (an atomic counter; grown and redrawn when it overflows).
+  // Throws ts::Error when more than maxFragments pass (kCaptureBound by default).
+  std::vector<TransparentFragment> captureTransparent(const SceneCamera& camera, int width,
+                                                      int height, const SceneFeatures& features,
+                                                      size_t maxFragments);
 
   // A depth-only pass: fills the depth buffer the next tiledForward(.., true) tests against and
   // returns the linear view depth per pixel (0 = background), the G-buffer's depth plane.

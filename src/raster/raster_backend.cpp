@@ -42,9 +42,16 @@ class GlForwardScene : public ForwardScene {
   }
   ForwardImage tiledForward(const ViewLights& lights, glm::vec3 ambient,
                             const SceneFeatures& features, int rangeModel,
-                            const ForwardLightGrid& grid, bool depthEqual) override {
+                            const ForwardLightGrid& grid, bool depthEqual,
+                            const ForwardLightGrid* transparentGrid) override {
     return gl_.tiledForward(camera_, width_, height_,
-                            lightingOf(lights, ambient, features, rangeModel), grid, depthEqual);
+                            lightingOf(lights, ambient, features, rangeModel), grid, depthEqual,
+                            transparentGrid);
+  }
+  size_t transparentDraws() const override { return gl_.transparentDraws(); }
+  std::vector<TransparentFragment> captureTransparent(const SceneFeatures& features,
+                                                      size_t maxFragments) override {
+    return gl_.captureTransparent(camera_, width_, height_, features, maxFragments);
   }
   std::vector<ViewBox> batchBoxes() override { return gl_.batchBoxes(camera_); }
   ForwardImage multiPassForward(const ViewLights& lights, glm::vec3 ambient,

@@ -61,7 +61,9 @@
 // shaders/material_planes.h, at the barycentrics and UV resolve() would use); one below the
 // cutoff is left out, so what lies behind wins. The depth-only path tests the same way (so a
 // leaf's cut-out casts no shadow). BLEND is refused (validateForRaster) unless the scene's
-// --blend policy already turned it into OPAQUE or MASK (applyBlendPolicy, at load).
+// --blend policy already turned it into OPAQUE or MASK (applyBlendPolicy, at load); with
+// `--blend blend` the G-buffer pass refuses it too (the forward techniques composite it in
+// OpenGL) and the depth-only path leaves it out (composited surfaces cast no shadow).
 //
 // Material planes: ts_material_planes in shaders/material_planes.h, the one definition the OpenGL
 // rasterizer (src/raster/gl_rasterizer.cpp, shaders/gbuffer.frag) compiles as GLSL; these notes'
@@ -228,6 +230,11 @@ class Rasterizer {
     CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
     setFrame(width, height, in.znear, in.zfar, in.tanHalfFovX, in.tanHalfFovY, options.threads);
     validateForRaster(scene_);
+    if (scene_.blendComposited && drawsBlendedMaterials(scene_))
+      throw Error(
+          "scene '" + scene_.name +
+          "': --blend blend composites its alphaMode BLEND surfaces in the forward "
+          "techniques' OpenGL passes; the software rasterizer draws none (use --raster gl)");
     normalMaps_ = options.normalMaps && !scene_.tangents.empty();
   }
 
@@ -629,6 +636,7 @@ class Rasterizer {
         // the map holds the nearest covered fragment whatever the order; opaque ones skip it.
         const Material& material = materialOf(t.triangle);
         const bool masked = material.alphaMode == AlphaMode::Mask;
+        if (material.alphaMode == AlphaMode::Blend) continue;  // composited glass casts none
         double vd[3] = {0.0, 0.0, 0.0};  // the vertices' depths (orthographic)
         if (ortho)
           for (int k = 0; k < 3; ++k) vd[k] = -viewPositionOf(scene_.indices[3 * t.triangle + k]).z;

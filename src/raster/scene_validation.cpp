@@ -8,6 +8,29 @@
 #include "util/short_text.h"
 
 namespace ts {
+namespace {
+
+// Per material, whether some triangle is drawn with it (without a per-triangle list: the first).
+std::vector<bool> usedMaterialFlags(const Scene& s) {
+  std::vector<bool> used(s.materials.size(), false);
+  if (s.triangleMaterial.empty()) {
+    if (!used.empty() && s.triangleCount() > 0) used[0] = true;
+  } else {
+    for (uint32_t m : s.triangleMaterial)
+      if (m < used.size()) used[m] = true;
+  }
+  return used;
+}
+
+std::vector<Material> usedMaterials(const Scene& s) {
+  const std::vector<bool> used = usedMaterialFlags(s);
+  std::vector<Material> out;
+  for (size_t i = 0; i < s.materials.size(); ++i)
+    if (used[i]) out.push_back(s.materials[i]);
+  return out;
+}
+
+}  // namespace
 
 void validateForRaster(const Scene& s) {
   if (s.indices.size() % 3 != 0)
@@ -33,18 +56,17 @@ void validateForRaster(const Scene& s) {
       if (t >= int(s.textures.size()))
         throw Error("scene '" + s.name + "': material '" + m.name + "' uses texture " +
                     std::to_string(t) + " of " + std::to_string(s.textures.size()));
-  refuseBlendedMaterials(s);
+  if (!s.blendComposited) refuseBlendedMaterials(s);
+}
+
+bool drawsBlendedMaterials(const Scene& s) {
+  for (const Material& m : usedMaterials(s))
+    if (m.alphaMode == AlphaMode::Blend) return true;
+  return false;
 }
 
 void refuseBlendedMaterials(const Scene& s) {
-  // Only materials that some triangle is drawn with (without a per-triangle list: the first).
-  std::vector<bool> used(s.materials.size(), false);
-  if (s.triangleMaterial.empty()) {
-    if (!used.empty() && s.triangleCount() > 0) used[0] = true;
-  } else {
-    for (uint32_t m : s.triangleMaterial)
-      if (m < used.size()) used[m] = true;
-  }
+  const std::vector<bool> used = usedMaterialFlags(s);
   std::vector<std::string> names;
   for (size_t i = 0; i < s.materials.size(); ++i)
     if (used[i] && s.materials[i].alphaMode == AlphaMode::Blend)
@@ -57,8 +79,8 @@ void refuseBlendedMaterials(const Scene& s) {
   if (names.size() > shown) list += " and " + std::to_string(names.size() - shown) + " more";
   throw Error("scene '" + s.name + "': " + (names.size() == 1 ? "material " : "materials ") + list +
               (names.size() == 1 ? " is" : " are") +
-              " alphaMode BLEND: no technique renders transparency yet (issue #17); --blend "
-              "as-opaque draws it opaque, --blend as-mask as MASK");
+              " alphaMode BLEND: --blend blend composites it (forward techniques, --raster gl), "
+              "--blend as-opaque draws it opaque, --blend as-mask as MASK");
 }
 
 }  // namespace ts

@@ -15,6 +15,10 @@ Scene makeStreetScene(const std::string& lightSet, uint32_t seed, int lightCount
 std::vector<std::string> atriumLightSets();  // first = default
 Scene makeAtriumScene(const std::string& lightSet, uint32_t seed, int lightCount);
 
+// `--variant glass` (glass_variant.cpp): BLEND panes and volumes where frame 0 looks; throws
+// ts::Error for a scene other than the built-ins.
+void addGlass(Scene& scene);
+
 // HSV-ish hue to an RGB colour whose largest component is 1 (saturation in [0,1]).
 glm::vec3 hueColor(float hue, float saturation);
 

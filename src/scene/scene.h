@@ -40,8 +40,9 @@ ShadingModel parseShadingModel(const std::string& s);  // throws ts::Error other
 // alpha, ts_material_alpha in shaders/material_planes.h) covers what lies behind it.
 //  Opaque  alpha ignored
 //  Mask    a fragment whose alpha is below alphaCutoff is not drawn (both rasterizers)
-//  Blend   blended over what lies behind: no technique renders it yet, so the rasterizers refuse
-//          a scene that draws one (--blend as-opaque / as-mask opt in; docs/features.md)
+//  Blend   blended over what lies behind: the rasterizers refuse a scene that draws one unless
+//          it is composited (Scene::blendComposited, --blend blend: the forward techniques) or
+//          drawn opaque or masked (--blend as-opaque / as-mask; docs/features.md)
 enum class AlphaMode { Opaque = 0, Mask = 1, Blend = 2 };
 std::string toString(AlphaMode mode);  // glTF's names: "OPAQUE" | "MASK" | "BLEND"
 
@@ -158,6 +159,9 @@ struct Scene {
   std::vector<SceneLight> lights;       // every type; see Light
   std::vector<SceneCamera> cameraPath;  // frame k uses cameraPath[k % size]
   glm::vec3 ambient{0.02f};             // global ambient term a
+  // --blend blend: alphaMode BLEND materials are drawn blended, back to front after the opaque
+  // surfaces, by the forward techniques; the G-buffer and the shadow maps leave them out.
+  bool blendComposited = false;
 
   size_t triangleCount() const { return indices.size() / 3; }
   Bounds bounds() const;

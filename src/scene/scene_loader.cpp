@@ -60,7 +60,7 @@ void makeSpots(Scene& scene, uint32_t seed) {
 }  // namespace
 
 std::vector<std::string> builtinVariants() {
-  return {"diffuse", "no-emission", "metallic-roughness", "spot", "sun"};
+  return {"diffuse", "no-emission", "metallic-roughness", "spot", "sun", "glass"};
 }
 
 void applyVariants(Scene& scene, const std::string& variants, uint32_t seed) {
@@ -84,6 +84,8 @@ void applyVariants(Scene& scene, const std::string& variants, uint32_t seed) {
       // Low in the sky, warm; about as bright as the brighter lit pixels of the built-ins.
       scene.lights.push_back(SceneLight::directional(glm::normalize(glm::vec3(0.45f, -0.6f, 0.35f)),
                                                      glm::vec3(0.32f, 0.29f, 0.24f)));
+    } else if (v == "glass") {
+      addGlass(scene);
     } else {
       throw Error("unknown scene variant '" + shortText(v) +
                   "' (known: " + joined(builtinVariants()) + ")");
@@ -216,17 +218,20 @@ const EnumNames<BlendPolicy>& blendPolicyNames() {
   static const EnumNames<BlendPolicy> names(
       "blend policy",
       {{BlendPolicy::Refuse, "refuse",
-        "a scene with alphaMode BLEND materials is refused: no technique renders transparency "
-        "yet"},
+        "a scene with alphaMode BLEND materials is refused (--blend blend composites them)"},
        {BlendPolicy::AsOpaque, "as-opaque", "BLEND materials drawn opaque"},
-       {BlendPolicy::AsMask, "as-mask", "BLEND materials drawn as MASK with their alphaCutoff"}});
+       {BlendPolicy::AsMask, "as-mask", "BLEND materials drawn as MASK with their alphaCutoff"},
+       {BlendPolicy::Blend, "blend",
+        "BLEND materials composited over the opaque scene, back to front, by the forward "
+        "techniques (--raster gl); the G-buffer techniques refuse such a frame"}});
   return names;
 }
 
 std::string toString(BlendPolicy policy) { return blendPolicyNames().name(policy); }
 
 void applyBlendPolicy(Scene& scene, BlendPolicy policy) {
-  if (policy == BlendPolicy::Refuse) return;
+  scene.blendComposited = policy == BlendPolicy::Blend;
+  if (policy == BlendPolicy::Refuse || policy == BlendPolicy::Blend) return;
   for (Material& m : scene.materials)
     if (m.alphaMode == AlphaMode::Blend)
       m.alphaMode = policy == BlendPolicy::AsMask ? AlphaMode::Mask : AlphaMode::Opaque;

@@ -8,12 +8,15 @@
 
 namespace ts {
 
-// What becomes of alphaMode BLEND materials (`--blend`) while no technique renders transparency:
+// What becomes of alphaMode BLEND materials (`--blend`):
 //  refuse     the default: kept, and both rasterizers refuse a scene that draws one, naming the
 //             materials (validateForRaster), so a transparent surface is never silently opaque
 //  as-opaque  drawn opaque (their alpha ignored)
 //  as-mask    drawn as alphaMode MASK with their alphaCutoff
-enum class BlendPolicy { Refuse = 0, AsOpaque = 1, AsMask = 2 };
+//  blend      kept and composited (Scene::blendComposited): the forward techniques draw them
+//             back to front over the opaque scene; the G-buffer holds the opaque surfaces only,
+//             so the G-buffer techniques refuse such a frame (docs/techniques.md, "Transparency")
+enum class BlendPolicy { Refuse = 0, AsOpaque = 1, AsMask = 2, Blend = 3 };
 const EnumNames<BlendPolicy>& blendPolicyNames();
 std::string toString(BlendPolicy policy);
 // The policy applied to the scene's BLEND materials (refuse: left as they are).
@@ -41,6 +44,7 @@ struct SceneOptions {
 //   metallic-roughness  materials written for glTF's model (from their Blinn-Phong terms)
 //   spot                every second light is a spot light pointing down
 //   sun                 one directional light (a sun) added
+//   glass               glass panes and volumes (alphaMode BLEND) where frame 0 looks
 std::vector<std::string> builtinVariants();
 // Applies a comma list of variants to a built-in scene; throws ts::Error for an unknown one.
 void applyVariants(Scene& scene, const std::string& variants, uint32_t seed);

@@ -32,6 +32,10 @@ struct ForwardImage {
   double baseMs = 0.0, baseQueryMs = 0.0;
   size_t passes = 0;
   size_t draws = 0;  // draw calls, all passes
+  // The transparent pass (--blend blend; in drawMs of none): its wall clock and timer query, and
+  // its draws (in `draws` too); 0 without transparent draws.
+  double transparentMs = 0.0, transparentQueryMs = 0.0;
+  size_t transparentDraws = 0;
   // forward, forward-single: the draw batch of each pixel's surface (-1: background), row 0 at
   // the top.
   std::vector<int32_t> pixelBatch;

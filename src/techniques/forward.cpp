@@ -37,6 +37,8 @@ class ForwardTechnique : public Technique {
                       {"base", drawn.baseMs, 1},
                       {"light_passes", drawn.drawMs, int(drawn.passes)}};
     addShadowUploadRow(*frame.lights, drawn, result.kernels);
+    if (drawn.transparentDraws > 0)  // --blend blend: back to front, each with its batch's list
+      result.kernels.push_back({"transparent", drawn.transparentMs, int(drawn.transparentDraws)});
     for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
     result.image = drawn.image;
     // The paper's count: fragment shader invocations x lights evaluated, from the shader's own

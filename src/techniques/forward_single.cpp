@@ -27,6 +27,8 @@ class ForwardSingleTechnique : public Technique {
     result.kernels = {
         {"batch_lists", listMs, 1}, {"upload", drawn.uploadMs, 1}, {"forward", drawn.drawMs, 1}};
     addShadowUploadRow(*frame.lights, drawn, result.kernels);
+    if (drawn.transparentDraws > 0)  // --blend blend: back to front, each with its batch's list
+      result.kernels.push_back({"transparent", drawn.transparentMs, int(drawn.transparentDraws)});
     for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
     result.image = drawn.image;
     // Fragment shader invocations x (its batch's list + directional lights), overdrawn fragments

@@ -95,10 +95,17 @@ std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& c
     throw Error(shadowStorageRefusal(name));
   std::unique_ptr<Technique> technique = info.create(cl, resolved);
   technique->features_ = resolved.features;
+  technique->drawsScene_ = info.drawsScene;
   return technique;
 }
 
 FrameResult Technique::render(DeviceFrame& frame, const FrameRequest& request) {
+  // Never a G-buffer image of a frame whose transparent surfaces it would leave out.
+  if (!drawsScene_ && frame.forward && frame.forward->transparentDraws() > 0)
+    throw Error("technique '" + name() +
+                "' shades the G-buffer, which holds the opaque surfaces only: this frame has "
+                "alphaMode BLEND surfaces to composite (--blend blend; a forward technique draws "
+                "them, or --blend as-opaque|as-mask)");
   checkFrameFeatures(features_, frame);
   return renderFrame(frame, request);
 }

@@ -127,6 +127,7 @@ class Technique {
   friend std::unique_ptr<Technique> createTechnique(const std::string&, ClContext&,
                                                     const TechniqueConfig&);
   SceneFeatures features_;
+  bool drawsScene_ = false;  // TechniqueInfo::drawsScene
 };
 
 // Throws ts::Error naming the mismatch when kernels built for `features` cannot render `frame`

@@ -68,6 +68,22 @@ void TileLightGrid::enqueueWholeDepthRange(float znear, float zfar, FrameTimer& 
                                 nullptr, timer.next("clear"));
 }
 
+void TileLightGrid::enqueueTransparentRanges(float znear, float zfar, FrameTimer& timer) {
+  std::vector<cl_float4> ranges(size_t(grid_.count()));
+  auto& q = cl_.queue();
+  q.enqueueReadBuffer(depth_, CL_TRUE, 0, ranges.size() * sizeof(cl_float4), ranges.data());
+  for (cl_float4& r : ranges) {
+    // (zmin, near_max, far_min, zmax) of kernels/tiled.cl: the far bound is near_max without a
+    // split (zmax 0), zmax with one; an empty tile (zmin > near_max) shows the background.
+    const bool empty = r.s[0] > r.s[1];
+    const float far = empty ? zfar : std::max(r.s[1], r.s[3]);
+    r = {{znear, far, FLT_MAX, 0.0f}};
+  }
+  q.enqueueWriteBuffer(depth_, CL_FALSE, 0, ranges.size() * sizeof(cl_float4), ranges.data(),
+                       nullptr, timer.next("transparent_bounds"));
+  q.finish();  // `ranges` is read by the non-blocking write
+}
+
 void TileLightGrid::enqueueBinning(const DeviceFrame& frame, FrameTimer& timer) {
   const int lights = frame.lightCount();
   const size_t perLight = std::max<size_t>(size_t(lights), 1);

@@ -27,6 +27,11 @@ class TileLightGrid {
   void enqueueClear(FrameTimer& timer);
   void enqueueDepthBounds(const cl::Buffer& linearDepth, int width, int height, FrameTimer& timer);
   void enqueueWholeDepthRange(float znear, float zfar, FrameTimer& timer);
+  // The transparent surfaces' ranges from the opaque ones of enqueueDepthBounds (Olsson &
+  // Assarsson, Section 4: a transparent fragment in front of the opaque surface is still drawn,
+  // so only the far bound may cull): each tile's [znear, its opaque far bound], an empty tile's
+  // [znear, zfar]. Reads the opaque ranges back (waits for them), writes these in their place.
+  void enqueueTransparentRanges(float znear, float zfar, FrameTimer& timer);
   void enqueueBinning(const DeviceFrame& frame, FrameTimer& timer);
 
   // Lights whose tile rectangle holds more than `tiles` tiles are binned by a whole work-group

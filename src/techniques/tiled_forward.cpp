@@ -6,9 +6,15 @@
 //                       only (the paper's TiledFwd); the scene drawn once with the depth test.
 //   tiled-forward-prez  a depth-only pre-pass, its linear depth through tile_depth_bounds as in
 //                       `tiled`, then the forward pass with the depth test EQUAL (TiledFwd-PreZ).
+// Transparent draws (--blend blend) follow the opaque pass, back to front, blended: tiled-forward
+// draws them with its grid (no depth range culls nothing in front); tiled-forward-prez bins the
+// lights a second time for them, each tile's range [znear, the opaque far bound] (Olsson &
+// Assarsson Section 4: only the far bound may cull a transparent fragment), row
+// transparent_grid.
 // The grid is copied through the host (PoCL and llvmpipe share nothing): its own row, grid_copy,
 // in the per-kernel table, as are the OpenGL passes (timer queries): depth_prepass, forward.
 #include <chrono>
+#include <optional>
 
 #include "techniques/forward_batches.h"
 #include "techniques/techniques.h"
@@ -52,24 +58,42 @@ class TiledForwardTechnique : public Technique {
     result.kernels = timer_.kernels();
 
     // The grid to the host, then into OpenGL's buffers (inside tiledForward: uploadMs).
-    const auto copyStart = Clock::now();
+    auto copyStart = Clock::now();
     const TileGrid& tiles = grid_.grid();
-    ForwardLightGrid grid;
-    grid.tileW = tiles.tileW;
-    grid.tileH = tiles.tileH;
-    grid.tilesX = tiles.tilesX;
-    grid.tilesY = tiles.tilesY;
-    grid.counts = grid_.readCounts();
-    grid.offsets = grid_.readOffsets();
-    grid.lights = grid_.readLights(total);
-    const double readMs = msSince(copyStart);
+    const ForwardLightGrid grid = readGrid(total);
+    double readMs = msSince(copyStart);
 
-    const ForwardImage drawn = scene.tiledForward(*frame.lights, frame.ambient, features(),
-                                                  int(config_.rangeModel), grid, prez_);
+    std::optional<ForwardLightGrid> transparentGrid;
+    if (prez_ && scene.transparentDraws() > 0) {
+      const uint32_t glassTotal = grid_.runUntilListFits(
+          [&] {
+            glassTimer_.clear();
+            grid_.enqueueClear(glassTimer_);
+            grid_.enqueueTransparentRanges(frame.camera.znear, frame.camera.zfar, glassTimer_);
+            grid_.enqueueBinning(frame, glassTimer_);
+          },
+          result.counters.notes);
+      cl_.queue().finish();
+      KernelTime row{"transparent_grid", 0.0, 0};
+      for (const KernelTime& k : glassTimer_.kernels()) {
+        row.ms += k.ms;
+        row.launches += k.launches;
+      }
+      result.kernels.push_back(row);
+      copyStart = Clock::now();
+      transparentGrid = readGrid(glassTotal);
+      readMs += msSince(copyStart);
+    }
+
+    const ForwardImage drawn =
+        scene.tiledForward(*frame.lights, frame.ambient, features(), int(config_.rangeModel), grid,
+                           prez_, transparentGrid ? &*transparentGrid : nullptr);
     if (prez_) result.kernels.push_back({"depth_prepass", prepassMs, 1});
     result.kernels.push_back({"grid_copy", readMs + drawn.uploadMs, 1});
     result.kernels.push_back({"forward", drawn.drawMs, 1});
     addShadowUploadRow(*frame.lights, drawn, result.kernels);
+    if (drawn.transparentDraws > 0)
+      result.kernels.push_back({"transparent", drawn.transparentMs, int(drawn.transparentDraws)});
     result.totalMs = 0.0;
     for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
     result.image = drawn.image;
@@ -99,6 +123,20 @@ class TiledForwardTechnique : public Technique {
     return cl.build("tiled.cl", options);
   }
 
+  // The grid as it stands on the device, to the host (the queue finished).
+  ForwardLightGrid readGrid(uint32_t total) const {
+    const TileGrid& tiles = grid_.grid();
+    ForwardLightGrid grid;
+    grid.tileW = tiles.tileW;
+    grid.tileH = tiles.tileH;
+    grid.tilesX = tiles.tilesX;
+    grid.tilesY = tiles.tilesY;
+    grid.counts = grid_.readCounts();
+    grid.offsets = grid_.readOffsets();
+    grid.lights = grid_.readLights(total);
+    return grid;
+  }
+
   void allocate(const DeviceFrame& frame) {
     if (grid_.allocate(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight) &&
         prez_)
@@ -122,6 +160,7 @@ class TiledForwardTechnique : public Technique {
   TileLightGrid grid_;
   cl::Buffer prepassDepth_;
   FrameTimer timer_;
+  FrameTimer glassTimer_;  // the transparent pass's grid (tiled-forward-prez)
 };
 
 }  // namespace

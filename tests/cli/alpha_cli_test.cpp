@@ -46,8 +46,8 @@ TEST(AlphaCli, BlendIsRefusedInOneLineUnlessOptedIn) {
   EXPECT_NE(refused.status, 0);
   EXPECT_EQ(lines(refused.output), 1) << refused.output;
   EXPECT_NE(refused.output.find("tileshade: error: "), std::string::npos) << refused.output;
-  EXPECT_NE(refused.output.find("material 'glass' is alphaMode BLEND: no technique renders "
-                                "transparency yet"),
+  EXPECT_NE(refused.output.find("material 'glass' is alphaMode BLEND: --blend blend composites "
+                                "it"),
             std::string::npos)
       << refused.output;
   EXPECT_NE(refused.output.find("--blend as-opaque"), std::string::npos) << refused.output;

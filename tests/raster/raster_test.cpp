@@ -675,7 +675,7 @@ TEST(RasterAlpha, BlendIsRefusedNamingTheMaterialUnlessThePolicyDrawsIt) {
     ADD_FAILURE() << "a BLEND material was drawn";
   } catch (const ts::Error& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("material 'leaf' is alphaMode BLEND: no technique renders transparency"),
+    EXPECT_NE(what.find("material 'leaf' is alphaMode BLEND: --blend blend composites it"),
               std::string::npos)
         << what;
     EXPECT_NE(what.find("--blend as-opaque"), std::string::npos) << what;
