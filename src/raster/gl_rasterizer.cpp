@@ -597,7 +597,8 @@ struct GlRasterizer::State {
   // The forward shader as the capture pass (TS_CAPTURE), built on first use.
   void buildCapture() {
     if (captureProgram) return;
-    captureProgram = gl::buildProgram("gbuffer.vert", "tiled_forward.frag", defines(true) + "#define TS_HAS_SHADOWS 0\n");
+    captureProgram = gl::buildProgram("gbuffer.vert", "tiled_forward.frag",
+                                      defines(true) + "#define TS_HAS_SHADOWS 0\n");
     cu = uniformsOf(captureProgram);
     gl::checkErrors("setting up the capture program");
   }
@@ -1234,7 +1235,7 @@ std::vector<TransparentFragment> GlRasterizer::captureTransparent(const SceneCam
                                                                   const SceneFeatures& features,
                                                                   size_t maxFragments) {
   const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
-  State& s = beginForward(width, height);
+  State& s = beginForward(width, height, /*shadows=*/false);  // the capture shades nothing
   const std::vector<uint32_t> order = s.backToFront(camera);
   if (order.empty()) return {};
   s.buildCapture();

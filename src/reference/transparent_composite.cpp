@@ -27,8 +27,8 @@ SurfaceD fragmentSurface(const TransparentFragment& f, const EncodedGBuffer& gbu
 
 // Every light, punctual then directional, as shadeReference sums a pixel; counts the non-zero
 // contributions.
-glm::dvec3 shadeFragment(const SurfaceD& s, const ViewLights& lights, glm::dvec3 ambient,
-                         int model, int shading, uint64_t& contributing) {
+glm::dvec3 shadeFragment(const SurfaceD& s, const ViewLights& lights, glm::dvec3 ambient, int model,
+                         int shading, uint64_t& contributing) {
   shading_d::ts_shading_point p = shading_d::ts_make_shading_point(s.P, s.N, s.V, s.gloss, shading);
   p.view_term = s.viewTerm;
   glm::dvec3 sum(0.0);
@@ -82,7 +82,8 @@ void compositeTransparent(ReferenceImage& reference, const std::vector<Transpare
     c = alpha * shade + (1.0 - alpha) * c;
   }
   reference.peak = 0.0;
-  for (const glm::dvec3& c : reference.rgb) reference.peak = std::max({reference.peak, c.x, c.y, c.z});
+  for (const glm::dvec3& c : reference.rgb)
+    reference.peak = std::max({reference.peak, c.x, c.y, c.z});
 }
 
 }  // namespace ts

@@ -175,8 +175,8 @@ Scene paneScene(const std::vector<Pane>& panes) {
   MeshBuilder mb(s);
   facingQuad(mb, -10.0f, 40.0f, emitter(mb, kWall, 1.0f));
   for (const Pane& p : panes) facingQuad(mb, p.z, 40.0f, emitter(mb, p.emission, p.opacity));
-  s.cameraPath = {SceneCamera::lookAt({0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, {0.0, 1.0, 0.0},
-                                      1.0f, 0.1f, 100.0f)};
+  s.cameraPath = {
+      SceneCamera::lookAt({0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, {0.0, 1.0, 0.0}, 1.0f, 0.1f, 100.0f)};
   return s;
 }
 
@@ -226,8 +226,7 @@ TEST(Transparency, TwoPanesBlendInDepthOrderWhateverTheirDrawOrder) {
 // (two a pixel): it grows and keeps all; below its bound it refuses in one line.
 TEST(Transparency, CaptureGrowsAndReportsOverflow) {
   REQUIRE_GL();
-  const Scene scene =
-      paneScene({{-3.0f, kNear, 0.5f}, {-5.0f, kFar, 0.5f}, {-7.0f, kNear, 0.5f}});
+  const Scene scene = paneScene({{-3.0f, kNear, 0.5f}, {-5.0f, kFar, 0.5f}, {-7.0f, kNear, 0.5f}});
   GlFrame g(scene, 0, 32, 18);
   const size_t all = 3 * 32 * 18;
   EXPECT_EQ(g.forward->captureTransparent(g.features, kCaptureBound).size(), all);
