@@ -29,6 +29,14 @@ layout(location = 0) out vec4 o_color;
 // surface shaded, for the conservativeness check); not a draw buffer of tiled forward.
 layout(location = 2) out int o_batch;
 uniform int u_batch;
+// The fragment's triangle (an index into the scene's, as the G-buffer pass writes it): forward's
+// base pass keeps each pixel's visible one (location 3), and its light passes (u_visibleOnly)
+// shade the fragment of that triangle only. Their depth test EQUAL alone passes every fragment at
+// the visible depth, e.g. a face drawn twice in one plane, which the additive blend would sum.
+layout(location = 3) out int o_triangle;
+uniform int u_firstTriangle;
+uniform bool u_visibleOnly;
+uniform isampler2D u_visibleTriangle;
 
 struct TsMaterial {
   vec3 diffuse;
@@ -135,6 +143,9 @@ uniform int u_drawOrder;
 
 void main() {
   vec3 faceNormal = cross(dFdx(v_viewPosition), dFdy(v_viewPosition));
+  int triangle = u_firstTriangle + gl_PrimitiveID;
+  if (u_visibleOnly && texelFetch(u_visibleTriangle, ivec2(gl_FragCoord.xy), 0).r != triangle)
+    discard;
   if (!ts_material_covered(u_material)) discard;  // alphaMode MASK (material_planes.h)
   vec3 N = ts_surface_normal(v_normal, faceNormal, v_viewPosition, false);
 #if TS_NORMAL_MAPS
@@ -211,4 +222,5 @@ void main() {
     o_color = vec4(sum, 0.0);
   }
   o_batch = u_batch;
+  o_triangle = triangle;
 }

@@ -132,6 +132,8 @@ struct Uniforms {
 // shadow atlas (the forward shader built with TS_HAS_SHADOWS).
 constexpr int kNormalTextureUnit = TS_TEXTURE_SLOTS;
 constexpr int kShadowAtlasUnit = TS_TEXTURE_SLOTS + 1;
+// And of the base pass's visible triangles that forward's light passes read (u_visibleTriangle).
+constexpr int kVisibleTriangleUnit = TS_TEXTURE_SLOTS + 2;
 
 // Looks the uniforms up and points texture slot s at texture unit s (leaves `program` in use).
 Uniforms uniformsOf(GLuint program) {
@@ -221,8 +223,12 @@ struct GlRasterizer::State {
   GLuint forwardVariants[2] = {};
   Uniforms fu{}, du{}, cu{}, variantUniforms[2]{};
   GLuint shadowAtlas = 0;  // R32F texture (tiled_forward.frag says why not a storage buffer)
-  // image, pre-pass depth, batch ids
-  gl::Targets forwardTargets;  // ensureForwardFramebuffer's three
+  // image, pre-pass depth, batch ids, triangle ids
+  gl::Targets forwardTargets;  // ensureForwardFramebuffer's four
+  // forward's base-pass triangle ids, copied out of forwardTargets for the light passes to read
+  // (R32I, the size of visibleWidth x visibleHeight).
+  GLuint visibleTriangles = 0;
+  int visibleWidth = 0, visibleHeight = 0;
   GLuint storage[kForwardStorages] = {};
   GLuint timer = 0;  // the passes' GL_TIME_ELAPSED query (timed())
   // The shadow maps (built on first use): the depth pre-pass's shaders into an R32F atlas.
@@ -246,6 +252,7 @@ struct GlRasterizer::State {
       for (GLuint variant : forwardVariants)
         if (variant) glDeleteProgram(variant);
       if (shadowAtlas) glDeleteTextures(1, &shadowAtlas);
+      if (visibleTriangles) glDeleteTextures(1, &visibleTriangles);
       glDeleteProgram(depthProgram);
       if (captureProgram) glDeleteProgram(captureProgram);
       glDeleteBuffers(kForwardStorages, storage);
@@ -519,6 +526,8 @@ struct GlRasterizer::State {
                                           defines() + "#define TS_HAS_SHADOWS 0\n");
     variantUniforms[0] = uniformsOf(forwardVariants[0]);
     glUniform1i(glGetUniformLocation(forwardVariants[0], "u_transparent"), 0);
+    glUniform1i(glGetUniformLocation(forwardVariants[0], "u_visibleTriangle"),
+                kVisibleTriangleUnit);
     selectForward(false);
     glGenBuffers(kForwardStorages, storage);
     if (!timer) glGenQueries(1, &timer);
@@ -585,6 +594,8 @@ struct GlRasterizer::State {
                                           defines() + "#define TS_HAS_SHADOWS 1\n");
     variantUniforms[1] = uniformsOf(forwardVariants[1]);
     glUniform1i(glGetUniformLocation(forwardVariants[1], "u_shadowAtlas"), kShadowAtlasUnit);
+    glUniform1i(glGetUniformLocation(forwardVariants[1], "u_visibleTriangle"),
+                kVisibleTriangleUnit);
     glGenTextures(1, &shadowAtlas);
     gl::checkErrors("setting up the forward program with shadows");
   }
@@ -600,15 +611,38 @@ struct GlRasterizer::State {
     captureProgram = gl::buildProgram("gbuffer.vert", "tiled_forward.frag",
                                       defines(true) + "#define TS_HAS_SHADOWS 0\n");
     cu = uniformsOf(captureProgram);
+    // Unused here, but no two sampler types may share a unit (the material textures' 0..).
+    glUniform1i(glGetUniformLocation(captureProgram, "u_visibleTriangle"), kVisibleTriangleUnit);
     gl::checkErrors("setting up the capture program");
   }
 
   // Colour 0: the shaded image (RGBA32F); colour 1: the pre-pass's linear depth (R32F); colour 2:
-  // the draw batch of each pixel's surface (R32I, forward and forward-single); the reversed float
-  // depth buffer of the G-buffer pass.
+  // the draw batch of each pixel's surface (R32I, forward and forward-single); colour 3: its
+  // triangle (R32I, forward's base pass); the reversed float depth buffer of the G-buffer pass.
   void ensureForwardFramebuffer(int w, int h) {
-    forwardTargets.ensure(w, h, {GL_RGBA32F, GL_R32F, GL_R32I},
-                          "forward framebuffer (RGBA32F, R32F, R32I, float depth)");
+    forwardTargets.ensure(w, h, {GL_RGBA32F, GL_R32F, GL_R32I, GL_R32I},
+                          "forward framebuffer (RGBA32F, R32F, R32I, R32I, float depth)");
+  }
+
+  // The base pass's triangle per pixel into visibleTriangles, bound for the light passes: a
+  // texture they do not draw into (sampling an attached one would be a feedback loop).
+  void keepVisibleTriangles(int w, int h) {
+    if (!visibleTriangles || visibleWidth != w || visibleHeight != h) {
+      if (visibleTriangles) glDeleteTextures(1, &visibleTriangles);
+      glGenTextures(1, &visibleTriangles);
+      glBindTexture(GL_TEXTURE_2D, visibleTriangles);
+      glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32I, w, h);
+      // An integer texture is complete only with NEAREST filters.
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      visibleWidth = w;
+      visibleHeight = h;
+    }
+    glCopyImageSubData(forwardTargets.colour[3], GL_TEXTURE_2D, 0, 0, 0, 0, visibleTriangles,
+                       GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+    glActiveTexture(GLenum(GL_TEXTURE0 + kVisibleTriangleUnit));
+    glBindTexture(GL_TEXTURE_2D, visibleTriangles);
+    glActiveTexture(GL_TEXTURE0);  // the unit every other texture binding assumes
   }
 
   // The fixed-function state of a pass over the scene (as draw() sets it for the G-buffer).
@@ -758,17 +792,20 @@ struct GlRasterizer::State {
     glUniform1i(forwardUniform("u_specularOn"), f.specular || metallicRoughness ? 1 : 0);
     glUniform1i(forwardUniform("u_spotOn"), f.spot ? 1 : 0);
     glUniform1i(forwardUniform("u_emissiveOn"), f.emissive ? 1 : 0);
+    glUniform1i(forwardUniform("u_visibleOnly"), 0);
   }
 
   // The image target drawn and cleared to 0 (the background); with batchIds also the batch
-  // target, cleared to -1 (no surface).
-  void clearImage(bool batchIds = false) {
-    const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_NONE, GL_COLOR_ATTACHMENT2};
-    glDrawBuffers(batchIds ? 3 : 1, buffers);
+  // target, with triangleIds also the triangle target, cleared to -1 (no surface).
+  void clearImage(bool batchIds = false, bool triangleIds = false) {
+    const GLenum buffers[4] = {GL_COLOR_ATTACHMENT0, GL_NONE, GL_COLOR_ATTACHMENT2,
+                               GL_COLOR_ATTACHMENT3};
+    glDrawBuffers(triangleIds ? 4 : batchIds ? 3 : 1, buffers);
     const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     glClearBufferfv(GL_COLOR, 0, zero);
     const GLint none[4] = {-1, -1, -1, -1};
-    if (batchIds) glClearBufferiv(GL_COLOR, 2, none);
+    if (batchIds || triangleIds) glClearBufferiv(GL_COLOR, 2, none);
+    if (triangleIds) glClearBufferiv(GL_COLOR, 3, none);
   }
 
   // The forward image and the shader's lighting computations (its per-tile counters) back; with
@@ -1116,9 +1153,10 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
   const bool metallicRoughness = lighting.features.model == ShadingModel::MetallicRoughness;
 
   // The base pass: ambient, emission and the directional lights, every batch, the depth test of
-  // the G-buffer pass (its depth is what the light passes test EQUAL against).
+  // the G-buffer pass (its depth is what the light passes test EQUAL against), each pixel's
+  // visible triangle kept.
   s.passState(in);
-  s.clearImage(true);
+  s.clearImage(true, true);
   s.clearDepth(in);
   glDepthFunc(GL_GREATER);
   glUniform1i(baseTerms, 1);
@@ -1129,8 +1167,10 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
   out.draws = s.draws.size() - s.backToFront(camera).size();
   gl::checkErrors("the forward base pass of scene '" + s.scene.name + "'");
 
-  // One additive pass per light over the batches its sphere touches; EQUAL: only the visible
-  // surface of the base pass is shaded, once per pixel and light.
+  // One additive pass per light over the batches its sphere touches; EQUAL and the base pass's
+  // triangle (u_visibleOnly): only the visible surface of the base pass is shaded, once per pixel
+  // and light. EQUAL alone passes every fragment at the visible depth: coplanar faces drawn
+  // twice, which the additive blend would sum (issue #17, docs/techniques.md).
   const GLenum image[1] = {GL_COLOR_ATTACHMENT0};
   glDrawBuffers(1, image);
   glDepthFunc(GL_EQUAL);
@@ -1140,8 +1180,10 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
   glBlendFunc(GL_ONE, GL_ONE);
   glUniform1i(baseTerms, 0);
   glUniform1i(dirCount, 0);
+  glUniform1i(s.forwardUniform("u_visibleOnly"), 1);
   out.drawMs = s.timed(
       [&] {
+        s.keepVisibleTriangles(width, height);
         s.setCamera(s.fu, camera, in);
         glBindVertexArray(s.vao);
         for (size_t p = 0; p < passLights.size(); ++p) {
@@ -1159,6 +1201,7 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
   out.passes = passLights.size();
   for (size_t k = 0; k < lightBatches.items.size(); ++k)
     out.draws += s.transparent(lightBatches.items[k]) ? 0 : 1;
+  glUniform1i(s.forwardUniform("u_visibleOnly"), 0);
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
   gl::checkErrors("the forward light passes of scene '" + s.scene.name + "'");

@@ -146,6 +146,23 @@ TEST(Forward, AgreesWithTiledForwardAndTiledDeferred) {
   }
 }
 
+// Issue #17: with the atrium's big lights the light passes' depth test EQUAL also passed
+// fragments of faces drawn twice at the visible depth, which the additive blend summed (4.4e-2 of
+// the peak at this size before the light passes shaded the base pass's visible triangle only).
+TEST(Forward, BigLightsShadeEachVisibleSurfaceOncePerLight) {
+  REQUIRE_GL();
+  SceneOptions options;
+  options.lightSet = "big";
+  const Scene scene = loadScene("builtin:atrium", options);
+  GlFrame g(scene, 0, 96, 54);
+  checkAgainstReference(g, "forward", "atrium, big lights");
+  const FrameResult forward = g.render("forward");
+  const FrameResult single = g.render("forward-single");
+  EXPECT_LE(test::relativeDifference(forward.image, single.image), test::kFp32RelativeTolerance);
+  // Each light pass shades at most the pixels forward-single's lists shade with that light.
+  EXPECT_LE(forward.counters.lightingComputations, single.counters.lightingComputations);
+}
+
 // Lists longer than a uniform array could hold (OpenGL 4.3 guarantees a fragment shader 1024
 // uniform components): forward-single's lists are a storage buffer, so every light is shaded.
 TEST(Forward, ListsLongerThanAnyUniformArrayShadeEveryLight) {
