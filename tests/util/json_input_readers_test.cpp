@@ -54,10 +54,20 @@ std::string loadGltfError(const std::string& bytes, const std::string& name = "h
 TEST(JsonInput, FuzzSeedsForTheImportFilesAreValid) {
   const fs::path seeds = fs::path(ts::test::sourceDir()) / "tests/fuzz/seeds";
   size_t n = 0;
+  // The descriptor fuzzer also feeds its bytes to the shadow atlas reader: its seeds named
+  // shadow-atlas* are shadow_atlas.json files.
+  size_t atlases = 0;
   for (const auto& e : fs::directory_iterator(seeds / "gbuffer_descriptor")) {
-    EXPECT_NO_THROW(ts::parseGBufferDescriptor(readText(e.path()), e.path().string())) << e.path();
+    const std::string text = readText(e.path());
+    if (e.path().filename().string().rfind("shadow-atlas", 0) == 0) {
+      EXPECT_NO_THROW(ts::parseShadowAtlasFile(text, e.path().string())) << e.path();
+      ++atlases;
+    } else {
+      EXPECT_NO_THROW(ts::parseGBufferDescriptor(text, e.path().string())) << e.path();
+    }
     ++n;
   }
+  EXPECT_GE(atlases, 1u);
   for (const auto& e : fs::directory_iterator(seeds / "lights")) {
     EXPECT_NO_THROW(ts::parseLightsFile(readText(e.path()), e.path().string())) << e.path();
     ++n;
