@@ -21,6 +21,7 @@
 #include "scene/mesh_builder.h"
 #include "scene/scene_loader.h"
 #include "scene/shadow_casters.h"
+#include "test_scenes.h"
 
 namespace ts {
 namespace {
@@ -39,8 +40,7 @@ Scene floorBoxAndSlab() {
   s.name = "floor-box-slab";
   MeshBuilder b(s);
   const uint32_t m = b.addMaterial(Material{});
-  b.quad({-kFloor, 0.0f, kFloor}, {kFloor, 0.0f, kFloor}, {kFloor, 0.0f, -kFloor},
-         {-kFloor, 0.0f, -kFloor}, m);
+  test::addFloor(b, kFloor, m);
   b.box({-1.0f, 0.0f, -1.0f}, {1.0f, 1.0f, 1.0f}, m, false);
   b.box({1.5f, 1.5f, -2.0f}, {3.5f, 1.6f, 0.5f}, m, false);
   s.cameraPath.push_back(camera());
@@ -58,15 +58,8 @@ Scene floorAndLeaf(AlphaMode mode) {
   leaf.alphaMode = mode;
   leaf.diffuseTexture = leaf.baseColorTexture = 0;
   const uint32_t m = b.addMaterial(leaf);
-  Texture t;
-  t.width = 2;
-  t.height = 1;
-  t.texels = {glm::vec4(1.0f, 1.0f, 1.0f, 0.2f), glm::vec4(1.0f)};
-  t.nearest = true;
-  t.wrapS = t.wrapT = TextureWrap::ClampToEdge;
-  s.textures.push_back(t);
-  b.quad({-kFloor, 0.0f, kFloor}, {kFloor, 0.0f, kFloor}, {kFloor, 0.0f, -kFloor},
-         {-kFloor, 0.0f, -kFloor}, floor);
+  s.textures.push_back(test::halfCutOutTexture());
+  test::addFloor(b, kFloor, floor);
   b.quad({-2.0f, 2.0f, 2.0f}, {2.0f, 2.0f, 2.0f}, {2.0f, 2.0f, -2.0f}, {-2.0f, 2.0f, -2.0f}, m);
   s.cameraPath.push_back(camera());
   return s;

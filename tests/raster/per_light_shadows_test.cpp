@@ -8,29 +8,18 @@
 #include <vector>
 
 #include "raster/per_light_shadows.h"
-#include "scene/mesh_builder.h"
 #include "scene/view_space_lights.h"
 #include "shading/shading_cpu.h"
 #include "shading/view_lights.h"
+#include "test_scenes.h"
 #include "util/error.h"
 
 namespace ts {
 namespace {
 
 Scene litFloorAndBox() {
-  Scene s;
-  s.name = "floor-and-box";
-  MeshBuilder b(s);
-  const uint32_t m = b.addMaterial(Material{});
-  b.quad({-10.0f, 0.0f, 10.0f}, {10.0f, 0.0f, 10.0f}, {10.0f, 0.0f, -10.0f}, {-10.0f, 0.0f, -10.0f},
-         m);
-  b.box({-1.0f, 1.0f, -1.0f}, {1.0f, 2.0f, 1.0f}, m, true);
-  s.cameraPath.push_back(
-      SceneCamera::lookAt({0.0, 6.0, 9.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 1.2f, 0.1f, 100.0f));
-  auto casting = [](SceneLight l) {
-    l.castsShadow = true;
-    return l;
-  };
+  using test::casting;
+  Scene s = test::floorAndBox();
   s.lights.push_back(casting(SceneLight::point({1.5, 4.0, 0.5}, glm::vec3(8.0f), 20.0f)));
   s.lights.push_back(SceneLight::point({4.0, 1.0, 4.0}, glm::vec3(2.0f), 8.0f));  // casts none
   s.lights.push_back(casting(SceneLight::spot({-3.0, 5.0, 2.0}, {0.5f, -1.0f, -0.3f},

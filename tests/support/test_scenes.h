@@ -30,4 +30,25 @@ inline Texture halfCutOutTexture() {
   return t;
 }
 
+// The shadow suites' scene: the floor (addFloor, half 10) and a closed box floating over it at
+// y in [1, 2], seen from above and in front, without lights (each suite adds its own).
+inline Scene floorAndBox(glm::vec3 ambient = Scene{}.ambient) {
+  Scene s;
+  s.name = "floor-and-box";
+  s.ambient = ambient;
+  MeshBuilder b(s);
+  const uint32_t m = b.addMaterial(Material{});
+  addFloor(b, 10.0f, m);
+  b.box({-1.0f, 1.0f, -1.0f}, {1.0f, 2.0f, 1.0f}, m, true);
+  s.cameraPath.push_back(
+      SceneCamera::lookAt({0.0, 6.0, 9.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 1.2f, 0.1f, 100.0f));
+  return s;
+}
+
+// `l` made to cast a shadow (or not).
+inline SceneLight casting(SceneLight l, bool casts = true) {
+  l.castsShadow = casts;
+  return l;
+}
+
 }  // namespace ts::test

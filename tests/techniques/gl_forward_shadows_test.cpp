@@ -19,7 +19,7 @@
 #include "raster/shadow_maps.h"
 #include "reference_check.h"
 #include "require_gl.h"
-#include "scene/mesh_builder.h"
+#include "test_scenes.h"
 #include "util/file_read.h"
 
 namespace ts {
@@ -34,25 +34,11 @@ constexpr double kForwardBound = 1e-4;
 const char* const kForwardTechniques[] = {"forward", "forward-single", "tiled-forward",
                                           "tiled-forward-prez"};
 
-// A floor (y = 0, [-10, 10] in x and z) and a box floating over it, seen from above and in front.
-Scene floorAndBox() {
-  Scene s;
-  s.name = "floor-and-box";
-  s.ambient = glm::vec3(0.0f);  // a pixel is the sum of its lights
-  MeshBuilder b(s);
-  const uint32_t m = b.addMaterial(Material{});
-  b.quad({-10.0f, 0.0f, 10.0f}, {10.0f, 0.0f, 10.0f}, {10.0f, 0.0f, -10.0f}, {-10.0f, 0.0f, -10.0f},
-         m);
-  b.box({-1.0f, 1.0f, -1.0f}, {1.0f, 2.0f, 1.0f}, m, true);
-  s.cameraPath.push_back(
-      SceneCamera::lookAt({0.0, 6.0, 9.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 1.2f, 0.1f, 100.0f));
-  return s;
-}
+using test::casting;
 
-SceneLight casting(SceneLight l, bool casts = true) {
-  l.castsShadow = casts;
-  return l;
-}
+// The floor and box of tests/support/test_scenes.h with no ambient: a pixel is the sum of its
+// lights.
+Scene floorAndBox() { return test::floorAndBox(glm::vec3(0.0f)); }
 
 // The maps of the scene's shadow-casting lights drawn for g's frame and attached to its lights,
 // as `render` does (FrameShadows), with `taps` a side.

@@ -13,33 +13,21 @@
 #include "raster/shadow_maps.h"
 #include "reference_check.h"
 #include "render/frame_setup.h"
-#include "scene/mesh_builder.h"
 #include "scene/scene_features.h"
 #include "techniques/technique.h"
+#include "test_scenes.h"
 #include "test_support.h"
 #include "util/error.h"
 
 namespace ts {
 namespace {
 
-SceneLight casting(SceneLight l) {
-  l.castsShadow = true;
-  return l;
-}
+using test::casting;
 
 // A box floating over a floor, lit by a point, a spot and a directional light that cast shadows,
 // one point light that casts none, and a casting point light behind the camera, off screen.
 Scene litFloorAndBox() {
-  Scene s;
-  s.name = "floor-and-box";
-  s.ambient = glm::vec3(0.0f);
-  MeshBuilder b(s);
-  const uint32_t m = b.addMaterial(Material{});
-  b.quad({-10.0f, 0.0f, 10.0f}, {10.0f, 0.0f, 10.0f}, {10.0f, 0.0f, -10.0f}, {-10.0f, 0.0f, -10.0f},
-         m);
-  b.box({-1.0f, 1.0f, -1.0f}, {1.0f, 2.0f, 1.0f}, m, true);
-  s.cameraPath.push_back(
-      SceneCamera::lookAt({0.0, 6.0, 9.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 1.2f, 0.1f, 100.0f));
+  Scene s = test::floorAndBox(glm::vec3(0.0f));
   s.lights.push_back(casting(SceneLight::point({1.5, 4.0, 0.5}, glm::vec3(8.0f), 20.0f)));
   s.lights.push_back(casting(SceneLight::spot({-3.0, 5.0, 2.0}, {0.5f, -1.0f, -0.3f},
                                               glm::vec3(10.0f), 20.0f, 0.3f, 0.7f)));
