@@ -223,8 +223,9 @@ struct FrameInfo {
   // A scene rasterized with raster "gl": the techniques that draw the scene (forward) can shade
   // it, through the same OpenGL context (TechniqueDescription::drawsScene).
   bool drawsScene = false;
-  // Draws with an alphaMode BLEND material composited by the forward techniques ("blend"
-  // policy); a technique that shades the G-buffer refuses a frame with any.
+  // Draws with an alphaMode BLEND material composited by the forward techniques and the hybrid
+  // ones ("blend" policy; TechniqueDescription::hybridTransparency); the other techniques that
+  // shade the G-buffer refuse a frame with any.
   uint64_t transparentDraws = 0;
 };
 
@@ -267,6 +268,10 @@ struct TechniqueDescription {
   // It shades one light per pass and so can reuse one small shadow atlas per light
   // (Settings::shadowStorage "per-light"; deferred, deferred-stencil).
   bool reusesShadowMaps = false;
+  // A G-buffer technique that shades transparent surfaces (--blend blend) in a tiled forward pass
+  // over its grid after the opaque ones (`tiled`, docs/techniques.md); the other G-buffer
+  // techniques refuse a frame with FrameInfo::transparentDraws.
+  bool hybridTransparency = false;
 };
 std::vector<TechniqueDescription> listTechniques();
 

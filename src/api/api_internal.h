@@ -43,8 +43,9 @@ struct FrameReferences {
   ReferenceImage reference;    // windowed model, positions from depth in double
   ReferenceImage shadingOnly;  // the same with the kernels' float positions
   ReferenceImage physical;     // physical model from the fp32 planes
-  // --blend blend, a technique that draws the scene: the transparent fragments composited over
-  // all three (reference/transparent_composite.h); 0 otherwise.
+  // --blend blend: the transparent fragments composited over all three
+  // (reference/transparent_composite.h), as the forward and hybrid techniques blend them; 0
+  // otherwise.
   size_t transparentFragments = 0;
 };
 
@@ -78,8 +79,8 @@ struct Frame::Impl {
   // The planes a technique shades: the frame's layout, or its fp32 encoding for one that draws
   // the scene (the reference and the missed-contribution count use the same ones).
   const EncodedGBuffer& planesShadedBy(bool drawsScene);
-  // The transparent surfaces over the three references of a technique that draws the scene
-  // (none without transparent draws).
+  // The transparent surfaces over the three references (none without transparent draws), the
+  // fragments shaded with the planes' terms of planesShadedBy(drawsScene).
   void compositeTransparentSurfaces(FrameReferences& r, bool drawsScene);
 };
 

@@ -472,14 +472,14 @@ const EncodedGBuffer& Frame::Impl::planesShadedBy(bool drawsScene) {
 }
 
 void Frame::Impl::compositeTransparentSurfaces(FrameReferences& r, bool drawsScene) {
-  // --blend blend: the G-buffer holds the opaque surfaces; the forward techniques blend the
-  // transparent ones over them, so their references composite the same fragments in the same
-  // order (the G-buffer techniques refuse such a frame).
-  if (!drawsScene || !forward || forward->transparentDraws() == 0) return;
+  // --blend blend: the G-buffer holds the opaque surfaces; the forward techniques and the
+  // hybrid ones (tiled) blend the transparent ones over them, so their references composite the
+  // same fragments in the same order (the other G-buffer techniques refuse such a frame).
+  if (!forward || forward->transparentDraws() == 0) return;
   const PreparedFrame& p = prepared;
   const std::vector<TransparentFragment> fragments =
       forward->captureTransparent(p.features, kCaptureBound);
-  const EncodedGBuffer& planes = planesShadedBy(true);
+  const EncodedGBuffer& planes = planesShadedBy(drawsScene);
   compositeTransparent(r.reference, fragments, p.lights, p.ambient, int(RangeModel::Windowed),
                        planes);
   compositeTransparent(r.shadingOnly, fragments, p.lights, p.ambient, int(RangeModel::Windowed),
@@ -491,9 +491,8 @@ void Frame::Impl::compositeTransparentSurfaces(FrameReferences& r, bool drawsSce
 
 const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass, bool drawsScene) {
   // The references of the techniques that draw the scene apart where they differ: other planes
-  // than the frame's layout, or transparent surfaces composited.
-  const bool transparent = forward && forward->transparentDraws() > 0;
-  const bool drawn = drawsScene && (prepared.encoded.format != GBufferFormat::FP32 || transparent);
+  // than the frame's layout (transparent surfaces are composited over both).
+  const bool drawn = drawsScene && prepared.encoded.format != GBufferFormat::FP32;
   std::optional<FrameReferences>& cached = drawn ? drawnReferences : references;
   if (cached) return *cached;
   const EncodedGBuffer& planes = planesShadedBy(drawsScene);

@@ -147,7 +147,7 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
 std::vector<TechniqueDescription> listTechniques() {
   std::vector<TechniqueDescription> out;
   for (const TechniqueInfo& t : techniqueRegistry())
-    out.push_back({t.name, t.description, t.drawsScene, t.reusesShadowMaps});
+    out.push_back({t.name, t.description, t.drawsScene, t.reusesShadowMaps, t.hybridTransparency});
   return out;
 }
 

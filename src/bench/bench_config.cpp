@@ -105,7 +105,8 @@ std::vector<BenchDimension> makeDimensions() {
   add(
       "blend",
       "glTF alphaMode BLEND materials: " + blendPolicyNames().list() +
-          " (refuse: such a scene is refused; blend: composited by the forward techniques)",
+          " (refuse: such a scene is refused; blend: composited by the forward techniques and "
+          "tiled's hybrid)",
       true,
       [](BenchConfig& c, const std::string& v) {
         c.blend = blendPolicyNames().parseOption("--blend", v);

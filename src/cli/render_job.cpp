@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <optional>
@@ -47,21 +48,78 @@ class ReferenceProgress {
   Progress progress_;
 };
 
-// "all": every technique that can run on the frame; without a scene to draw (withScene false:
-// software raster, imported G-buffer) those that shade the G-buffer only; with transparent
-// surfaces to composite (gbufferToo false) those that draw the scene only.
-std::vector<std::string> expandTechniques(const std::vector<std::string>& names,
-                                          bool withScene = true, bool gbufferToo = true) {
+// "all": every technique, in the registry's order (techniquesForFrame leaves out those that
+// cannot run on the frame); other names as given.
+std::vector<std::string> expandTechniques(const std::vector<std::string>& names) {
   std::vector<std::string> out;
   for (const auto& n : names) {
     if (n == "all") {
-      for (const TechniqueDescription& t : listTechniques())
-        if ((withScene || !t.drawsScene) && (gbufferToo || t.drawsScene)) out.push_back(t.name);
+      for (const TechniqueDescription& t : listTechniques()) out.push_back(t.name);
     } else {
       out.push_back(n);
     }
   }
   if (out.empty()) throw Error("no technique given");
+  return out;
+}
+
+// The registry's description of `name` (ts::Error naming the known techniques if none).
+TechniqueDescription describeTechnique(const std::string& name) {
+  for (const TechniqueDescription& t : listTechniques())
+    if (t.name == name) return t;
+  findTechnique(name);  // throws
+  return {};
+}
+
+// Why a technique cannot render this frame: `all` leaves it out saying `reason`; one named
+// explicitly is refused with `refusal`'s line (none: refused later, by Renderer, before any
+// file).
+struct Exclusion {
+  std::function<bool(const TechniqueDescription&)> applies;
+  std::string reason;
+  std::function<std::string(const TechniqueDescription&)> refusal;
+};
+
+// The techniques to render on a frame described by `info`: the first exclusion that applies to
+// a technique decides. Said (and refused) before any file is written.
+std::vector<std::string> techniquesForFrame(const RenderOptions& options, const FrameInfo& info) {
+  const size_t glass = info.transparentDraws;
+  const std::vector<Exclusion> exclusions = {
+      // Per-light shadow storage: `all` means the techniques that can reuse one map per light.
+      {[&](const TechniqueDescription& t) {
+         return options.shadowStorage == ShadowStorage::PerLight && !t.reusesShadowMaps;
+       },
+       "--shadow-storage per-light: it shades every light at once and needs every map resident",
+       nullptr},
+      // The G-buffer holds the opaque surfaces only: never a G-buffer image without the glass.
+      {[&](const TechniqueDescription& t) {
+         return glass > 0 && !t.drawsScene && !t.hybridTransparency;
+       },
+       "it shades the G-buffer, which holds the opaque surfaces only, and has no transparent pass",
+       [&](const TechniqueDescription& t) { return transparencyRefusal(t.name, glass); }},
+      // A frame without a scene to draw (software raster, imported G-buffer).
+      {[&](const TechniqueDescription& t) { return t.drawsScene && !info.drawsScene; },
+       "it draws the scene: --raster gl",
+       [](const TechniqueDescription& t) {
+         return t.name +
+                " draws the scene: it needs a frame rasterized with --raster gl (not the "
+                "software rasterizer or an imported G-buffer)";
+       }},
+  };
+  std::vector<std::string> out;
+  for (const std::string& name : expandTechniques(options.techniques)) {
+    const TechniqueDescription& t = describeTechnique(name);
+    const bool named = std::count(options.techniques.begin(), options.techniques.end(), name) > 0;
+    auto e = std::find_if(exclusions.begin(), exclusions.end(),
+                          [&](const Exclusion& x) { return x.applies(t); });
+    if (e == exclusions.end() || (named && !e->refusal)) {
+      out.push_back(name);
+    } else if (named) {
+      throw Error(e->refusal(t));
+    } else {
+      std::cout << "tileshade: --technique all leaves out " << name << " (" << e->reason << ")\n";
+    }
+  }
   return out;
 }
 
@@ -228,48 +286,7 @@ void runRender(const RenderOptions& options) {
   if (info.shadowMaps)
     for (const std::string& note : info.shadowMaps->notes)
       std::cerr << "tileshade: note: " << note << "\n";
-  // The G-buffer holds the opaque surfaces only: never a G-buffer image without the frame's glass.
-  const bool transparent = info.transparentDraws > 0;
-  std::vector<std::string> techniques =
-      expandTechniques(options.techniques, info.drawsScene, !transparent);
-  // Per-light shadow storage: `all` means the techniques that can reuse one map per light; one
-  // named explicitly that cannot is refused below (Renderer), before any file.
-  if (options.shadowStorage == ShadowStorage::PerLight)
-    for (const TechniqueDescription& t : listTechniques()) {
-      const bool named =
-          std::count(options.techniques.begin(), options.techniques.end(), t.name) > 0;
-      auto it = std::find(techniques.begin(), techniques.end(), t.name);
-      if (t.reusesShadowMaps || named || it == techniques.end()) continue;
-      std::cout << "tileshade: --technique all leaves out " << t.name
-                << " (--shadow-storage per-light: it shades every light at once and needs every "
-                   "map resident)\n";
-      techniques.erase(it);
-    }
-  // The forward techniques draw the scene: a frame without one (software raster, imported
-  // G-buffer) cannot be theirs. Said before any file is written.
-  const bool all = std::count(options.techniques.begin(), options.techniques.end(), "all") > 0;
-  for (const TechniqueDescription& t : listTechniques()) {
-    if (!t.drawsScene && transparent) {
-      if (all)
-        std::cout << "tileshade: --technique all leaves out " << t.name
-                  << " (it shades the G-buffer, which holds the opaque surfaces only)\n";
-      if (std::count(techniques.begin(), techniques.end(), t.name))
-        throw Error("technique '" + t.name +
-                    "' shades the G-buffer, which holds the opaque surfaces only: this frame has " +
-                    std::to_string(info.transparentDraws) +
-                    " alphaMode BLEND draw(s) to composite (--blend blend; a forward technique "
-                    "draws them, or --blend as-opaque|as-mask)");
-      continue;
-    }
-    if (!t.drawsScene || info.drawsScene) continue;
-    if (all)
-      std::cout << "tileshade: --technique all leaves out " << t.name
-                << " (it draws the scene: --raster gl)\n";
-    if (std::count(techniques.begin(), techniques.end(), t.name))
-      throw Error(t.name +
-                  " draws the scene: it needs a frame rasterized with --raster gl (not the "
-                  "software rasterizer or an imported G-buffer)");
-  }
+  const std::vector<std::string> techniques = techniquesForFrame(options, info);
   const RenderOptions& o = options;
   const int width = info.width, height = info.height;  // an imported G-buffer decides the size
 

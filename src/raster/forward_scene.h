@@ -37,6 +37,14 @@ class ForwardScene {
                                     const SceneFeatures& features, int rangeModel,
                                     const ForwardLightGrid& grid, bool depthEqual,
                                     const ForwardLightGrid* transparentGrid) = 0;
+  // The hybrid of the G-buffer techniques (Olsson & Assarsson's tiled deferred with a tiled
+  // forward pass for the glass): `opaque`, the image a technique shaded from this frame's
+  // G-buffer (row 0 at the top), as the background over the G-buffer pass's depth, then the
+  // transparent draws back to front, blended, each fragment shading its tile's lights in `grid`.
+  virtual ForwardImage transparentOver(const std::vector<glm::vec4>& opaque,
+                                       const ViewLights& lights, glm::vec3 ambient,
+                                       const SceneFeatures& features, int rangeModel,
+                                       const ForwardLightGrid& grid) = 0;
   // The draws with an alphaMode BLEND material (--blend blend): every forward pass draws them
   // after the opaque ones, back to front, blended "over" (GlRasterizer::tiledForward); a frame
   // with any is refused by the techniques that shade a G-buffer.

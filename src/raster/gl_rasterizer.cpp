@@ -214,7 +214,11 @@ struct GlRasterizer::State {
   GLuint program = 0, vao = 0, vertexBuffer = 0, indexBuffer = 0, tangentBuffer = 0;
   std::vector<GLuint> textures;  // per scene texture; 0 for an empty one (sampled as 1)
   gl::Targets gbufferTargets;    // kTargets colour targets in Target order, float depth
-  GLint maxSize = 0;             // largest width/height the implementation renders
+  // The view of the last G-buffer pass (draw()): the hybrid's transparent pass copies its depth
+  // when the frame is the same.
+  SceneCamera gbufferCamera;
+  int gbufferWidth = 0, gbufferHeight = 0;
+  GLint maxSize = 0;  // largest width/height the implementation renders
   Uniforms u{};
   // The forward passes (built on first use: they need OpenGL 4.3, the G-buffer pass 3.3).
   // forwardProgram and fu are the variant in use (selectForward): [0] without shadows, [1] with
@@ -413,6 +417,46 @@ struct GlRasterizer::State {
     glUseProgram(program);
     drawScene(u, camera, in, options.model == ShadingModel::MetallicRoughness, options.normalMaps);
     gl::checkErrors("drawing scene '" + scene.name + "'");
+    gbufferCamera = camera;
+    gbufferWidth = in.width;
+    gbufferHeight = in.height;
+  }
+
+  // Whether the G-buffer targets' depth is that of `camera` at this size (the last draw()).
+  bool gbufferDepthIs(const SceneCamera& camera, int w, int h) const {
+    const SceneCamera& c = gbufferCamera;
+    return w == gbufferWidth && h == gbufferHeight && c.viewFromWorld == camera.viewFromWorld &&
+           c.yfov == camera.yfov && c.znear == camera.znear && c.zfar == camera.zfar;
+  }
+
+  // The hybrid's background: `opaque` into the forward image target, and the opaque depth, the
+  // G-buffer pass's copied (blit) when it is this frame's, else drawn again by the depth program
+  // (the same draws and vertex shader: the same depth, as the capture's pass draws it). Returns
+  // whether it was drawn again.
+  bool opaqueBackground(const SceneCamera& camera, const CameraIntrinsics& in,
+                        const std::vector<glm::vec4>& opaque) {
+    passState(in);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, forwardTargets.colour[0]);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, in.width, in.height, GL_RGBA, GL_FLOAT, opaque.data());
+    const bool redraw = !gbufferDepthIs(camera, in.width, in.height);
+    if (redraw) {
+      const GLenum none[1] = {GL_NONE};
+      glDrawBuffers(1, none);
+      clearDepth(in);
+      glDepthFunc(GL_GREATER);
+      glUseProgram(depthProgram);
+      drawScene(du, camera, in, false, false);
+    } else {
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, gbufferTargets.framebuffer);
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, forwardTargets.framebuffer);
+      glBlitFramebuffer(0, 0, in.width, in.height, 0, 0, in.width, in.height, GL_DEPTH_BUFFER_BIT,
+                        GL_NEAREST);
+      glBindFramebuffer(GL_FRAMEBUFFER, forwardTargets.framebuffer);
+    }
+    gl::checkErrors("the opaque image and depth under the transparent pass");
+    return redraw;
   }
 
   // Every opaque draw of the scene with `u`'s program in use: the camera, then per draw its
@@ -1116,6 +1160,46 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileBins, s.storage[kGlassBins]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileLights, s.storage[kGlassLights]);
   }
+  s.drawTransparent(camera, in, lighting, directionals, {}, out);
+  s.readForward(out, width, height, tiles);
+  return out;
+}
+
+ForwardImage GlRasterizer::transparentOver(const SceneCamera& camera, int width, int height,
+                                           const ForwardLighting& lighting,
+                                           const std::vector<glm::vec4>& opaque,
+                                           const ForwardLightGrid& grid) {
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+  if (!lighting.lights) throw Error("the transparent pass: no lights");
+  checkGrid(grid, width, height);
+  if (opaque.size() != size_t(width) * size_t(height))
+    throw Error("the transparent pass: the opaque image does not match the " +
+                std::to_string(width) + "x" + std::to_string(height) + " frame");
+  State& s = beginForward(width, height, lighting.lights->hasShadows());
+  s.ensureForwardFramebuffer(width, height);
+
+  ForwardImage out;
+  glFinish();
+  auto t0 = Clock::now();
+  out.depthRedrawn = s.opaqueBackground(camera, in, opaque);
+  glFinish();
+  out.imageCopyMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+
+  t0 = Clock::now();
+  const int directionals = s.uploadLights(lighting);
+  const size_t tiles = size_t(grid.tilesX) * size_t(grid.tilesY);
+  std::vector<glm::uvec2> bins(tiles);
+  for (size_t t = 0; t < tiles; ++t) bins[t] = {grid.offsets[t], grid.counts[t]};
+  s.storeVector(kTileBins, bins);
+  s.storeVector(kTileLights, grid.lights);
+  s.storeVector(kTileWork, std::vector<uint32_t>(tiles, 0));
+  gl::checkErrors("uploading the lights and the transparent pass's light grid");
+  out.uploadMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  out.shadowUploadMs = s.uploadShadows(*lighting.lights);
+
+  s.setForwardUniforms(lighting, directionals, {grid.tileW, grid.tileH, grid.tilesX});
+  glUniform1i(s.forwardUniform("u_drawList"), 0);
+  s.passState(in);
   s.drawTransparent(camera, in, lighting, directionals, {}, out);
   s.readForward(out, width, height, tiles);
   return out;

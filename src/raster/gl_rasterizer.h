@@ -60,6 +60,14 @@ class GlRasterizer {
   ForwardImage tiledForward(const SceneCamera& camera, int width, int height,
                             const ForwardLighting& lighting, const ForwardLightGrid& grid,
                             bool depthEqual, const ForwardLightGrid* transparentGrid);
+  // The hybrid's transparent pass (ForwardScene::transparentOver): `opaque` (width x height, row 0
+  // at the top) into the forward image target, the opaque depth of the G-buffer pass of this
+  // camera and size copied into its depth buffer (drawn again by the depth program where the
+  // last G-buffer pass was another frame's: the same draws and vertex shader, the same depth),
+  // then the transparent draws as tiledForward draws them, with `grid`'s lists.
+  ForwardImage transparentOver(const SceneCamera& camera, int width, int height,
+                               const ForwardLighting& lighting,
+                               const std::vector<glm::vec4>& opaque, const ForwardLightGrid& grid);
   // Multi-pass forward shading (`forward`, the thesis's): a base pass of every draw batch
   // (ambient, emission, directional lights; the G-buffer pass's depth test), then for each light
   // with a non-empty list in lightBatches (one list per light: the batches its volume touches,

@@ -48,6 +48,12 @@ class GlForwardScene : public ForwardScene {
                             lightingOf(lights, ambient, features, rangeModel), grid, depthEqual,
                             transparentGrid);
   }
+  ForwardImage transparentOver(const std::vector<glm::vec4>& opaque, const ViewLights& lights,
+                               glm::vec3 ambient, const SceneFeatures& features, int rangeModel,
+                               const ForwardLightGrid& grid) override {
+    return gl_.transparentOver(camera_, width_, height_,
+                               lightingOf(lights, ambient, features, rangeModel), opaque, grid);
+  }
   size_t transparentDraws() const override { return gl_.transparentDraws(); }
   std::vector<TransparentFragment> captureTransparent(const SceneFeatures& features,
                                                       size_t maxFragments) override {

@@ -223,7 +223,8 @@ const EnumNames<BlendPolicy>& blendPolicyNames() {
        {BlendPolicy::AsMask, "as-mask", "BLEND materials drawn as MASK with their alphaCutoff"},
        {BlendPolicy::Blend, "blend",
         "BLEND materials composited over the opaque scene, back to front, by the forward "
-        "techniques (--raster gl); the G-buffer techniques refuse such a frame"}});
+        "techniques and tiled's hybrid (--raster gl); the other G-buffer techniques refuse such "
+        "a frame"}});
   return names;
 }
 

@@ -36,6 +36,11 @@ struct ForwardImage {
   // its draws (in `draws` too); 0 without transparent draws.
   double transparentMs = 0.0, transparentQueryMs = 0.0;
   size_t transparentDraws = 0;
+  // The hybrid's transparent pass over a G-buffer technique's image (transparentOver): that image
+  // and the opaque depth into the OpenGL target (host clock, glFinish after), and whether the
+  // depth had to be drawn again (the G-buffer pass's was of another frame) instead of copied.
+  double imageCopyMs = 0.0;
+  bool depthRedrawn = false;
   // forward, forward-single: the draw batch of each pixel's surface (-1: background), row 0 at
   // the top.
   std::vector<int32_t> pixelBatch;

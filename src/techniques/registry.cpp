@@ -1,6 +1,6 @@
 // The one list of techniques. Adding a technique = its own .cpp/.cl pair plus one line here
 // (tests/extra_tests.cmake reads the names from the entries' first lines, {"name",).
-// The last field, where present, is the lanes "auto" picks on CPU devices: 16 where shading in
+// The fourth field, where present, is the lanes "auto" picks on CPU devices: 16 where shading in
 // lanes measured faster on PoCL with many lights (tiled 6.6x, tiled-single 3.5x, brute 4.8x,
 // clustered 6.8x; bench/RESULTS.md, docs/techniques.md); deferred has a lanes path but measured
 // 3-21% slower with it (its time is per-light launches and G-buffer re-reads), so it stays at 1.
@@ -15,8 +15,10 @@ namespace ts {
 
 const std::vector<TechniqueInfo>& techniqueRegistry() {
   static const std::vector<TechniqueInfo> registry = {
-      {"tiled", "multi-kernel tiled deferred: depth min/max, light binning, per-pixel shading",
-       makeTiledTechnique, 16},
+      {"tiled",
+       "multi-kernel tiled deferred: depth min/max, light binning, per-pixel shading; glass "
+       "(--blend blend, --raster gl) in a tiled forward pass over its grid after",
+       makeTiledTechnique, 16, false, false, true},
       {"tiled-single",
        "single-kernel tiled deferred: one work-group per tile reduces depth, tests every light "
        "and shades in local memory",
@@ -96,16 +98,14 @@ std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& c
   std::unique_ptr<Technique> technique = info.create(cl, resolved);
   technique->features_ = resolved.features;
   technique->drawsScene_ = info.drawsScene;
+  technique->hybridGlass_ = info.hybridTransparency;
   return technique;
 }
 
 FrameResult Technique::render(DeviceFrame& frame, const FrameRequest& request) {
   // Never a G-buffer image of a frame whose transparent surfaces it would leave out.
-  if (!drawsScene_ && frame.forward && frame.forward->transparentDraws() > 0)
-    throw Error("technique '" + name() +
-                "' shades the G-buffer, which holds the opaque surfaces only: this frame has "
-                "alphaMode BLEND surfaces to composite (--blend blend; a forward technique draws "
-                "them, or --blend as-opaque|as-mask)");
+  if (!drawsScene_ && !hybridGlass_ && frame.forward && frame.forward->transparentDraws() > 0)
+    throw Error(transparencyRefusal(name(), frame.forward->transparentDraws()));
   checkFrameFeatures(features_, frame);
   return renderFrame(frame, request);
 }
@@ -124,6 +124,15 @@ void checkFrameFeatures(const SceneFeatures& features, const DeviceFrame& frame)
       if (frame.lights->isSpot(i)) fail("it has spot lights");
   if (!features.directional && frame.directionalCount() > 0) fail("it has directional lights");
   if (!features.shadows && frame.lights->hasShadows()) fail("it has shadow-casting lights");
+}
+
+std::string transparencyRefusal(const std::string& technique, size_t draws) {
+  return "technique '" + technique +
+         "' shades the G-buffer, which holds the opaque surfaces only, and has no tiled forward "
+         "pass for the transparent ones: this frame has " +
+         std::to_string(draws) +
+         " alphaMode BLEND draw(s) to composite (--blend blend; tiled or a forward technique "
+         "draws them, or --blend as-opaque|as-mask)";
 }
 
 std::string shadowStorageRefusal(const std::string& technique) {

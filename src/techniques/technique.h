@@ -127,7 +127,8 @@ class Technique {
   friend std::unique_ptr<Technique> createTechnique(const std::string&, ClContext&,
                                                     const TechniqueConfig&);
   SceneFeatures features_;
-  bool drawsScene_ = false;  // TechniqueInfo::drawsScene
+  bool drawsScene_ = false;   // TechniqueInfo::drawsScene
+  bool hybridGlass_ = false;  // TechniqueInfo::hybridTransparency
 };
 
 // Throws ts::Error naming the mismatch when kernels built for `features` cannot render `frame`
@@ -148,7 +149,14 @@ struct TechniqueInfo {
   // Shades one light per pass, so it can reuse one small shadow atlas per light
   // (ShadowStorage::PerLight); the others shade every light at once and need every map resident.
   bool reusesShadowMaps = false;
+  // A G-buffer technique that shades a frame's transparent surfaces (--blend blend) in a tiled
+  // forward pass over its own grid after the opaque ones (techniques/transparent_hybrid.h: the
+  // paper's hybrid); the other G-buffer techniques refuse such a frame.
+  bool hybridTransparency = false;
 };
+// The one line a G-buffer technique without the hybrid refuses a frame with `draws` transparent
+// draws with (Technique::render; render's checks before any file).
+std::string transparencyRefusal(const std::string& technique, size_t draws);
 
 const std::vector<TechniqueInfo>& techniqueRegistry();
 // The one line createTechnique (and render's, bench's checks) refuse ShadowStorage::PerLight

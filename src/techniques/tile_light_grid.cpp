@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <chrono>
 
 #include "cl/kernel_args.h"
 #include "cl/work_group.h"
@@ -166,6 +167,43 @@ void TileLightGrid::enqueueBinning(const DeviceFrame& frame, FrameTimer& timer) 
 uint32_t TileLightGrid::runUntilListFits(const std::function<void()>& enqueueFrame,
                                          std::vector<std::string>& notes) {
   return ts::runUntilListFits(cl_, lights_, capacity_, total_, enqueueFrame, "tile", notes);
+}
+
+ForwardLightGrid TileLightGrid::binForTransparency(const DeviceFrame& frame,
+                                                   std::vector<std::string>& notes, KernelTime& row,
+                                                   double& readMs) {
+  FrameTimer timer;
+  // A rerun finds the transparent ranges in place, which enqueueTransparentRanges keeps.
+  const uint32_t total = runUntilListFits(
+      [&] {
+        timer.clear();
+        enqueueClear(timer);
+        enqueueTransparentRanges(frame.camera.znear, frame.camera.zfar, timer);
+        enqueueBinning(frame, timer);
+      },
+      notes);
+  cl_.queue().finish();
+  row = {"transparent_grid", 0.0, 0};
+  for (const KernelTime& k : timer.kernels()) {
+    row.ms += k.ms;
+    row.launches += k.launches;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  ForwardLightGrid grid = toHost(total);
+  readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return grid;
+}
+
+ForwardLightGrid TileLightGrid::toHost(uint32_t total) const {
+  ForwardLightGrid grid;
+  grid.tileW = grid_.tileW;
+  grid.tileH = grid_.tileH;
+  grid.tilesX = grid_.tilesX;
+  grid.tilesY = grid_.tilesY;
+  grid.counts = readCounts();
+  grid.offsets = readOffsets();
+  grid.lights = readLights(total);
+  return grid;
 }
 
 std::vector<uint32_t> TileLightGrid::readCounts() const {

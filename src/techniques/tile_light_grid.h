@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "shading/forward_grid.h"
 #include "techniques/tile_grid.h"
 
 namespace ts {
@@ -48,6 +49,16 @@ class TileLightGrid {
   // frame, grid included. Returns the list's total entries.
   uint32_t runUntilListFits(const std::function<void()>& enqueueFrame,
                             std::vector<std::string>& notes);
+
+  // The transparent surfaces' grid (the tiled forward pass over the opaque one: tiled-forward-prez,
+  // and tiled's hybrid), after enqueueDepthBounds of the opaque depth has run: the ranges of
+  // enqueueTransparentRanges, binned again (grown and rerun until the list fits), then read to
+  // the host. `row`: its kernels summed as one row, transparent_grid; readMs: the read-back.
+  // Leaves the transparent grid on the device in place of the opaque one.
+  ForwardLightGrid binForTransparency(const DeviceFrame& frame, std::vector<std::string>& notes,
+                                      KernelTime& row, double& readMs);
+  // The grid as it stands on the device (the queue finished, `total` entries), to the host.
+  ForwardLightGrid toHost(uint32_t total) const;
 
   const TileGrid& grid() const { return grid_; }
   // The grid as the shading passes read it (kernels/light_lists.h).

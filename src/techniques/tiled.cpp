@@ -1,9 +1,12 @@
 // Multi-kernel tiled deferred shading; the kernels, in launch order, are in kernels/tiled.cl.
+// A frame with transparent surfaces (--blend blend, --raster gl) gets the paper's hybrid after
+// (techniques/transparent_hybrid.h).
 
 #include "cl/kernel_args.h"
 #include "cl/work_group.h"
 #include "techniques/tile_light_grid.h"
 #include "techniques/techniques.h"
+#include "techniques/transparent_hybrid.h"
 #include "util/error.h"
 
 namespace ts {
@@ -32,7 +35,6 @@ class TiledTechnique : public Technique {
     cl_.queue().finish();
     result.kernels = timer_.kernels();
     result.totalMs = timer_.totalMs();
-    result.image = readImage(cl_, image_, frame);
 
     const std::vector<uint32_t> counts = grid_.readCounts();
     auto notes = std::move(result.counters.notes);
@@ -41,6 +43,11 @@ class TiledTechnique : public Technique {
     if (request.wantAssignment)
       result.assignment =
           tileAssignment(grid_.grid(), grid_.readOffsets(), counts, grid_.readLights(total));
+    // --blend blend: the glass in a tiled forward pass over the grid, after the lists are read
+    // (its re-binning overwrites them).
+    if (hasTransparentDraws(frame))
+      shadeTransparentOver(cl_, image_, frame, grid_, config_, result);
+    else result.image = readImage(cl_, image_, frame);
     return result;
   }
 

@@ -60,29 +60,16 @@ class TiledForwardTechnique : public Technique {
     // The grid to the host, then into OpenGL's buffers (inside tiledForward: uploadMs).
     auto copyStart = Clock::now();
     const TileGrid& tiles = grid_.grid();
-    const ForwardLightGrid grid = readGrid(total);
+    const ForwardLightGrid grid = grid_.toHost(total);
     double readMs = msSince(copyStart);
 
     std::optional<ForwardLightGrid> transparentGrid;
     if (prez_ && scene.transparentDraws() > 0) {
-      const uint32_t glassTotal = grid_.runUntilListFits(
-          [&] {
-            glassTimer_.clear();
-            grid_.enqueueClear(glassTimer_);
-            grid_.enqueueTransparentRanges(frame.camera.znear, frame.camera.zfar, glassTimer_);
-            grid_.enqueueBinning(frame, glassTimer_);
-          },
-          result.counters.notes);
-      cl_.queue().finish();
-      KernelTime row{"transparent_grid", 0.0, 0};
-      for (const KernelTime& k : glassTimer_.kernels()) {
-        row.ms += k.ms;
-        row.launches += k.launches;
-      }
+      KernelTime row;
+      double glassReadMs = 0.0;
+      transparentGrid = grid_.binForTransparency(frame, result.counters.notes, row, glassReadMs);
       result.kernels.push_back(row);
-      copyStart = Clock::now();
-      transparentGrid = readGrid(glassTotal);
-      readMs += msSince(copyStart);
+      readMs += glassReadMs;
     }
 
     const ForwardImage drawn =
@@ -123,20 +110,6 @@ class TiledForwardTechnique : public Technique {
     return cl.build("tiled.cl", options);
   }
 
-  // The grid as it stands on the device, to the host (the queue finished).
-  ForwardLightGrid readGrid(uint32_t total) const {
-    const TileGrid& tiles = grid_.grid();
-    ForwardLightGrid grid;
-    grid.tileW = tiles.tileW;
-    grid.tileH = tiles.tileH;
-    grid.tilesX = tiles.tilesX;
-    grid.tilesY = tiles.tilesY;
-    grid.counts = grid_.readCounts();
-    grid.offsets = grid_.readOffsets();
-    grid.lights = grid_.readLights(total);
-    return grid;
-  }
-
   void allocate(const DeviceFrame& frame) {
     if (grid_.allocate(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight) &&
         prez_)
@@ -160,7 +133,6 @@ class TiledForwardTechnique : public Technique {
   TileLightGrid grid_;
   cl::Buffer prepassDepth_;
   FrameTimer timer_;
-  FrameTimer glassTimer_;  // the transparent pass's grid (tiled-forward-prez)
 };
 
 }  // namespace

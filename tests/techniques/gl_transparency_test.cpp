@@ -1,9 +1,10 @@
-// Transparency in the forward family (--blend blend, issue #17): the transparent draws blended
-// back to front over the opaque scene by every forward technique, against the double reference
-// that composites the captured fragments (GlRasterizer::captureTransparent,
-// reference/transparent_composite.h) in the same order; the analytic "over" of known panes; the
-// capture's overflow; the G-buffer techniques' refusal; the counters. Skips, saying why, where no
-// OpenGL context can be made.
+// Transparency in the forward family and tiled's hybrid (--blend blend, issue #17): the
+// transparent draws blended back to front over the opaque scene by every forward technique, and by
+// `tiled` in a tiled forward pass over its deferred image (techniques/transparent_hybrid.h),
+// against the double reference that composites the captured fragments
+// (GlRasterizer::captureTransparent, reference/transparent_composite.h) in the same order; the
+// analytic "over" of known panes; the capture's overflow; the other G-buffer techniques' refusal;
+// the counters. Skips, saying why, where no OpenGL context can be made.
 #include <gtest/gtest.h>
 
 #include <iostream>
@@ -29,6 +30,15 @@ constexpr double kForwardBound = 1e-4;
 
 const char* const kForwardTechniques[] = {"tiled-forward", "tiled-forward-prez", "forward",
                                           "forward-single"};
+// The forward techniques and the G-buffer one with the hybrid: every technique that composites.
+const char* const kCompositing[] = {"tiled-forward", "tiled-forward-prez", "forward",
+                                    "forward-single", "tiled"};
+
+bool hasRow(const FrameResult& r, const std::string& name) {
+  for (const KernelTime& k : r.kernels)
+    if (k.name == name && k.launches > 0) return true;
+  return false;
+}
 
 Scene glassScene(const std::string& name, const std::string& variant = "glass") {
   SceneOptions options;
@@ -107,7 +117,7 @@ TEST(Transparency, LightingComputationsIncludeTransparentFragments) {
   const Scene glass = glassScene("street");
   const Scene plain = glassScene("street", "");
   GlFrame withGlass(glass, 0, 96, 54), without(plain, 0, 96, 54);
-  for (const char* technique : kForwardTechniques) {
+  for (const char* technique : kCompositing) {
     SCOPED_TRACE(technique);
     const uint64_t a = withGlass.render(technique).counters.lightingComputations;
     const uint64_t b = without.render(technique).counters.lightingComputations;
@@ -115,13 +125,89 @@ TEST(Transparency, LightingComputationsIncludeTransparentFragments) {
   }
 }
 
-// The G-buffer holds the opaque surfaces only: a G-buffer technique refuses the frame in one
-// line rather than render it without its glass.
-TEST(Transparency, GBufferTechniquesRefuseInOneLine) {
+// `tiled`'s hybrid (Olsson & Assarsson Section 4): its deferred image of the opaque surfaces, then
+// the glass in a tiled forward pass over its grid re-binned to [znear, the opaque far bound],
+// within the forward bound of the composited reference, no NaN, no missed contribution on the
+// opaque surfaces (its lists), the glass visible; the copy and the pass are rows of their own.
+TEST(Transparency, TiledHybridMatchesTheCompositedReference) {
+  REQUIRE_GL();
+  for (const char* name : {"street", "atrium"}) {
+    SCOPED_TRACE(name);
+    const Scene scene = glassScene(name);
+    GlFrame g(scene, 0, 96, 54);
+    const PreparedFrame& f = g.prepared;
+    const ReferenceImage opaque = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+    const ReferenceImage ref = compositedReference(g);
+    const FrameResult r = g.render("tiled");
+    const ErrorStats e = compareToReference(r.image, ref, kForwardBound * ref.peak);
+    EXPECT_LE(e.maxRelPeak, kForwardBound);
+    EXPECT_EQ(e.nonfinitePixels, 0u);
+    // Against the opaque reference it is far off: the glass is drawn, not left out.
+    EXPECT_GT(compareToReference(r.image, opaque, 1e-3 * opaque.peak).maxRelPeak, 1e-2);
+    ASSERT_TRUE(r.assignment.has_value());
+    EXPECT_EQ(countMissedContributions(*r.assignment, f.encoded, f.intrinsics, f.lights, 0), 0u);
+    for (const char* row : {"shade", "transparent_grid", "grid_copy", "image_copy", "transparent"})
+      EXPECT_TRUE(hasRow(r, row)) << row;
+    double sum = 0.0;
+    for (const KernelTime& k : r.kernels) sum += k.ms;
+    EXPECT_DOUBLE_EQ(r.totalMs, sum);
+    std::cout << "[ glass ] tiled (hybrid) on " << name << ": max error " << e.maxRelPeak
+              << " of the peak\n";
+  }
+}
+
+// The hybrid and tiled-forward-prez draw the same glass fragments with the same shader over lists
+// binned the same way (the same kernels on the same depth: the G-buffer's, the pre-pass's); the
+// opaque surfaces differ as tiled and forward do (the position from depth against the
+// interpolated one), within the forward bound: with the glass the two differ by what they differ
+// without it, to fp32 rounding.
+TEST(Transparency, TiledHybridAgreesWithTiledForwardPrez) {
+  REQUIRE_GL();
+  for (const char* name : {"street", "atrium"}) {
+    SCOPED_TRACE(name);
+    const Scene glass = glassScene(name);
+    const Scene plain = glassScene(name, "");
+    GlFrame g(glass, 0, 160, 90), p(plain, 0, 160, 90);
+    const double hybrid =
+        test::relativeDifference(g.render("tiled").image, g.render("tiled-forward-prez").image);
+    const double opaque =
+        test::relativeDifference(p.render("tiled").image, p.render("tiled-forward-prez").image);
+    EXPECT_LE(hybrid, kForwardBound);
+    // The glass adds no difference of its own beyond fp32 rounding.
+    EXPECT_LE(hybrid, opaque + test::kFp32RelativeTolerance);
+    std::cout << "[ glass ] " << name << " 160x90: tiled (hybrid) vs tiled-forward-prez " << hybrid
+              << " of the peak; without the glass " << opaque << "\n";
+  }
+}
+
+// The opaque depth under the glass is the G-buffer pass's, copied; where the rasterizer's last
+// G-buffer pass was another frame's, the depth program draws it again: the same image, and a
+// note says so.
+TEST(Transparency, TiledHybridRedrawsTheDepthOfAnotherFrame) {
+  REQUIRE_GL();
+  const Scene scene = glassScene("atrium");
+  GlFrame g(scene, 0, 96, 54);
+  const FrameResult copied = g.render("tiled");
+  g.rasterizer.rasterize(scene.camera(1), 64, 36, RasterOptions{});
+  const FrameResult redrawn = g.render("tiled");
+  EXPECT_LE(test::relativeDifference(copied.image, redrawn.image), test::kFp32RelativeTolerance);
+  auto noted = [](const FrameResult& r) {
+    for (const std::string& n : r.counters.notes)
+      if (n.find("opaque depth drawn again") != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_FALSE(noted(copied));
+  EXPECT_TRUE(noted(redrawn));
+}
+
+// The G-buffer holds the opaque surfaces only: a G-buffer technique without a tiled forward pass
+// for them refuses the frame in one line rather than render it without its glass.
+TEST(Transparency, OtherGBufferTechniquesRefuseInOneLine) {
   REQUIRE_GL();
   const Scene scene = glassScene("atrium");
   GlFrame g(scene, 0, 32, 18);
-  for (const char* technique : {"tiled", "deferred", "clustered"}) {
+  for (const char* technique :
+       {"deferred", "deferred-stencil", "clustered", "tiled-single", "brute"}) {
     SCOPED_TRACE(technique);
     try {
       g.render(technique);
@@ -129,6 +215,7 @@ TEST(Transparency, GBufferTechniquesRefuseInOneLine) {
     } catch (const Error& e) {
       const std::string what = e.what();
       EXPECT_NE(what.find("alphaMode BLEND"), std::string::npos) << what;
+      EXPECT_NE(what.find("technique '" + std::string(technique) + "'"), std::string::npos) << what;
       EXPECT_EQ(what.find('\n'), std::string::npos) << what;
     }
   }
@@ -194,7 +281,7 @@ TEST(Transparency, HalfTransparentPaneGivesTheAnalyticOver) {
   const Scene scene = paneScene({{-5.0f, kNear, 0.5f}});
   GlFrame g(scene, 0, 32, 18);
   const glm::vec3 expected = 0.5f * kNear + 0.5f * kWall;
-  for (const char* technique : kForwardTechniques) {
+  for (const char* technique : kCompositing) {
     SCOPED_TRACE(technique);
     expectEveryPixel(g.render(technique), expected);
   }
@@ -213,7 +300,7 @@ TEST(Transparency, TwoPanesBlendInDepthOrderWhateverTheirDrawOrder) {
   const glm::vec3 expected = 0.5f * kNear + 0.5f * behind;
   const glm::vec3 drawOrder = 0.25f * kFar + 0.75f * (0.5f * kNear + 0.5f * kWall);
   ASSERT_GT(glm::length(expected - drawOrder), 0.05f);
-  for (const char* technique : kForwardTechniques) {
+  for (const char* technique : kCompositing) {
     SCOPED_TRACE(technique);
     expectEveryPixel(g.render(technique), expected);
   }
