@@ -178,6 +178,10 @@ struct SceneRequest {
   int frame = 0;  // of the scene's camera path
   std::string layout = "fp32";
   std::string raster = "software";  // or "gl"
+  // MSAA samples a pixel (1, 2, 4, 8; above 1 with raster "gl" only): the forward techniques draw
+  // multisampled targets resolved by OpenGL, checked against the per-sample reference; the
+  // techniques that shade the G-buffer refuse such a frame.
+  int msaa = 1;
 };
 
 // One shadow-casting light's share of the frame's shadow atlas (ShadowMapsInfo).
@@ -226,6 +230,7 @@ struct FrameInfo {
   // Draws with an alphaMode BLEND material composited by the forward techniques ("blend"
   // policy); a technique that shades the G-buffer refuses a frame with any.
   uint64_t transparentDraws = 0;
+  int msaa = 1;  // SceneRequest::msaa
 };
 
 // One frame's inputs on a device, shared by every Renderer that shades it.
@@ -267,6 +272,9 @@ struct TechniqueDescription {
   // It shades one light per pass and so can reuse one small shadow atlas per light
   // (Settings::shadowStorage "per-light"; deferred, deferred-stencil).
   bool reusesShadowMaps = false;
+  // It shades frames with SceneRequest::msaa above 1 (tiled-forward, tiled-forward-prez); the
+  // others refuse them (ts::Error).
+  bool multisamples = false;
 };
 std::vector<TechniqueDescription> listTechniques();
 

@@ -83,6 +83,12 @@ void validateRenderOptions(const RenderOptions& o) {
     throw Error(
         "--exact-visibility needs the scene's triangles: an imported G-buffer "
         "(--gbuffer-in) has none");
+  checkMsaa(o.msaa, o.raster);
+  if (o.msaa > 1 && !o.gbufferIn.empty())
+    throw Error("--msaa needs a scene to draw: an imported G-buffer (--gbuffer-in) has one sample");
+  if (o.msaa > 1 && o.exactVisibility)
+    throw Error("--exact-visibility with --msaa " + std::to_string(o.msaa) +
+                " is not done: exact visibility is traced per pixel, not per sample");
   if (o.shadingModel != "auto") parseShadingModel(o.shadingModel);
   for (const auto& t : expandTechniques(o.techniques)) findTechnique(t);
 }
@@ -166,6 +172,7 @@ Frame loadFrame(Device& device, const RenderOptions& o) {
   r.frame = o.frame;
   r.layout = toString(o.format);
   r.raster = toString(o.raster);
+  r.msaa = o.msaa;
   return Frame::fromScene(device, r);
 }
 
@@ -230,8 +237,22 @@ void runRender(const RenderOptions& options) {
       std::cerr << "tileshade: note: " << note << "\n";
   // The G-buffer holds the opaque surfaces only: never a G-buffer image without the frame's glass.
   const bool transparent = info.transparentDraws > 0;
+  // --msaa: only the techniques that take it (TechniqueInfo::multisamples), said before any file.
+  const bool multisampled = info.msaa > 1;
   std::vector<std::string> techniques =
-      expandTechniques(options.techniques, info.drawsScene, !transparent);
+      expandTechniques(options.techniques, info.drawsScene, !transparent && !multisampled);
+  if (multisampled)
+    for (const TechniqueDescription& t : listTechniques()) {
+      if (t.multisamples) continue;
+      auto it = std::find(techniques.begin(), techniques.end(), t.name);
+      const bool named =
+          std::count(options.techniques.begin(), options.techniques.end(), t.name) > 0;
+      if (named) throw Error(msaaRefusal(t.name, info.msaa));
+      if (std::count(options.techniques.begin(), options.techniques.end(), "all"))
+        std::cout << "tileshade: --technique all leaves out " << t.name << " (--msaa " << info.msaa
+                  << " is not done for it)\n";
+      if (it != techniques.end()) techniques.erase(it);
+    }
   // Per-light shadow storage: `all` means the techniques that can reuse one map per light; one
   // named explicitly that cannot is refused below (Renderer), before any file.
   if (options.shadowStorage == ShadowStorage::PerLight)
@@ -291,11 +312,13 @@ void runRender(const RenderOptions& options) {
   if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
 
   // Three references (FrameReferences; docs/accuracy.md), computed once for every technique.
+  // --msaa: three per sample, averaged (every technique then draws the scene).
   ReferenceProgress progress(size_t(width) * size_t(height), info.lights - info.directionalLights,
-                             3, height);
+                             3 * info.msaa, height);
   const FrameReferences* references =
       o.check
-          ? &frameReferences(frame, [&](const std::string& label) { return progress.pass(label); })
+          ? &frameReferences(
+                frame, [&](const std::string& label) { return progress.pass(label); }, multisampled)
           : nullptr;
 
   std::cout << "tileshade: " << info.sceneName << " (" << info.triangles << " triangles, "
@@ -441,6 +464,12 @@ void runRender(const RenderOptions& options) {
       {"raster_renderer", info.sourceDetail},
       {"raster_ms", info.rasterMs},
       {"raster_setup_ms", info.rasterSetupMs},
+      {"msaa", info.msaa},
+      // The forward passes' colour (RGBA32F) and depth (float) targets, per sample; the id
+      // targets are instrumentation and left out.
+      {"forward_target_bytes",
+       {{"colour", uint64_t(width) * uint64_t(height) * uint64_t(info.msaa) * 16u},
+        {"depth", uint64_t(width) * uint64_t(height) * uint64_t(info.msaa) * 4u}}},
       {"compile_ms", device.compileMs()},
       {"techniques", results},
   };

@@ -37,7 +37,7 @@ struct ForwardImage {
   double transparentMs = 0.0, transparentQueryMs = 0.0;
   size_t transparentDraws = 0;
   // forward, forward-single: the draw batch of each pixel's surface (-1: background), row 0 at
-  // the top.
+  // the top; with --msaa one such plane per sample, sample-major (each sample's surface).
   std::vector<int32_t> pixelBatch;
 };
 

@@ -42,14 +42,14 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
        [](ClContext& cl, const TechniqueConfig& c) {
          return makeTiledForwardTechnique(cl, c, false);
        },
-       1, true},
+       1, true, false, true},
       {"tiled-forward-prez",
        "tiled forward with a depth pre-pass (needs --raster gl): pre-pass depth -> tiled's depth "
        "bounds and binning kernels, then the forward pass with depth test EQUAL",
        [](ClContext& cl, const TechniqueConfig& c) {
          return makeTiledForwardTechnique(cl, c, true);
        },
-       1, true},
+       1, true, false, true},
       {"forward",
        "multi-pass forward (needs --raster gl): a base pass (ambient, emission, directional), then "
        "per light one additive pass, depth test EQUAL, over the draw batches its sphere touches",
@@ -96,6 +96,7 @@ std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& c
   std::unique_ptr<Technique> technique = info.create(cl, resolved);
   technique->features_ = resolved.features;
   technique->drawsScene_ = info.drawsScene;
+  technique->multisamples_ = info.multisamples;
   return technique;
 }
 
@@ -106,6 +107,8 @@ FrameResult Technique::render(DeviceFrame& frame, const FrameRequest& request) {
                 "' shades the G-buffer, which holds the opaque surfaces only: this frame has "
                 "alphaMode BLEND surfaces to composite (--blend blend; a forward technique draws "
                 "them, or --blend as-opaque|as-mask)");
+  if (!multisamples_ && frame.forward && frame.forward->samples() > 1)
+    throw Error(msaaRefusal(name(), frame.forward->samples()));
   checkFrameFeatures(features_, frame);
   return renderFrame(frame, request);
 }
@@ -131,6 +134,20 @@ std::string shadowStorageRefusal(const std::string& technique) {
          ": --shadow-storage per-light is for deferred and deferred-stencil, which shade one "
          "light per pass; " +
          technique + " shades every light at once and needs every map resident (atlas)";
+}
+
+std::string msaaRefusal(const std::string& technique, int samples) {
+  const TechniqueInfo& t = findTechnique(technique);
+  if (!t.drawsScene)
+    return "technique '" + technique + "' shades the G-buffer: --msaa " + std::to_string(samples) +
+           " is done for tiled-forward and tiled-forward-prez only (a multisampled G-buffer for "
+           "the deferred ones is not)";
+  // A fragment interpolated at the pixel centre for a sample its triangle covers can lie off
+  // the triangle, outside its batch's box (docs/techniques.md, "MSAA").
+  return "technique '" + technique + "' with --msaa " + std::to_string(samples) +
+         " is not done: its per-batch light lists are culled against the batches' boxes, which a "
+         "fragment extrapolated to the pixel centre can leave (tiled-forward and "
+         "tiled-forward-prez take --msaa)";
 }
 
 std::string TechniqueConfig::kernelOptions() const {

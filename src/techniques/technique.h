@@ -127,7 +127,8 @@ class Technique {
   friend std::unique_ptr<Technique> createTechnique(const std::string&, ClContext&,
                                                     const TechniqueConfig&);
   SceneFeatures features_;
-  bool drawsScene_ = false;  // TechniqueInfo::drawsScene
+  bool drawsScene_ = false;    // TechniqueInfo::drawsScene
+  bool multisamples_ = false;  // TechniqueInfo::multisamples
 };
 
 // Throws ts::Error naming the mismatch when kernels built for `features` cannot render `frame`
@@ -148,12 +149,17 @@ struct TechniqueInfo {
   // Shades one light per pass, so it can reuse one small shadow atlas per light
   // (ShadowStorage::PerLight); the others shade every light at once and need every map resident.
   bool reusesShadowMaps = false;
+  // Shades a frame drawn with --msaa above 1 (multisampled forward targets, OpenGL's resolve);
+  // Technique::render refuses such a frame for the others (msaaRefusal).
+  bool multisamples = false;
 };
 
 const std::vector<TechniqueInfo>& techniqueRegistry();
 // The one line createTechnique (and render's, bench's checks) refuse ShadowStorage::PerLight
 // with for a technique that does not reuse shadow maps.
 std::string shadowStorageRefusal(const std::string& technique);
+// The one line a technique without TechniqueInfo::multisamples refuses --msaa `samples` with.
+std::string msaaRefusal(const std::string& technique, int samples);
 std::vector<std::string> techniqueNames();
 // The techniques that shade the frame's G-buffer (all but the drawsScene ones): what `all` means
 // where the frame has no scene to draw (software raster, imported G-buffer, bench, check).
