@@ -30,6 +30,9 @@
 /* ---- 1. depth bounds ---------------------------------------------------------------------- */
 
 /* Background pixels (depth 0) are left out: they would stretch the range to the far plane.
+ * gb_depth holds `samples` planes of width x height (sample-major; 1 without MSAA: tiled-forward-
+ * prez's pre-pass with --msaa gives one per sample), and a tile's range covers every sample of
+ * its pixels, so no sample's surface is culled.
  * Depths are compared as floats in local memory, so no integer-atomic trick (which only orders
  * non-negative floats) is involved.
  * Output per tile: (zmin, near_max, far_min, zmax). With TS_DEPTH_SPLIT (the depth-split knob),
@@ -39,7 +42,7 @@
  * et al.). Without it, the second range is empty and the first is [zmin, zmax]. An empty tile
  * gets two empty ranges (min > max). */
 __kernel void tile_depth_bounds(__global const float *gb_depth, int width, int height,
-                                __global float4 *tile_depth) {
+                                int samples, __global float4 *tile_depth) {
   __local float lmin[256];
   __local float lmax[256];
   int tiles_x = (width + TILE_W - 1) / TILE_W;
@@ -51,10 +54,11 @@ __kernel void tile_depth_bounds(__global const float *gb_depth, int width, int h
   /* Pass 0: the whole range; pass 1 (split): the near half's max and the far half's min. */
   for (int pass = 0; pass < (TS_DEPTH_SPLIT ? 2 : 1); ++pass) {
     float lo = FLT_MAX, hi = 0.0f;
-    for (int i = lid; i < TILE_W * TILE_H; i += lsize) {
-      int x = tx * TILE_W + i % TILE_W, y = ty * TILE_H + i / TILE_W;
+    for (int i = lid; i < TILE_W * TILE_H * samples; i += lsize) {
+      int p = i % (TILE_W * TILE_H), k = i / (TILE_W * TILE_H);
+      int x = tx * TILE_W + p % TILE_W, y = ty * TILE_H + p / TILE_W;
       if (x < width && y < height) {
-        float z = gb_depth[y * width + x];
+        float z = gb_depth[(size_t)k * width * height + y * width + x];
         if (pass == 0 && z > 0.0f) {
           lo = fmin(lo, z);
           hi = fmax(hi, z);

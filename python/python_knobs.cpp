@@ -132,6 +132,7 @@ const std::map<std::string, SceneKnob>& sceneKnobs() {
       {"frame", [](R& r, py::handle v, const std::string& n) { r.frame = intValue(v, n); }},
       {"layout", [](R& r, py::handle v, const std::string& n) { r.layout = textValue(v, n); }},
       {"raster", [](R& r, py::handle v, const std::string& n) { r.raster = textValue(v, n); }},
+      {"msaa", [](R& r, py::handle v, const std::string& n) { r.msaa = intValue(v, n); }},
   };
   return knobs;
 }

@@ -37,6 +37,10 @@ layout(location = 3) out int o_triangle;
 uniform int u_firstTriangle;
 uniform bool u_visibleOnly;
 uniform isampler2D u_visibleTriangle;
+// --msaa (u_samples > 1): the visible triangle per sample; a light-pass fragment writes only the
+// samples it covers whose visible triangle is its own (gl_SampleMask), as EQUAL tests per sample.
+uniform isampler2DMS u_visibleTriangleMS;
+uniform int u_samples;
 
 struct TsMaterial {
   vec3 diffuse;
@@ -144,8 +148,21 @@ uniform int u_drawOrder;
 void main() {
   vec3 faceNormal = cross(dFdx(v_viewPosition), dFdy(v_viewPosition));
   int triangle = u_firstTriangle + gl_PrimitiveID;
-  if (u_visibleOnly && texelFetch(u_visibleTriangle, ivec2(gl_FragCoord.xy), 0).r != triangle)
+  // Written on every path (a mask written on some only is undefined on the others); ignored
+  // without multisampled targets.
+  gl_SampleMask[0] = gl_SampleMaskIn[0];
+  if (u_visibleOnly && u_samples > 1) {
+    int visible = 0;
+    for (int k = 0; k < u_samples; ++k)
+      if (texelFetch(u_visibleTriangleMS, ivec2(gl_FragCoord.xy), k).r == triangle)
+        visible |= 1 << k;
+    visible &= gl_SampleMaskIn[0];
+    if (visible == 0) discard;
+    gl_SampleMask[0] = visible;
+  } else if (u_visibleOnly &&
+             texelFetch(u_visibleTriangle, ivec2(gl_FragCoord.xy), 0).r != triangle) {
     discard;
+  }
   if (!ts_material_covered(u_material)) discard;  // alphaMode MASK (material_planes.h)
   vec3 N = ts_surface_normal(v_normal, faceNormal, v_viewPosition, false);
 #if TS_NORMAL_MAPS

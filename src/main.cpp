@@ -184,6 +184,12 @@ int main(int argc, char** argv) {
           ->add_option("--raster", raster,
                        "rasterizer of the G-buffer: " + ts::rasterBackendNames().help())
           ->capture_default_str();
+  renderCmd
+      ->add_option("--msaa", render.msaa,
+                   "MSAA samples a pixel: 1, 2, 4 or 8 (above 1: --raster gl, tiled-forward and "
+                   "tiled-forward-prez, shaded per fragment and resolved by OpenGL; --check "
+                   "against the per-sample reference; docs/techniques.md)")
+      ->capture_default_str();
   auto* gbufferInOpt = renderCmd->add_option(
       "--gbuffer-in", render.gbufferIn,
       "shade a G-buffer read from files instead of a scene: a folder written by --dump, or a "
@@ -225,10 +231,11 @@ int main(int argc, char** argv) {
                       "gbuffer.json (the descriptor --gbuffer-in reads); with shadow-casting "
                       "lights, shadow_atlas.exr and shadow_atlas.json");
   // An imported G-buffer brings its own scene, size, frame, lights and shading model.
-  for (const char* name : {"--lights", "--light-count", "--light-range", "--light-threshold",
-                           "--seed", "--width", "--height", "--frame", "--variant", "--normal-maps",
-                           "--shadows", "--shadow-map-size", "--shadow-budget", "--shadow-filter",
-                           "--shadow-bias", "--shadow-storage", "--blend", "--shading-model"})
+  for (const char* name :
+       {"--lights", "--light-count", "--light-range", "--light-threshold", "--seed", "--width",
+        "--height", "--frame", "--variant", "--normal-maps", "--shadows", "--shadow-map-size",
+        "--shadow-budget", "--shadow-filter", "--shadow-bias", "--shadow-storage", "--blend",
+        "--shading-model", "--msaa"})
     gbufferInOpt->excludes(renderCmd->get_option(name));
   gbufferInOpt->excludes(sceneOpt);
   gbufferInOpt->excludes(rasterOpt);

@@ -178,6 +178,10 @@ struct SceneRequest {
   int frame = 0;  // of the scene's camera path
   std::string layout = "fp32";
   std::string raster = "software";  // or "gl"
+  // MSAA samples a pixel (1, 2, 4, 8; above 1 with raster "gl" only): the forward techniques draw
+  // multisampled targets resolved by OpenGL, checked against the per-sample reference; the
+  // techniques that shade the G-buffer refuse such a frame.
+  int msaa = 1;
 };
 
 // One shadow-casting light's share of the frame's shadow atlas (ShadowMapsInfo).
@@ -227,6 +231,7 @@ struct FrameInfo {
   // ones ("blend" policy; TechniqueDescription::hybridTransparency); the other techniques that
   // shade the G-buffer refuse a frame with any.
   uint64_t transparentDraws = 0;
+  int msaa = 1;  // SceneRequest::msaa
 };
 
 // One frame's inputs on a device, shared by every Renderer that shades it.
@@ -272,6 +277,9 @@ struct TechniqueDescription {
   // over its grid after the opaque ones (`tiled`, docs/techniques.md); the other G-buffer
   // techniques refuse a frame with FrameInfo::transparentDraws.
   bool hybridTransparency = false;
+  // It shades frames with SceneRequest::msaa above 1 (tiled-forward, tiled-forward-prez); the
+  // others refuse them (ts::Error).
+  bool multisamples = false;
 };
 std::vector<TechniqueDescription> listTechniques();
 

@@ -82,6 +82,16 @@ struct Frame::Impl {
   // The transparent surfaces over the three references (none without transparent draws), the
   // fragments shaded with the planes' terms of planesShadedBy(drawsScene).
   void compositeTransparentSurfaces(FrameReferences& r, bool drawsScene);
+
+  // --msaa: a frame whose forward passes draw multisampled targets. Its references (for the
+  // techniques that draw the scene) shade every sample's G-buffer and average them
+  // (averageSamples); the planes are each sample's fp32 encoding (forward->sampleGBuffers), in
+  // sample order, made at the first check.
+  bool multisampled() const { return forward && forward->samples() > 1; }
+  const std::vector<EncodedGBuffer>& samplePlanes();
+  const FrameReferences& ensureSampleReferences(const PassProgress& pass);
+  std::vector<EncodedGBuffer> samplePlanesCache;
+  std::optional<FrameReferences> sampleReferences;
 };
 
 // The frame's references (computed now if no check asked for them yet): the command's heatmap.

@@ -83,6 +83,7 @@ std::shared_ptr<Frame::Impl> uploaded(Device& device, RenderInput input) {
   impl->onDevice.forward = impl->forward.get();
   impl->info.drawsScene = impl->forward != nullptr;
   impl->info.transparentDraws = impl->forward ? impl->forward->transparentDraws() : 0;
+  impl->info.msaa = impl->forward ? impl->forward->samples() : 1;
   return impl;
 }
 
@@ -318,6 +319,8 @@ Frame Frame::fromScene(Device& device, const SceneRequest& r) {
     o.height = r.height;
     o.format = gbufferFormatNames().parseOption("--gbuffer", r.layout);
     o.raster = rasterBackendNames().parseOption("--raster", r.raster);
+    o.msaa = r.msaa;
+    checkMsaa(o.msaa, o.raster);
     RenderInput input = outOfMemoryAs("loading and rasterizing " + r.scene,
                                       [&] { return loadSceneInput(o, r.frame); });
     return Frame(uploaded(device, std::move(input)));
@@ -489,7 +492,50 @@ void Frame::Impl::compositeTransparentSurfaces(FrameReferences& r, bool drawsSce
   r.transparentFragments = fragments.size();
 }
 
+const std::vector<EncodedGBuffer>& Frame::Impl::samplePlanes() {
+  if (samplePlanesCache.empty()) {
+    RasterOptions raster;  // as prepareFrame rasterizes the frame
+    raster.model = prepared.features.model;
+    raster.normalMaps = prepared.features.normalMaps;
+    for (const GBuffer& g : forward->sampleGBuffers(raster))
+      samplePlanesCache.push_back(encode(g, GBufferFormat::FP32));
+  }
+  return samplePlanesCache;
+}
+
+const FrameReferences& Frame::Impl::ensureSampleReferences(const PassProgress& pass) {
+  if (sampleReferences) return *sampleReferences;
+  const PreparedFrame& p = prepared;
+  const int windowed = int(RangeModel::Windowed), physical = int(RangeModel::Physical);
+  auto progress = [&](const std::string& label) { return pass ? pass(label) : RowProgress(); };
+  outOfMemoryAs(
+      "computing the per-sample references of a " +
+          sizeText(p.intrinsics.width, p.intrinsics.height) + " MSAA frame",
+      [&] {
+        const std::vector<EncodedGBuffer>& planes = samplePlanes();
+        std::vector<ReferenceImage> ref, shadingOnly, phys;
+        for (size_t k = 0; k < planes.size(); ++k) {
+          const std::string sample = ", sample " + std::to_string(k);
+          ref.push_back(shadeReference(planes[k], p.intrinsics, p.lights, p.ambient, windowed, 0,
+                                       progress("windowed model" + sample)));
+          shadingOnly.push_back(
+              shadeReference(planes[k], p.intrinsics, p.lights, p.ambient, windowed, 0,
+                             progress("windowed model, kernel positions" + sample),
+                             ReferencePositions::KernelFloat));
+          phys.push_back(shadeReference(planes[k], p.intrinsics, p.lights, p.ambient, physical, 0,
+                                        progress("physical model" + sample)));
+        }
+        FrameReferences r;
+        r.reference = averageSamples(ref);
+        r.shadingOnly = averageSamples(shadingOnly);
+        r.physical = averageSamples(phys);
+        sampleReferences = std::move(r);
+      });
+  return *sampleReferences;
+}
+
 const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass, bool drawsScene) {
+  if (drawsScene && multisampled()) return ensureSampleReferences(pass);
   // The references of the techniques that draw the scene apart where they differ: other planes
   // than the frame's layout (transparent surfaces are composited over both).
   const bool drawn = drawsScene && prepared.encoded.format != GBufferFormat::FP32;

@@ -91,6 +91,7 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
   return openclErrorsAsTs([&] {
     Technique& technique = impl_->techniqueFor(frame);
     Frame::Impl& f = *frame.impl();
+    const bool drawsScene = findTechnique(impl_->settings.technique).drawsScene;
     // A device frame's planes are the caller's: a check reads them back first (the counters
     // already have the depth).
     FrameRequest request;
@@ -123,7 +124,6 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
     const TechniqueConfig config = impl_->configFor(frame);
     out.kernelOptions = config.kernelOptions();
     if (options.check) {
-      const bool drawsScene = findTechnique(impl_->settings.technique).drawsScene;
       const FrameReferences& refs = f.ensureReferences({}, drawsScene);
       CheckReport check;
       check.error = compared(r.image, refs.reference);
@@ -133,8 +133,12 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
       check.referencePeak = refs.reference.peak;
       if (r.assignment) {
         const PreparedFrame& p = f.prepared;
-        check.missed = countMissedContributions(*r.assignment, f.planesShadedBy(drawsScene),
-                                                p.intrinsics, p.lights, int(config.rangeModel));
+        if (drawsScene && f.multisampled())
+          check.missed = countMissedOverSamples(*r.assignment, f.samplePlanes(), p.intrinsics,
+                                                p.lights, int(config.rangeModel));
+        else
+          check.missed = countMissedContributions(*r.assignment, f.planesShadedBy(drawsScene),
+                                                  p.intrinsics, p.lights, int(config.rangeModel));
       } else {
         check.missedCounted = false;
       }
@@ -147,7 +151,8 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
 std::vector<TechniqueDescription> listTechniques() {
   std::vector<TechniqueDescription> out;
   for (const TechniqueInfo& t : techniqueRegistry())
-    out.push_back({t.name, t.description, t.drawsScene, t.reusesShadowMaps, t.hybridTransparency});
+    out.push_back({t.name, t.description, t.drawsScene, t.reusesShadowMaps, t.hybridTransparency,
+                   t.multisamples});
   return out;
 }
 

@@ -85,6 +85,18 @@ std::vector<BenchDimension> makeDimensions() {
         c.raster = rasterBackendNames().parseOption("--raster", v);
       },
       [](const BenchConfig& c) { return toString(c.raster); });
+  // After bench.csv files existed: keyed off default, as the shadow dimensions.
+  add(
+      "msaa",
+      "MSAA samples a pixel: 1, 2, 4, 8 (above 1: --raster gl, tiled-forward and "
+      "tiled-forward-prez; the error against the per-sample reference)",
+      true,
+      [](BenchConfig& c, const std::string& v) {
+        c.msaa = int(parseInteger("--msaa", v, 1, 8));
+        checkMsaa(c.msaa, RasterBackend::Gl);  // the count; the rasterizer per configuration
+      },
+      [](const BenchConfig& c) { return std::to_string(c.msaa); });
+  d.back().keyedOffDefault = true;
   add(
       "variant",
       "built-in scene variant(s), each a '+' list of " + joinedVariants() +

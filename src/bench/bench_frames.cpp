@@ -67,6 +67,9 @@ void BenchScene::check(const BenchConfig& c) {
       FrameShadows(c));  // a bad --shadow-map-size, --shadow-filter or --shadow-bias fails here
   if (findTechnique(c.technique).drawsScene && backend != RasterBackend::Gl)
     throw Error(c.technique + " draws the scene: bench needs --raster gl for it");
+  checkMsaa(c.msaa, backend);
+  if (c.msaa > 1 && !findTechnique(c.technique).multisamples)
+    throw Error(msaaRefusal(c.technique, c.msaa));
   auto& r = rasterizers_[backend];
   if (!r) r = std::make_unique<SceneRasterizer>(scene_, backend);
 }
@@ -94,7 +97,7 @@ std::shared_ptr<const ShadowAtlas> BenchScene::drawShadows(const BenchConfig& c,
 std::unique_ptr<ForwardScene> BenchScene::forwardScene(const BenchConfig& c,
                                                        const PreparedFrame& frame) {
   if (imported_) return nullptr;
-  return rasterizers_.at(c.raster)->forwardScene(frame.camera, c.width, c.height);
+  return rasterizers_.at(c.raster)->forwardScene(frame.camera, c.width, c.height, c.msaa);
 }
 
 ViewLights BenchScene::ownRangeLights(const PreparedFrame& frame) const {

@@ -82,8 +82,7 @@ const ReferenceImage& GroupFrame::storedReference(const EncodedGBuffer& enc, GBu
   std::pair<int, int> key{int(format), model};
   auto it = cache.find(key);
   if (it == cache.end()) {
-    ReferenceImage ref = shadeReference(enc, prepared_.intrinsics, prepared_.lights,
-                                        prepared_.ambient, model, 0, {}, positions);
+    ReferenceImage ref = shadeFrame(enc, prepared_.lights, model, positions);
     withTransparentSurfaces(ref, prepared_.lights, model);
     it = cache.emplace(key, std::move(ref)).first;
   }
@@ -93,11 +92,30 @@ const ReferenceImage& GroupFrame::storedReference(const EncodedGBuffer& enc, GBu
 const ReferenceImage& GroupFrame::sceneReference() {
   if (!sceneReference_) {
     const ViewLights lights = scene_.ownRangeLights(prepared_);
-    sceneReference_ = shadeReference(prepared_.encoded, prepared_.intrinsics, lights,
-                                     prepared_.ambient, TS_MODEL_WINDOWED);
+    sceneReference_ =
+        shadeFrame(prepared_.encoded, lights, TS_MODEL_WINDOWED, ReferencePositions::FromDepth);
     withTransparentSurfaces(*sceneReference_, lights, TS_MODEL_WINDOWED);
   }
   return *sceneReference_;
+}
+
+ReferenceImage GroupFrame::shadeFrame(const EncodedGBuffer& enc, const ViewLights& lights,
+                                      int model, ReferencePositions positions) {
+  if (!forward_ || forward_->samples() <= 1)
+    return shadeReference(enc, prepared_.intrinsics, lights, prepared_.ambient, model, 0, {},
+                          positions);
+  if (samplePlanes_.empty()) {
+    RasterOptions raster;  // as the frame was rasterized
+    raster.model = prepared_.features.model;
+    raster.normalMaps = prepared_.features.normalMaps;
+    for (const GBuffer& g : forward_->sampleGBuffers(raster))
+      samplePlanes_.push_back(encode(g, GBufferFormat::FP32));
+  }
+  std::vector<ReferenceImage> samples;
+  for (const EncodedGBuffer& planes : samplePlanes_)
+    samples.push_back(shadeReference(planes, prepared_.intrinsics, lights, prepared_.ambient, model,
+                                     0, {}, positions));
+  return averageSamples(samples);
 }
 
 const PerLightShadowMaps* GroupFrame::perLightShadows() {

@@ -76,6 +76,10 @@ class GroupFrame {
   // The frame's transparent fragments (captured once) composited over `ref` where the frame has
   // transparent draws (--blend blend); nothing otherwise.
   void withTransparentSurfaces(ReferenceImage& ref, const ViewLights& lights, int model);
+  // The reference of `enc`'s values, or where the forward passes draw multisampled targets
+  // (--msaa) every sample's fp32 G-buffer shaded and averaged (averageSamples).
+  ReferenceImage shadeFrame(const EncodedGBuffer& enc, const ViewLights& lights, int model,
+                            ReferencePositions positions);
 
   BenchScene& scene_;
   PreparedFrame prepared_;
@@ -88,6 +92,7 @@ class GroupFrame {
   std::map<std::pair<int, int>, ReferenceImage> references_, shadingReferences_;
   std::optional<ReferenceImage> sceneReference_;
   std::optional<std::vector<TransparentFragment>> transparentFragments_;
+  std::vector<EncodedGBuffer> samplePlanes_;  // --msaa: each sample's fp32 planes
 };
 
 // The median of a configuration's timed renders of one frame.

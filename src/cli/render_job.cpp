@@ -97,6 +97,10 @@ std::vector<std::string> techniquesForFrame(const RenderOptions& options, const 
        },
        "it shades the G-buffer, which holds the opaque surfaces only, and has no transparent pass",
        [&](const TechniqueDescription& t) { return transparencyRefusal(t.name, glass); }},
+      // --msaa: only the techniques that take it (TechniqueInfo::multisamples).
+      {[&](const TechniqueDescription& t) { return info.msaa > 1 && !t.multisamples; },
+       "--msaa " + std::to_string(info.msaa) + " is not done for it",
+       [&](const TechniqueDescription& t) { return msaaRefusal(t.name, info.msaa); }},
       // A frame without a scene to draw (software raster, imported G-buffer).
       {[&](const TechniqueDescription& t) { return t.drawsScene && !info.drawsScene; },
        "it draws the scene: --raster gl",
@@ -141,6 +145,12 @@ void validateRenderOptions(const RenderOptions& o) {
     throw Error(
         "--exact-visibility needs the scene's triangles: an imported G-buffer "
         "(--gbuffer-in) has none");
+  checkMsaa(o.msaa, o.raster);
+  if (o.msaa > 1 && !o.gbufferIn.empty())
+    throw Error("--msaa needs a scene to draw: an imported G-buffer (--gbuffer-in) has one sample");
+  if (o.msaa > 1 && o.exactVisibility)
+    throw Error("--exact-visibility with --msaa " + std::to_string(o.msaa) +
+                " is not done: exact visibility is traced per pixel, not per sample");
   if (o.shadingModel != "auto") parseShadingModel(o.shadingModel);
   for (const auto& t : expandTechniques(o.techniques)) findTechnique(t);
 }
@@ -224,6 +234,7 @@ Frame loadFrame(Device& device, const RenderOptions& o) {
   r.frame = o.frame;
   r.layout = toString(o.format);
   r.raster = toString(o.raster);
+  r.msaa = o.msaa;
   return Frame::fromScene(device, r);
 }
 
@@ -287,6 +298,7 @@ void runRender(const RenderOptions& options) {
     for (const std::string& note : info.shadowMaps->notes)
       std::cerr << "tileshade: note: " << note << "\n";
   const std::vector<std::string> techniques = techniquesForFrame(options, info);
+  const bool multisampled = info.msaa > 1;
   const RenderOptions& o = options;
   const int width = info.width, height = info.height;  // an imported G-buffer decides the size
 
@@ -308,11 +320,13 @@ void runRender(const RenderOptions& options) {
   if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
 
   // Three references (FrameReferences; docs/accuracy.md), computed once for every technique.
+  // --msaa: three per sample, averaged (every technique then draws the scene).
   ReferenceProgress progress(size_t(width) * size_t(height), info.lights - info.directionalLights,
-                             3, height);
+                             3 * info.msaa, height);
   const FrameReferences* references =
       o.check
-          ? &frameReferences(frame, [&](const std::string& label) { return progress.pass(label); })
+          ? &frameReferences(
+                frame, [&](const std::string& label) { return progress.pass(label); }, multisampled)
           : nullptr;
 
   std::cout << "tileshade: " << info.sceneName << " (" << info.triangles << " triangles, "
@@ -458,6 +472,12 @@ void runRender(const RenderOptions& options) {
       {"raster_renderer", info.sourceDetail},
       {"raster_ms", info.rasterMs},
       {"raster_setup_ms", info.rasterSetupMs},
+      {"msaa", info.msaa},
+      // The forward passes' colour (RGBA32F) and depth (float) targets, per sample; the id
+      // targets are instrumentation and left out.
+      {"forward_target_bytes",
+       {{"colour", uint64_t(width) * uint64_t(height) * uint64_t(info.msaa) * 16u},
+        {"depth", uint64_t(width) * uint64_t(height) * uint64_t(info.msaa) * 4u}}},
       {"compile_ms", device.compileMs()},
       {"techniques", results},
   };

@@ -9,8 +9,10 @@
 
 #include <glm/glm.hpp>
 
+#include "gbuffer/gbuffer.h"
 #include "raster/batch_lights.h"
 #include "raster/draw_batches.h"
+#include "raster/rasterizer.h"
 #include "scene/scene_features.h"
 #include "shading/forward_grid.h"
 #include "shading/transparent_fragments.h"
@@ -25,10 +27,17 @@ constexpr size_t kCaptureBound = size_t(1) << 22;
 class ForwardScene {
  public:
   virtual ~ForwardScene() = default;
+  // --msaa: the samples a pixel of every pass's targets (1: single-sampled). The passes shade
+  // per fragment and return the image resolved by OpenGL; ForwardImage::pixelBatch and
+  // depthPrepass hold one plane per sample.
+  virtual int samples() const = 0;
+  // The frame's G-buffer per sample (GlRasterizer::rasterizeSamples): what the reference shades
+  // each sample of an MSAA frame from; {the one G-buffer} for samples() = 1.
+  virtual std::vector<GBuffer> sampleGBuffers(const RasterOptions& options) = 0;
   // A depth-only pass of the frame: the linear view depth per pixel (0 = background; the
-  // G-buffer's depth plane) for the depth-bounds kernel, and the depth buffer the next
-  // tiledForward(.., depthEqual = true) tests against. ms: its time (wall clock, glFinish on
-  // both sides; see ForwardImage::drawMs).
+  // G-buffer's depth plane) for the depth-bounds kernel, one plane per sample (sample-major),
+  // and the depth buffer the next tiledForward(.., depthEqual = true) tests against. ms: its
+  // time (wall clock, glFinish on both sides; see ForwardImage::drawMs).
   virtual std::vector<float> depthPrepass(double& ms) = 0;
   // The scene drawn once, each fragment shading the lights of its tile in `grid` with
   // kernels/shading.h (the terms of `features`, range model `rangeModel`); then the transparent

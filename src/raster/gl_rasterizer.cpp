@@ -132,8 +132,10 @@ struct Uniforms {
 // shadow atlas (the forward shader built with TS_HAS_SHADOWS).
 constexpr int kNormalTextureUnit = TS_TEXTURE_SLOTS;
 constexpr int kShadowAtlasUnit = TS_TEXTURE_SLOTS + 1;
-// And of the base pass's visible triangles that forward's light passes read (u_visibleTriangle).
+// And of the base pass's visible triangles that forward's light passes read (u_visibleTriangle),
+// and their multisampled form (--msaa: u_visibleTriangleMS, per sample).
 constexpr int kVisibleTriangleUnit = TS_TEXTURE_SLOTS + 2;
+constexpr int kVisibleTriangleMSUnit = TS_TEXTURE_SLOTS + 3;
 
 // Looks the uniforms up and points texture slot s at texture unit s (leaves `program` in use).
 Uniforms uniformsOf(GLuint program) {
@@ -232,7 +234,13 @@ struct GlRasterizer::State {
   // forward's base-pass triangle ids, copied out of forwardTargets for the light passes to read
   // (R32I, the size of visibleWidth x visibleHeight).
   GLuint visibleTriangles = 0;
-  int visibleWidth = 0, visibleHeight = 0;
+  int visibleWidth = 0, visibleHeight = 0, visibleSamples = 1;
+  // --msaa: the G-buffer's multisampled targets (rasterizeSamples), the single-sample targets
+  // one sample or the resolve lands in before its read-back (RGBA32F resolved image, R32F a
+  // sample's pre-pass depth, R32I a sample's batch ids), and the sample fetch pass
+  // (shaders/sample_fetch.frag).
+  gl::Targets gbufferSampleTargets, resolveTargets;
+  GLuint fetchProgram = 0, fetchVao = 0;
   GLuint storage[kForwardStorages] = {};
   GLuint timer = 0;  // the passes' GL_TIME_ELAPSED query (timed())
   // The shadow maps (built on first use): the depth pre-pass's shaders into an R32F atlas.
@@ -250,6 +258,12 @@ struct GlRasterizer::State {
       return;
     }
     gbufferTargets.release();
+    gbufferSampleTargets.release();
+    resolveTargets.release();
+    if (fetchProgram) {
+      glDeleteProgram(fetchProgram);
+      glDeleteVertexArrays(1, &fetchVao);
+    }
     forwardTargets.release();
     shadowTargets.release();
     if (forwardVariants[0]) {
@@ -352,6 +366,57 @@ struct GlRasterizer::State {
         w, h, {GL_R32F, GL_RGBA32F, GL_RGBA32F, GL_RGBA32F, GL_RGBA32F, GL_R32I},
         "G-buffer framebuffer (five float targets, an integer target, float depth)");
   }
+  void ensureSampleFramebuffer(int w, int h, int samples) {
+    gbufferSampleTargets.ensure(
+        w, h, {GL_R32F, GL_RGBA32F, GL_RGBA32F, GL_RGBA32F, GL_RGBA32F, GL_R32I},
+        "multisampled G-buffer framebuffer (five float targets, an integer target, float depth)",
+        samples);
+  }
+
+  // ---- MSAA: one sample of a multisampled target ------------------------------------------
+
+  void buildFetch() {
+    if (fetchProgram) return;
+    fetchProgram = gl::buildProgram("fullscreen.vert", "sample_fetch.frag");
+    glUseProgram(fetchProgram);
+    glUniform1i(glGetUniformLocation(fetchProgram, "u_float"), 0);
+    glUniform1i(glGetUniformLocation(fetchProgram, "u_int"), 1);
+    glGenVertexArrays(1, &fetchVao);
+    gl::checkErrors("setting up the sample fetch program");
+  }
+
+  // Sample `sample` of colour target `plane` of the multisampled `from` into colour target
+  // `toPlane` of the single-sample `to` (same size), bit for bit (shaders/sample_fetch.frag).
+  void fetchSample(const gl::Targets& from, int plane, bool integer, int sample,
+                   const gl::Targets& to, int toPlane) {
+    buildFetch();
+    glBindFramebuffer(GL_FRAMEBUFFER, to.framebuffer);
+    GLenum buffers[2] = {GL_NONE, GL_NONE};
+    buffers[integer ? 1 : 0] = GLenum(GL_COLOR_ATTACHMENT0 + toPlane);
+    glDrawBuffers(2, buffers);
+    glViewport(0, 0, to.width, to.height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glUseProgram(fetchProgram);
+    glUniform1i(glGetUniformLocation(fetchProgram, "u_integer"), integer ? 1 : 0);
+    glUniform1i(glGetUniformLocation(fetchProgram, "u_sample"), sample);
+    glActiveTexture(GLenum(GL_TEXTURE0 + (integer ? 1 : 0)));
+    glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, from.colour[size_t(plane)]);
+    glBindVertexArray(fetchVao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glActiveTexture(GL_TEXTURE0);  // the unit every other texture binding assumes
+    glEnable(GL_DEPTH_TEST);
+    gl::checkErrors("fetching sample " + std::to_string(sample) + " of a multisampled target");
+  }
+
+  void ensureResolveFramebuffer(int w, int h) {
+    resolveTargets.ensure(w, h, {GL_RGBA32F, GL_R32F, GL_R32I},
+                          "MSAA resolve framebuffer (RGBA32F, R32F, R32I, float depth)");
+  }
 
   // applyNormalMaps: RasterOptions::normalMaps (SceneFeatures::normalMaps of forward passes).
   void setMaterial(const Uniforms& u, const Material& m, bool metallicRoughness,
@@ -386,8 +451,9 @@ struct GlRasterizer::State {
     }
   }
 
-  void draw(const SceneCamera& camera, const CameraIntrinsics& in, const RasterOptions& options) {
-    glBindFramebuffer(GL_FRAMEBUFFER, gbufferTargets.framebuffer);
+  void draw(const SceneCamera& camera, const CameraIntrinsics& in, const RasterOptions& options,
+            const gl::Targets& targets) {
+    glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer);
     GLenum buffers[kTargets];
     for (int t = 0; t < kTargets; ++t) buffers[t] = GLenum(GL_COLOR_ATTACHMENT0 + t);
     if (!options.triangleIds) buffers[kTriangle] = GL_NONE;
@@ -572,6 +638,8 @@ struct GlRasterizer::State {
     glUniform1i(glGetUniformLocation(forwardVariants[0], "u_transparent"), 0);
     glUniform1i(glGetUniformLocation(forwardVariants[0], "u_visibleTriangle"),
                 kVisibleTriangleUnit);
+    glUniform1i(glGetUniformLocation(forwardVariants[0], "u_visibleTriangleMS"),
+                kVisibleTriangleMSUnit);
     selectForward(false);
     glGenBuffers(kForwardStorages, storage);
     if (!timer) glGenQueries(1, &timer);
@@ -640,6 +708,8 @@ struct GlRasterizer::State {
     glUniform1i(glGetUniformLocation(forwardVariants[1], "u_shadowAtlas"), kShadowAtlasUnit);
     glUniform1i(glGetUniformLocation(forwardVariants[1], "u_visibleTriangle"),
                 kVisibleTriangleUnit);
+    glUniform1i(glGetUniformLocation(forwardVariants[1], "u_visibleTriangleMS"),
+                kVisibleTriangleMSUnit);
     glGenTextures(1, &shadowAtlas);
     gl::checkErrors("setting up the forward program with shadows");
   }
@@ -657,35 +727,48 @@ struct GlRasterizer::State {
     cu = uniformsOf(captureProgram);
     // Unused here, but no two sampler types may share a unit (the material textures' 0..).
     glUniform1i(glGetUniformLocation(captureProgram, "u_visibleTriangle"), kVisibleTriangleUnit);
+    glUniform1i(glGetUniformLocation(captureProgram, "u_visibleTriangleMS"),
+                kVisibleTriangleMSUnit);
     gl::checkErrors("setting up the capture program");
   }
 
   // Colour 0: the shaded image (RGBA32F); colour 1: the pre-pass's linear depth (R32F); colour 2:
   // the draw batch of each pixel's surface (R32I, forward and forward-single); colour 3: its
   // triangle (R32I, forward's base pass); the reversed float depth buffer of the G-buffer pass.
-  void ensureForwardFramebuffer(int w, int h) {
+  // samples > 1 (--msaa): all of them multisampled, shaded per fragment, resolved by readForward.
+  void ensureForwardFramebuffer(int w, int h, int samples) {
     forwardTargets.ensure(w, h, {GL_RGBA32F, GL_R32F, GL_R32I, GL_R32I},
-                          "forward framebuffer (RGBA32F, R32F, R32I, R32I, float depth)");
+                          "forward framebuffer (RGBA32F, R32F, R32I, R32I, float depth)", samples);
   }
 
   // The base pass's triangle per pixel into visibleTriangles, bound for the light passes: a
   // texture they do not draw into (sampling an attached one would be a feedback loop).
+  // With --msaa the texture is multisampled as the target (one triangle per sample), read by
+  // u_visibleTriangleMS.
   void keepVisibleTriangles(int w, int h) {
-    if (!visibleTriangles || visibleWidth != w || visibleHeight != h) {
+    const int samples = forwardTargets.samples;
+    const GLenum target = forwardTargets.textureTarget();
+    if (!visibleTriangles || visibleWidth != w || visibleHeight != h || visibleSamples != samples) {
       if (visibleTriangles) glDeleteTextures(1, &visibleTriangles);
       glGenTextures(1, &visibleTriangles);
-      glBindTexture(GL_TEXTURE_2D, visibleTriangles);
-      glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32I, w, h);
-      // An integer texture is complete only with NEAREST filters.
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glBindTexture(target, visibleTriangles);
+      if (samples > 1) {
+        glTexStorage2DMultisample(target, samples, GL_R32I, w, h, GL_TRUE);
+      } else {
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32I, w, h);
+        // An integer texture is complete only with NEAREST filters.
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      }
       visibleWidth = w;
       visibleHeight = h;
+      visibleSamples = samples;
     }
-    glCopyImageSubData(forwardTargets.colour[3], GL_TEXTURE_2D, 0, 0, 0, 0, visibleTriangles,
-                       GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
-    glActiveTexture(GLenum(GL_TEXTURE0 + kVisibleTriangleUnit));
-    glBindTexture(GL_TEXTURE_2D, visibleTriangles);
+    glCopyImageSubData(forwardTargets.colour[3], target, 0, 0, 0, 0, visibleTriangles, target, 0, 0,
+                       0, 0, w, h, 1);
+    glActiveTexture(
+        GLenum(GL_TEXTURE0 + (samples > 1 ? kVisibleTriangleMSUnit : kVisibleTriangleUnit)));
+    glBindTexture(target, visibleTriangles);
     glActiveTexture(GL_TEXTURE0);  // the unit every other texture binding assumes
   }
 
@@ -837,6 +920,7 @@ struct GlRasterizer::State {
     glUniform1i(forwardUniform("u_spotOn"), f.spot ? 1 : 0);
     glUniform1i(forwardUniform("u_emissiveOn"), f.emissive ? 1 : 0);
     glUniform1i(forwardUniform("u_visibleOnly"), 0);
+    glUniform1i(forwardUniform("u_samples"), forwardTargets.samples);
   }
 
   // The image target drawn and cleared to 0 (the background); with batchIds also the batch
@@ -854,15 +938,33 @@ struct GlRasterizer::State {
 
   // The forward image and the shader's lighting computations (its per-tile counters) back; with
   // batchIds the batch of each pixel's surface too.
+  // With --msaa the image resolved by OpenGL (glBlitFramebuffer, the implementation's resolve)
+  // and the batch ids per sample (ForwardImage::pixelBatch).
   void readForward(ForwardImage& out, int w, int h, size_t tiles, bool batchIds = false) {
-    out.image.resize(size_t(w) * size_t(h));
+    const size_t n = size_t(w) * size_t(h);
+    const int samples = forwardTargets.samples;
+    out.image.resize(n);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glBindTexture(GL_TEXTURE_2D, forwardTargets.colour[0]);
+    if (samples > 1) {
+      ensureResolveFramebuffer(w, h);
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, forwardTargets.framebuffer);
+      glReadBuffer(GL_COLOR_ATTACHMENT0);
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolveTargets.framebuffer);
+      const GLenum image[1] = {GL_COLOR_ATTACHMENT0};
+      glDrawBuffers(1, image);
+      glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+      glBindFramebuffer(GL_FRAMEBUFFER, resolveTargets.framebuffer);
+      gl::checkErrors("resolving the multisampled forward image");
+    }
+    glBindTexture(GL_TEXTURE_2D, (samples > 1 ? resolveTargets : forwardTargets).colour[0]);
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out.image.data());
     if (batchIds) {
-      out.pixelBatch.resize(out.image.size());
-      glBindTexture(GL_TEXTURE_2D, forwardTargets.colour[2]);
-      glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_INT, out.pixelBatch.data());
+      out.pixelBatch.resize(n * size_t(samples));
+      for (int k = 0; k < samples; ++k) {
+        if (samples > 1) fetchSample(forwardTargets, 2, true, k, resolveTargets, 2);
+        glBindTexture(GL_TEXTURE_2D, (samples > 1 ? resolveTargets : forwardTargets).colour[2]);
+        glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_INT, out.pixelBatch.data() + n * k);
+      }
     }
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<uint32_t> counted(tiles);
@@ -970,7 +1072,7 @@ void GlRasterizer::warmUpPasses(const ViewLights& none) {
   grid.tilesX = grid.tilesY = 1;
   grid.offsets = grid.counts = {0};
   double ms = 0.0;
-  depthPrepass(warmup, 8, 8, ms);
+  depthPrepass(warmup, 8, 8, 1, ms);
   tiledForward(warmup, 8, 8, lighting, grid, true, nullptr);
   tiledForward(warmup, 8, 8, lighting, grid, false, nullptr);
   // forward's blended light pass (a light far away, drawn with the first batch) and
@@ -1058,7 +1160,7 @@ ShadowAtlas GlRasterizer::drawShadowAtlas(ShadowAtlasLayout layout) {
 }
 
 std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int width, int height,
-                                              double& ms) {
+                                              int samples, double& ms) {
   const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
   if (width > state_->maxSize || height > state_->maxSize)
     throw Error("--raster gl: " + std::to_string(width) + "x" + std::to_string(height) +
@@ -1066,7 +1168,7 @@ std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int wid
   EglContext::shared().makeCurrent();
   State& s = *state_;
   warmUpForward(false);
-  s.ensureForwardFramebuffer(width, height);
+  s.ensureForwardFramebuffer(width, height, samples);
   s.passState(in);
   const GLenum buffers[2] = {GL_NONE, GL_COLOR_ATTACHMENT1};
   glDrawBuffers(2, buffers);
@@ -1078,10 +1180,17 @@ std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int wid
   double queryMs = 0.0;
   ms = s.timed([&] { s.drawScene(s.du, camera, in, false, false); }, queryMs);
   gl::checkErrors("the depth pre-pass of scene '" + s.scene.name + "'");
-  std::vector<float> depth(size_t(width) * size_t(height));
+  // Sample-major with --msaa: plane k is sample k's depth (the fragment's, at its interpolation
+  // point: what the forward pass shades that sample's surface at).
+  const size_t n = size_t(width) * size_t(height);
+  std::vector<float> depth(n * size_t(samples));
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glBindTexture(GL_TEXTURE_2D, s.forwardTargets.colour[1]);
-  glGetTexImage(GL_TEXTURE_2D, 0, GL_RED, GL_FLOAT, depth.data());
+  if (samples > 1) s.ensureResolveFramebuffer(width, height);
+  for (int k = 0; k < samples; ++k) {
+    if (samples > 1) s.fetchSample(s.forwardTargets, 1, false, k, s.resolveTargets, 1);
+    glBindTexture(GL_TEXTURE_2D, (samples > 1 ? s.resolveTargets : s.forwardTargets).colour[1]);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RED, GL_FLOAT, depth.data() + n * size_t(k));
+  }
   gl::checkErrors("reading back the pre-pass depth");
   return depth;
 }
@@ -1110,9 +1219,12 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
       throw Error("tiled forward: the transparent pass's grid has other tiles than the opaque's");
   }
   State& s = beginForward(width, height, lighting.lights->hasShadows());
-  if (depthEqual && (s.forwardTargets.width != width || s.forwardTargets.height != height))
-    throw Error("tiled forward with depth EQUAL needs a depth pre-pass of the same size first");
-  s.ensureForwardFramebuffer(width, height);
+  if (depthEqual && (s.forwardTargets.width != width || s.forwardTargets.height != height ||
+                     s.forwardTargets.samples != lighting.samples))
+    throw Error(
+        "tiled forward with depth EQUAL needs a depth pre-pass of the same size and samples "
+        "first");
+  s.ensureForwardFramebuffer(width, height, lighting.samples);
 
   ForwardImage out;
   const auto t0 = Clock::now();
@@ -1213,7 +1325,7 @@ ForwardImage GlRasterizer::multiPassForward(const SceneCamera& camera, int width
     throw Error("forward: the lights' batch lists do not match the frame's lights");
   State& s = beginForward(width, height, lighting.lights->hasShadows());
   s.checkLists(lightBatches, s.draws.size(), "a light's batch list");
-  s.ensureForwardFramebuffer(width, height);
+  s.ensureForwardFramebuffer(width, height, lighting.samples);
 
   ForwardImage out;
   const auto t0 = Clock::now();
@@ -1313,7 +1425,7 @@ ForwardImage GlRasterizer::singlePassForward(const SceneCamera& camera, int widt
     throw Error("forward-single: the batches' light lists do not match the scene's " +
                 std::to_string(s.draws.size()) + " draw batches");
   s.checkLists(batchLights, lighting.lights->size(), "a batch's light list");
-  s.ensureForwardFramebuffer(width, height);
+  s.ensureForwardFramebuffer(width, height, lighting.samples);
 
   ForwardImage out;
   const auto t0 = Clock::now();
@@ -1366,7 +1478,7 @@ std::vector<TransparentFragment> GlRasterizer::captureTransparent(const SceneCam
   const std::vector<uint32_t> order = s.backToFront(camera);
   if (order.empty()) return {};
   s.buildCapture();
-  s.ensureForwardFramebuffer(width, height);
+  s.ensureForwardFramebuffer(width, height, 1);
   const bool metallicRoughness = features.model == ShadingModel::MetallicRoughness;
 
   // The opaque depth, as every forward pass leaves it before its transparent pass.
@@ -1476,12 +1588,63 @@ GBuffer GlRasterizer::rasterize(const SceneCamera& camera, int width, int height
                 std::to_string(state_->maxSize) + " pixels per side");
   EglContext::shared().makeCurrent();
   state_->ensureFramebuffer(width, height);
-  state_->draw(camera, in, options);
+  state_->draw(camera, in, options, state_->gbufferTargets);
   GBuffer g;
   g.resize(width, height);
   g.model = options.model;
   state_->readBack(g, options);
   return g;
+}
+
+int GlRasterizer::maxSamples() const {
+  EglContext::shared().makeCurrent();
+  // Every target of a pass has the same count: the least of the colour, integer and
+  // renderbuffer limits.
+  GLint samples = 0, colour = 0, integer = 0;
+  glGetIntegerv(GL_MAX_SAMPLES, &samples);
+  glGetIntegerv(GL_MAX_COLOR_TEXTURE_SAMPLES, &colour);
+  glGetIntegerv(GL_MAX_INTEGER_SAMPLES, &integer);
+  return std::min({samples, colour, integer});
+}
+
+void GlRasterizer::checkSamples(int samples) const {
+  const int most = maxSamples();
+  if (samples > most)
+    throw Error("--msaa " + std::to_string(samples) + ": this OpenGL implementation (" +
+                renderer() + ") renders at most " + std::to_string(most) +
+                " samples a pixel (GL_MAX_SAMPLES, GL_MAX_COLOR_TEXTURE_SAMPLES, "
+                "GL_MAX_INTEGER_SAMPLES)");
+}
+
+std::vector<GBuffer> GlRasterizer::rasterizeSamples(const SceneCamera& camera, int width,
+                                                    int height, int samples,
+                                                    const RasterOptions& options) {
+  if (samples <= 1) return {rasterize(camera, width, height, options)};
+  if (options.fragmentCounts)
+    throw Error("fragment counts (overdraw) come from the software rasterizer only");
+  checkSamples(samples);
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
+  if (width > state_->maxSize || height > state_->maxSize)
+    throw Error("--raster gl: " + std::to_string(width) + "x" + std::to_string(height) +
+                " exceeds this OpenGL implementation's limit of " +
+                std::to_string(state_->maxSize) + " pixels per side");
+  EglContext::shared().makeCurrent();
+  State& s = *state_;
+  s.ensureSampleFramebuffer(width, height, samples);
+  s.draw(camera, in, options, s.gbufferSampleTargets);
+  s.ensureFramebuffer(width, height);
+  std::vector<GBuffer> out(static_cast<size_t>(samples));
+  for (int k = 0; k < samples; ++k) {
+    for (int t = kDepth; t <= kEmissive; ++t)
+      s.fetchSample(s.gbufferSampleTargets, t, false, k, s.gbufferTargets, t);
+    if (options.triangleIds)
+      s.fetchSample(s.gbufferSampleTargets, kTriangle, true, k, s.gbufferTargets, kTriangle);
+    GBuffer& g = out[size_t(k)];
+    g.resize(width, height);
+    g.model = options.model;
+    s.readBack(g, options);
+  }
+  return out;
 }
 
 }  // namespace ts

@@ -31,6 +31,9 @@ struct ForwardLighting {
   glm::vec3 ambient{0.0f};
   SceneFeatures features;  // features.model: the materials' terms (RasterOptions::model)
   int rangeModel = 0;      // TS_MODEL_* (kernels/shading.h)
+  // --msaa: samples a pixel of the pass's colour and depth targets (1: single-sampled). Shaded
+  // per fragment, the image resolved by OpenGL (glBlitFramebuffer) before its read-back.
+  int samples = 1;
 };
 
 class GlRasterizer {
@@ -50,6 +53,18 @@ class GlRasterizer {
   // rasterizer only.
   GBuffer rasterize(const SceneCamera& camera, int width, int height,
                     const RasterOptions& options = {});
+  // --msaa's per-sample G-buffers: the G-buffer program drawn into `samples`-sample targets (one
+  // fragment shader run a pixel and triangle, as the forward passes shade: each sample holds the
+  // surface of the triangle covering it, interpolated where its fragment is), then each sample
+  // fetched into the single-sample targets and read back: element k is sample k's G-buffer
+  // (the layout of rasterize's). samples = 1: {rasterize(..)}. Throws ts::Error beyond
+  // maxSamples().
+  std::vector<GBuffer> rasterizeSamples(const SceneCamera& camera, int width, int height,
+                                        int samples, const RasterOptions& options = {});
+  // The most samples a pixel every target of a pass can have (GL_MAX_SAMPLES and the colour and
+  // integer texture limits); checkSamples throws ts::Error (one line) for more.
+  int maxSamples() const;
+  void checkSamples(int samples) const;
 
   // Tiled forward shading (shaders/tiled_forward.frag): the scene drawn once, each fragment
   // shading its tile's lights with kernels/shading.h. depthEqual: after depthPrepass() of the same
@@ -96,9 +111,11 @@ class GlRasterizer {
                                                       size_t maxFragments);
 
   // A depth-only pass: fills the depth buffer the next tiledForward(.., true) tests against and
-  // returns the linear view depth per pixel (0 = background), the G-buffer's depth plane.
+  // returns the linear view depth per pixel (0 = background), the G-buffer's depth plane; with
+  // samples > 1 (--msaa) one such plane per sample, sample-major (samples x width x height).
   // ms: the draw's wall-clock time (ForwardImage::drawMs).
-  std::vector<float> depthPrepass(const SceneCamera& camera, int width, int height, double& ms);
+  std::vector<float> depthPrepass(const SceneCamera& camera, int width, int height, int samples,
+                                  double& ms);
 
   // The shadow maps of `layout` (planned for this scene's lights), drawn by OpenGL into one R32F
   // atlas target with a depth buffer, each face in its rectangle (viewport and scissor) with the

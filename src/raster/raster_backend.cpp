@@ -23,8 +23,9 @@ class GlRasterizer {
 namespace {
 
 ForwardLighting lightingOf(const ViewLights& lights, glm::vec3 ambient,
-                           const SceneFeatures& features, int rangeModel) {
+                           const SceneFeatures& features, int rangeModel, int samples) {
   ForwardLighting lighting;
+  lighting.samples = samples;
   lighting.lights = &lights;
   lighting.ambient = ambient;
   lighting.features = features;
@@ -35,18 +36,22 @@ ForwardLighting lightingOf(const ViewLights& lights, glm::vec3 ambient,
 // One frame's camera in the OpenGL rasterizer's context.
 class GlForwardScene : public ForwardScene {
  public:
-  GlForwardScene(GlRasterizer& gl, const SceneCamera& camera, int width, int height)
-      : gl_(gl), camera_(camera), width_(width), height_(height) {}
+  GlForwardScene(GlRasterizer& gl, const SceneCamera& camera, int width, int height, int samples)
+      : gl_(gl), camera_(camera), width_(width), height_(height), samples_(samples) {}
+  int samples() const override { return samples_; }
+  std::vector<GBuffer> sampleGBuffers(const RasterOptions& options) override {
+    return gl_.rasterizeSamples(camera_, width_, height_, samples_, options);
+  }
   std::vector<float> depthPrepass(double& ms) override {
-    return gl_.depthPrepass(camera_, width_, height_, ms);
+    return gl_.depthPrepass(camera_, width_, height_, samples_, ms);
   }
   ForwardImage tiledForward(const ViewLights& lights, glm::vec3 ambient,
                             const SceneFeatures& features, int rangeModel,
                             const ForwardLightGrid& grid, bool depthEqual,
                             const ForwardLightGrid* transparentGrid) override {
     return gl_.tiledForward(camera_, width_, height_,
-                            lightingOf(lights, ambient, features, rangeModel), grid, depthEqual,
-                            transparentGrid);
+                            lightingOf(lights, ambient, features, rangeModel, samples_), grid,
+                            depthEqual, transparentGrid);
   }
   ForwardImage transparentOver(const std::vector<glm::vec4>& opaque, const ViewLights& lights,
                                glm::vec3 ambient, const SceneFeatures& features, int rangeModel,
@@ -64,19 +69,21 @@ class GlForwardScene : public ForwardScene {
                                 const SceneFeatures& features, int rangeModel,
                                 const IndexLists& lightBatches) override {
     return gl_.multiPassForward(camera_, width_, height_,
-                                lightingOf(lights, ambient, features, rangeModel), lightBatches);
+                                lightingOf(lights, ambient, features, rangeModel, samples_),
+                                lightBatches);
   }
   ForwardImage singlePassForward(const ViewLights& lights, glm::vec3 ambient,
                                  const SceneFeatures& features, int rangeModel,
                                  const IndexLists& batchLights) override {
     return gl_.singlePassForward(camera_, width_, height_,
-                                 lightingOf(lights, ambient, features, rangeModel), batchLights);
+                                 lightingOf(lights, ambient, features, rangeModel, samples_),
+                                 batchLights);
   }
 
  private:
   GlRasterizer& gl_;
   SceneCamera camera_;
-  int width_, height_;
+  int width_, height_, samples_;
 };
 
 }  // namespace
@@ -141,13 +148,21 @@ ShadowAtlas SceneRasterizer::drawShadowAtlas(ShadowAtlasLayout layout) {
 }
 
 std::unique_ptr<ForwardScene> SceneRasterizer::forwardScene(const SceneCamera& camera, int width,
-                                                            int height) {
+                                                            int height, int samples) {
 #ifdef TILESHADE_NO_GL
-  (void)camera, (void)width, (void)height;
+  (void)camera, (void)width, (void)height, (void)samples;
   return nullptr;
 #else
   if (!gl_) return nullptr;
-  return std::make_unique<GlForwardScene>(*gl_, camera, width, height);
+  if (samples > 1) {
+    gl_->checkSamples(samples);
+    // The capture and the composite of the reference are per pixel, not per sample.
+    if (gl_->transparentDraws() > 0)
+      throw Error("--msaa " + std::to_string(samples) +
+                  " with transparent draws (--blend blend) is not done: the transparent pass "
+                  "and its reference are per pixel; use --msaa 1 or --blend as-opaque|as-mask");
+  }
+  return std::make_unique<GlForwardScene>(*gl_, camera, width, height, samples);
 #endif
 }
 

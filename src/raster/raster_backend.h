@@ -39,9 +39,12 @@ class SceneRasterizer {
   ShadowAtlas drawShadowAtlas(ShadowAtlasLayout layout);
 
   // The scene for the forward techniques at `camera` (DeviceFrame::forward), drawn by this
-  // rasterizer's OpenGL context; null for the software rasterizer (it draws no forward passes).
-  // The rasterizer must outlive it.
-  std::unique_ptr<ForwardScene> forwardScene(const SceneCamera& camera, int width, int height);
+  // rasterizer's OpenGL context with `samples` samples a pixel (--msaa); null for the software
+  // rasterizer (it draws no forward passes). The rasterizer must outlive it. Throws ts::Error
+  // (one line) for more samples than the OpenGL implementation renders, or samples > 1 with
+  // transparent draws (not done).
+  std::unique_ptr<ForwardScene> forwardScene(const SceneCamera& camera, int width, int height,
+                                             int samples = 1);
 
   const Scene& scene() const { return scene_; }
   RasterBackend backend() const { return backend_; }

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "shading/shading_cpu.h"
+#include "util/error.h"
 
 namespace ts {
 namespace {
@@ -161,6 +162,26 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
   return ref;
 }
 
+ReferenceImage averageSamples(const std::vector<ReferenceImage>& samples) {
+  if (samples.empty()) throw Error("averageSamples: no samples");
+  ReferenceImage mean;
+  mean.width = samples[0].width;
+  mean.height = samples[0].height;
+  mean.rgb.assign(samples[0].rgb.size(), glm::dvec3(0.0));
+  for (const ReferenceImage& s : samples) {
+    if (s.width != mean.width || s.height != mean.height || s.rgb.size() != mean.rgb.size())
+      throw Error("averageSamples: the samples' references differ in size");
+    for (size_t i = 0; i < s.rgb.size(); ++i) mean.rgb[i] += s.rgb[i];
+    mean.contributing += s.contributing;
+  }
+  const double weight = 1.0 / double(samples.size());
+  for (glm::dvec3& c : mean.rgb) {
+    c *= weight;
+    mean.peak = std::max({mean.peak, c.x, c.y, c.z});
+  }
+  return mean;
+}
+
 uint64_t countMissedContributions(const LightAssignment& assignment, const EncodedGBuffer& gbuffer,
                                   const CameraIntrinsics& camera, const ViewLights& lights,
                                   int model, const RowProgress& progress) {
@@ -196,6 +217,26 @@ uint64_t countMissedContributions(const LightAssignment& assignment, const Encod
   uint64_t misses = 0;
   for (auto m : rowMisses) misses += m;
   return misses;
+}
+
+uint64_t countMissedOverSamples(const LightAssignment& assignment,
+                                const std::vector<EncodedGBuffer>& samples,
+                                const CameraIntrinsics& camera, const ViewLights& lights,
+                                int model) {
+  uint64_t missed = 0;
+  const size_t n = size_t(camera.width) * size_t(camera.height);
+  const bool perSample = assignment.pixelBin.size() == n * samples.size();
+  for (size_t k = 0; k < samples.size(); ++k) {
+    if (!perSample) {
+      missed += countMissedContributions(assignment, samples[k], camera, lights, model);
+      continue;
+    }
+    LightAssignment one = assignment;
+    one.pixelBin.assign(assignment.pixelBin.begin() + long(k * n),
+                        assignment.pixelBin.begin() + long((k + 1) * n));
+    missed += countMissedContributions(one, samples[k], camera, lights, model);
+  }
+  return missed;
 }
 
 }  // namespace ts

@@ -56,6 +56,12 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
                               ReferencePositions positions = ReferencePositions::FromDepth,
                               ReferenceShadowHook* shadows = nullptr);
 
+// --msaa: the reference of a multisampled frame from its samples' own (one per sample, all of one
+// size, shaded from each sample's G-buffer): each pixel the mean of its samples, with equal
+// weights (the box filter of OpenGL's resolve); `contributing` their sum (pairs of a sample and a
+// light), `peak` the mean image's. Throws ts::Error for none or unequal sizes.
+ReferenceImage averageSamples(const std::vector<ReferenceImage>& samples);
+
 // For every geometry pixel and every point or spot light whose reference contribution is non-zero
 // (directional lights are never culled), checks that
 // the technique's assignment lets the pixel see the light (its bin lists it, or its screen
@@ -63,5 +69,13 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
 uint64_t countMissedContributions(const LightAssignment& assignment, const EncodedGBuffer& gbuffer,
                                   const CameraIntrinsics& camera, const ViewLights& lights,
                                   int model, const RowProgress& progress = {});
+
+// --msaa: the misses of every sample, each against its own G-buffer (samples[k], sample k's): an
+// assignment whose pixelBin holds one plane per sample (forward, forward-single: the batch of
+// each sample's surface) is read per sample; a tile grid's bins are the same for every sample.
+uint64_t countMissedOverSamples(const LightAssignment& assignment,
+                                const std::vector<EncodedGBuffer>& samples,
+                                const CameraIntrinsics& camera, const ViewLights& lights,
+                                int model);
 
 }  // namespace ts

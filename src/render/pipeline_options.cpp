@@ -1,5 +1,9 @@
 #include "render/pipeline_options.h"
 
+#include <string>
+
+#include "util/error.h"
+
 namespace ts {
 
 TechniqueConfig PipelineOptions::techniqueConfig(const SceneFeatures& sceneFeatures) const {
@@ -29,6 +33,15 @@ SceneOptions PipelineOptions::sceneOptions() const {
   s.shadows = shadows;
   s.blend = blend;
   return s;
+}
+
+void checkMsaa(int samples, RasterBackend raster) {
+  if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
+    throw Error("--msaa " + std::to_string(samples) + ": samples a pixel must be 1, 2, 4 or 8");
+  if (samples > 1 && raster != RasterBackend::Gl)
+    throw Error("--msaa " + std::to_string(samples) +
+                " needs --raster gl: the forward techniques draw multisampled targets in OpenGL "
+                "(the software rasterizer has one sample a pixel)");
 }
 
 }  // namespace ts

@@ -41,6 +41,7 @@ struct PipelineOptions {
   int width = 1280, height = 720;
   GBufferFormat format = GBufferFormat::FP32;
   RasterBackend raster = RasterBackend::Software;  // rasterizer of the G-buffer
+  int msaa = 1;  // --msaa: samples a pixel of the forward techniques' targets (checkMsaa)
   // The technique's knobs (TechniqueConfig has their meaning).
   int tileWidth = 16, tileHeight = 16;
   int clusterSlices = 16;
@@ -55,5 +56,10 @@ struct PipelineOptions {
   // What loadScene builds the scene with (the threshold ranges are applied after loading).
   SceneOptions sceneOptions() const;
 };
+
+// --msaa N: 1, 2, 4 or 8, and above 1 only with --raster gl (the forward passes are OpenGL's);
+// throws ts::Error (one line) otherwise. The OpenGL implementation's limit is checked where its
+// context is (SceneRasterizer::forwardScene).
+void checkMsaa(int samples, RasterBackend raster);
 
 }  // namespace ts

@@ -59,7 +59,8 @@ RenderInput loadSceneInput(const PipelineOptions& o, int frame) {
   input.rasterizer = std::make_unique<SceneRasterizer>(scene, o.raster);
   SceneRasterizer& rasterizer = *input.rasterizer;
   input.frame = prepareFrame(rasterizer, frame, o.width, o.height, o.format, features);
-  input.forward = rasterizer.forwardScene(input.frame.camera, o.width, o.height);
+  checkMsaa(o.msaa, o.raster);
+  input.forward = rasterizer.forwardScene(input.frame.camera, o.width, o.height, o.msaa);
   input.lightSummary = describeLights(scene.lights);
   input.shadowCasters = shadowCasterCount(scene.lights);
   input.shadowAtlas = shadows.draw(rasterizer, input.frame);

@@ -42,7 +42,7 @@ struct ForwardImage {
   double imageCopyMs = 0.0;
   bool depthRedrawn = false;
   // forward, forward-single: the draw batch of each pixel's surface (-1: background), row 0 at
-  // the top.
+  // the top; with --msaa one such plane per sample, sample-major (each sample's surface).
   std::vector<int32_t> pixelBatch;
 };
 

@@ -44,14 +44,14 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
        [](ClContext& cl, const TechniqueConfig& c) {
          return makeTiledForwardTechnique(cl, c, false);
        },
-       1, true},
+       1, true, false, true},
       {"tiled-forward-prez",
        "tiled forward with a depth pre-pass (needs --raster gl): pre-pass depth -> tiled's depth "
        "bounds and binning kernels, then the forward pass with depth test EQUAL",
        [](ClContext& cl, const TechniqueConfig& c) {
          return makeTiledForwardTechnique(cl, c, true);
        },
-       1, true},
+       1, true, false, true},
       {"forward",
        "multi-pass forward (needs --raster gl): a base pass (ambient, emission, directional), then "
        "per light one additive pass, depth test EQUAL, over the draw batches its sphere touches",
@@ -99,6 +99,7 @@ std::unique_ptr<Technique> createTechnique(const std::string& name, ClContext& c
   technique->features_ = resolved.features;
   technique->drawsScene_ = info.drawsScene;
   technique->hybridGlass_ = info.hybridTransparency;
+  technique->multisamples_ = info.multisamples;
   return technique;
 }
 
@@ -106,6 +107,8 @@ FrameResult Technique::render(DeviceFrame& frame, const FrameRequest& request) {
   // Never a G-buffer image of a frame whose transparent surfaces it would leave out.
   if (!drawsScene_ && !hybridGlass_ && frame.forward && frame.forward->transparentDraws() > 0)
     throw Error(transparencyRefusal(name(), frame.forward->transparentDraws()));
+  if (!multisamples_ && frame.forward && frame.forward->samples() > 1)
+    throw Error(msaaRefusal(name(), frame.forward->samples()));
   checkFrameFeatures(features_, frame);
   return renderFrame(frame, request);
 }
@@ -140,6 +143,20 @@ std::string shadowStorageRefusal(const std::string& technique) {
          ": --shadow-storage per-light is for deferred and deferred-stencil, which shade one "
          "light per pass; " +
          technique + " shades every light at once and needs every map resident (atlas)";
+}
+
+std::string msaaRefusal(const std::string& technique, int samples) {
+  const TechniqueInfo& t = findTechnique(technique);
+  if (!t.drawsScene)
+    return "technique '" + technique + "' shades the G-buffer: --msaa " + std::to_string(samples) +
+           " is done for tiled-forward and tiled-forward-prez only (a multisampled G-buffer for "
+           "the deferred ones is not)";
+  // A fragment interpolated at the pixel centre for a sample its triangle covers can lie off
+  // the triangle, outside its batch's box (docs/techniques.md, "MSAA").
+  return "technique '" + technique + "' with --msaa " + std::to_string(samples) +
+         " is not done: its per-batch light lists are culled against the batches' boxes, which a "
+         "fragment extrapolated to the pixel centre can leave (tiled-forward and "
+         "tiled-forward-prez take --msaa)";
 }
 
 std::string TechniqueConfig::kernelOptions() const {

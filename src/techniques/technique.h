@@ -127,8 +127,9 @@ class Technique {
   friend std::unique_ptr<Technique> createTechnique(const std::string&, ClContext&,
                                                     const TechniqueConfig&);
   SceneFeatures features_;
-  bool drawsScene_ = false;   // TechniqueInfo::drawsScene
-  bool hybridGlass_ = false;  // TechniqueInfo::hybridTransparency
+  bool drawsScene_ = false;    // TechniqueInfo::drawsScene
+  bool hybridGlass_ = false;   // TechniqueInfo::hybridTransparency
+  bool multisamples_ = false;  // TechniqueInfo::multisamples
 };
 
 // Throws ts::Error naming the mismatch when kernels built for `features` cannot render `frame`
@@ -153,6 +154,9 @@ struct TechniqueInfo {
   // forward pass over its own grid after the opaque ones (techniques/transparent_hybrid.h: the
   // paper's hybrid); the other G-buffer techniques refuse such a frame.
   bool hybridTransparency = false;
+  // Shades a frame drawn with --msaa above 1 (multisampled forward targets, OpenGL's resolve);
+  // Technique::render refuses such a frame for the others (msaaRefusal).
+  bool multisamples = false;
 };
 // The one line a G-buffer technique without the hybrid refuses a frame with `draws` transparent
 // draws with (Technique::render; render's checks before any file).
@@ -162,6 +166,8 @@ const std::vector<TechniqueInfo>& techniqueRegistry();
 // The one line createTechnique (and render's, bench's checks) refuse ShadowStorage::PerLight
 // with for a technique that does not reuse shadow maps.
 std::string shadowStorageRefusal(const std::string& technique);
+// The one line a technique without TechniqueInfo::multisamples refuses --msaa `samples` with.
+std::string msaaRefusal(const std::string& technique, int samples);
 std::vector<std::string> techniqueNames();
 // The techniques that shade the frame's G-buffer (all but the drawsScene ones): what `all` means
 // where the frame has no scene to draw (software raster, imported G-buffer, bench, check).

@@ -50,13 +50,13 @@ void TileLightGrid::enqueueClear(FrameTimer& timer) {
 }
 
 void TileLightGrid::enqueueDepthBounds(const cl::Buffer& linearDepth, int width, int height,
-                                       FrameTimer& timer) {
+                                       FrameTimer& timer, int samples) {
   // One work-group per tile, at most 64 work-items each reading several pixels: fewer
   // tree-reduction steps (on PoCL 256-item groups spent more time reducing than reading: 10 -> 3-5
   // ms at 1280x720 with 16x16 tiles).
   const size_t group = powerOfTwoGroup(pow2AtLeast(size_t(grid_.tileW) * grid_.tileH, 64),
                                        groupLimit(cl_, depthBounds_));
-  KernelArgs(depthBounds_).add(linearDepth).add(width).add(height).add(depth_).done();
+  KernelArgs(depthBounds_).add(linearDepth).add(width).add(height).add(samples).add(depth_).done();
   cl_.queue().enqueueNDRangeKernel(depthBounds_, cl::NullRange,
                                    cl::NDRange(size_t(grid_.count()) * group), cl::NDRange(group),
                                    nullptr, timer.next("depth_bounds"));

@@ -26,7 +26,10 @@ class TileLightGrid {
   // One frame's grid, in launch order: clear the per-tile counters, give every tile a depth range
   // (from a linear depth plane, or the camera's whole range), then bin the lights.
   void enqueueClear(FrameTimer& timer);
-  void enqueueDepthBounds(const cl::Buffer& linearDepth, int width, int height, FrameTimer& timer);
+  // linearDepth: `samples` planes of width x height (sample-major: --msaa's pre-pass); each
+  // tile's range covers all of them.
+  void enqueueDepthBounds(const cl::Buffer& linearDepth, int width, int height, FrameTimer& timer,
+                          int samples = 1);
   void enqueueWholeDepthRange(float znear, float zfar, FrameTimer& timer);
   // The transparent surfaces' ranges from the opaque ones of enqueueDepthBounds (Olsson &
   // Assarsson, Section 4: a transparent fragment in front of the opaque surface is still drawn,

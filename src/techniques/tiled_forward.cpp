@@ -43,7 +43,11 @@ class TiledForwardTechnique : public Technique {
     FrameResult result;
     double prepassMs = 0.0;
     if (prez_) {
+      // With --msaa a plane per sample: the tiles' ranges must cover every sample's depth.
       const std::vector<float> depth = scene.depthPrepass(prepassMs);
+      samples_ = scene.samples();
+      if (prepassDepth_.getInfo<CL_MEM_SIZE>() < depth.size() * sizeof(float))
+        prepassDepth_ = cl::Buffer(cl_.context(), CL_MEM_READ_ONLY, depth.size() * sizeof(float));
       cl_.queue().enqueueWriteBuffer(prepassDepth_, CL_TRUE, 0, depth.size() * sizeof(float),
                                      depth.data());
     }
@@ -120,7 +124,7 @@ class TiledForwardTechnique : public Technique {
   void enqueueGrid(DeviceFrame& frame) {
     grid_.enqueueClear(timer_);
     if (prez_)  // as `tiled` bounds its G-buffer's depth, on the pre-pass's
-      grid_.enqueueDepthBounds(prepassDepth_, frame.width(), frame.height(), timer_);
+      grid_.enqueueDepthBounds(prepassDepth_, frame.width(), frame.height(), timer_, samples_);
     else  // no depth range: a light is binned by its screen rectangle only
       grid_.enqueueWholeDepthRange(frame.camera.znear, frame.camera.zfar, timer_);
     grid_.enqueueBinning(frame, timer_);
@@ -132,6 +136,7 @@ class TiledForwardTechnique : public Technique {
   cl::Program program_;
   TileLightGrid grid_;
   cl::Buffer prepassDepth_;
+  int samples_ = 1;  // planes in prepassDepth_ (--msaa)
   FrameTimer timer_;
 };
 

@@ -721,7 +721,7 @@ TEST(GlRaster, AlphaMaskLeavesTheSameFragmentsOutAsSoftware) {
   }
   // The depth pre-pass of tiled-forward-prez leaves the same fragments out.
   double ms = 0.0;
-  const std::vector<float> depth = gl.depthPrepass(cam, W, H, ms);
+  const std::vector<float> depth = gl.depthPrepass(cam, W, H, 1, ms);
   for (int x : {8, 20, 31, 32, 44, 55})
     EXPECT_NEAR(depth[size_t(16) * W + size_t(x)], x < 32 ? 5.0f : 2.0f, 1e-4f) << "x " << x;
   // BLEND is refused by this rasterizer as by the software one, naming the material.

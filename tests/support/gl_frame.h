@@ -27,11 +27,12 @@ struct GlFrame {
   // The scene's own features (analyzeScene), or the ones given.
   GlFrame(const Scene& scene, int frame, int w, int h)
       : GlFrame(scene, frame, w, h, analyzeScene(scene, nativeShadingModel(scene))) {}
-  GlFrame(const Scene& scene, int frame, int w, int h, const SceneFeatures& f)
+  // samples: --msaa's (the forward passes' targets).
+  GlFrame(const Scene& scene, int frame, int w, int h, const SceneFeatures& f, int samples = 1)
       : rasterizer(scene, RasterBackend::Gl),
         features(f),
         prepared(prepareFrame(rasterizer, frame, w, h, GBufferFormat::FP32, features)),
-        forward(rasterizer.forwardScene(prepared.camera, w, h)) {}
+        forward(rasterizer.forwardScene(prepared.camera, w, h, samples)) {}
 
   // The frame on the device with `lights`, its scene to draw attached.
   DeviceFrame upload(const ViewLights& lights) const {
