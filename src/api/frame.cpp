@@ -4,10 +4,12 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include "api/api_internal.h"
 #include "gbuffer/gbuffer_checks.h"
 #include "render/gbuffer_dump.h"
+#include "render/receiver_rounding.h"
 #include "reference/transparent_composite.h"
 #include "render/render_input.h"
 #include "scene/scene_loader.h"
@@ -505,20 +507,28 @@ const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass, b
           sizeText(p.intrinsics.width, p.intrinsics.height) + " frame",
       [&] {
         FrameReferences r;
+        // A frame the forward techniques can draw: its references also give the shadow tests'
+        // slack over their fragments' rounding (allowed in their comparisons only).
+        std::optional<ReceiverRounding> rounding;
+        if (forward && scene) rounding = receiverRounding(*scene, p.camera.viewFromWorld);
+        const ReceiverRounding* forwardRounding = rounding ? &*rounding : nullptr;
         r.reference = shadeReference(planes, p.intrinsics, p.lights, p.ambient, model, 0,
-                                     progress("windowed model"));
+                                     progress("windowed model"), ReferencePositions::FromDepth,
+                                     nullptr, forwardRounding);
         r.shadingOnly = shadeReference(planes, p.intrinsics, p.lights, p.ambient, model, 0,
                                        progress("windowed model, kernel positions"),
-                                       ReferencePositions::KernelFloat);
+                                       ReferencePositions::KernelFloat, nullptr, forwardRounding);
         if (drawn) {
           r.physical = shadeReference(planes, p.intrinsics, p.lights, p.ambient,
-                                      int(RangeModel::Physical), 0, progress("physical model"));
+                                      int(RangeModel::Physical), 0, progress("physical model"),
+                                      ReferencePositions::FromDepth, nullptr, forwardRounding);
         } else {
           const EncodedGBuffer fp32 = p.encoded.format == GBufferFormat::FP32
                                           ? p.encoded
                                           : encode(p.gbuffer, GBufferFormat::FP32);
           r.physical = shadeReference(fp32, p.intrinsics, p.lights, p.ambient,
-                                      int(RangeModel::Physical), 0, progress("physical model"));
+                                      int(RangeModel::Physical), 0, progress("physical model"),
+                                      ReferencePositions::FromDepth, nullptr, forwardRounding);
         }
         compositeTransparentSurfaces(r, drawsScene);
         cached = std::move(r);
