@@ -1,6 +1,7 @@
 #include "bench/bench_measure.h"
 
 #include "reference/transparent_composite.h"
+#include "render/receiver_rounding.h"
 
 #include <algorithm>
 #include <chrono>
@@ -82,8 +83,10 @@ const ReferenceImage& GroupFrame::storedReference(const EncodedGBuffer& enc, GBu
   std::pair<int, int> key{int(format), model};
   auto it = cache.find(key);
   if (it == cache.end()) {
-    ReferenceImage ref = shadeReference(enc, prepared_.intrinsics, prepared_.lights,
-                                        prepared_.ambient, model, 0, {}, positions);
+    const std::optional<ReceiverRounding> rounding = forwardRounding();
+    ReferenceImage ref =
+        shadeReference(enc, prepared_.intrinsics, prepared_.lights, prepared_.ambient, model, 0, {},
+                       positions, nullptr, rounding ? &*rounding : nullptr);
     withTransparentSurfaces(ref, prepared_.lights, model);
     it = cache.emplace(key, std::move(ref)).first;
   }
@@ -93,11 +96,35 @@ const ReferenceImage& GroupFrame::storedReference(const EncodedGBuffer& enc, GBu
 const ReferenceImage& GroupFrame::sceneReference() {
   if (!sceneReference_) {
     const ViewLights lights = scene_.ownRangeLights(prepared_);
-    sceneReference_ = shadeReference(prepared_.encoded, prepared_.intrinsics, lights,
-                                     prepared_.ambient, TS_MODEL_WINDOWED);
+    const std::optional<ReceiverRounding> rounding = forwardRounding();
+    sceneReference_ = shadeReference(
+        prepared_.encoded, prepared_.intrinsics, lights, prepared_.ambient, TS_MODEL_WINDOWED, 0,
+        {}, ReferencePositions::FromDepth, nullptr, rounding ? &*rounding : nullptr);
     withTransparentSurfaces(*sceneReference_, lights, TS_MODEL_WINDOWED);
   }
   return *sceneReference_;
+}
+
+const ExactVisibilityResult* GroupFrame::exactShadows() {
+  if (!exactShadows_) {
+    exactShadows_.emplace();
+    if (prepared_.lights.hasShadows())
+      *exactShadows_ = measureAgainstExactVisibility(scene_.scene(), prepared_, prepared_.encoded);
+  }
+  return *exactShadows_ ? &**exactShadows_ : nullptr;
+}
+
+void measureShadowError(GroupFrame& frame, const std::vector<glm::vec4>& image, FrameErrors& out) {
+  out.shadowErrorWanted = true;
+  out.exact = frame.exactShadows();
+  if (out.exact)
+    out.errorVsExact = compareToReference(image, out.exact->exactReference,
+                                          kTolerance * out.exact->exactReference.peak);
+}
+
+std::optional<ReceiverRounding> GroupFrame::forwardRounding() const {
+  if (!forward_) return std::nullopt;
+  return receiverRounding(scene_.scene(), prepared_.camera.viewFromWorld);
 }
 
 const PerLightShadowMaps* GroupFrame::perLightShadows() {
@@ -161,15 +188,18 @@ FrameErrors measureErrors(const BenchEntry& e, GroupFrame& frame, const EncodedG
   const EncodedGBuffer& planes = drawn ? frame.encoded(format, tc.features) : enc;
   out.reference =
       &frame.storedReference(planes, format, int(tc.rangeModel), ReferencePositions::FromDepth);
-  out.errorStored = compareToReference(image, *out.reference, kTolerance * out.reference->peak);
+  // A forward image: what lies beyond its fragments' shadow-test slack (reference.h).
+  const ReceiverSlack slack = drawn ? ReceiverSlack::Allow : ReceiverSlack::Ignore;
+  out.errorStored =
+      compareToReference(image, *out.reference, kTolerance * out.reference->peak, slack);
   const ReferenceImage& shading =
       frame.storedReference(planes, format, int(tc.rangeModel), ReferencePositions::KernelFloat);
-  out.errorShading = compareToReference(image, shading, kTolerance * shading.peak);
+  out.errorShading = compareToReference(image, shading, kTolerance * shading.peak, slack);
   // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
   bool same = format == GBufferFormat::FP32 && e.config.lightThreshold <= 0.0f &&
               tc.rangeModel == RangeModel::Windowed;
   const ReferenceImage& truth = same ? *out.reference : frame.sceneReference();
-  out.error = compareToReference(image, truth, kTolerance * truth.peak);
+  out.error = compareToReference(image, truth, kTolerance * truth.peak, slack);
   return out;
 }
 
@@ -205,6 +235,26 @@ json measurementRow(const BenchEntry& e, const GroupFrame& frame, int f, const E
   if (err.reference) row["reference_contributing"] = err.reference->contributing;
   if (err.errorStored) row["error_vs_stored"] = errorJson(*err.errorStored);
   if (err.errorShading) row["error_shading"] = errorJson(*err.errorShading);
+  if (err.exact && err.errorVsExact) {
+    // Relative to the exact-shaded reference's peak, as render's error_vs_exact.
+    const nlohmann::json& wrong = err.exact->stats.at("wrong_pairs");
+    const double peak = err.errorVsExact->peak > 0.0 ? err.errorVsExact->peak : 1.0;
+    row["shadow_error"] = {{"pairs", wrong.at("pairs")},
+                           {"false_shadow", wrong.at("false_shadow")},
+                           {"light_leak", wrong.at("light_leak")},
+                           {"wrong_pct", 100.0 * wrong.at("fraction").get<double>()},
+                           {"mean_abs_factor_error", wrong.at("mean_abs_factor_error")},
+                           {"err_max_rel_peak", err.errorVsExact->maxRelPeak},
+                           {"err_rmse", err.errorVsExact->rmse / peak},
+                           {"err_p99", err.errorVsExact->p99 / peak},
+                           {"err_p50", err.errorVsExact->p50 / peak},
+                           {"err_psnr_db", jsonNumber(err.errorVsExact->psnr)},
+                           {"maps_err_max", err.exact->stats.at("image_error").at("max_rel_peak")},
+                           {"exact_ms", err.exact->stats.at("build_ms").get<double>() +
+                                            err.exact->stats.at("query_ms").get<double>()}};
+  } else if (err.shadowErrorWanted) {
+    row["notes"].push_back("--shadow-error: no light casts a shadow in this frame");
+  }
   return row;
 }
 
