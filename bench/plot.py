@@ -43,6 +43,8 @@ NUMERIC = {
     "nonfinite_pixels", "list_min", "list_mean", "list_max", "min_bytes", "min_flops", "bandwidth_gbs", "peak_gflops",
     "limit_ms", "limit_pct", "reference_contributing", "err_max_abs", "err_rmse", "err_psnr_db",
     "err_max_rel_peak", "err_p50", "err_p99", "err_p999", "err_shading_max_rel_peak",
+    "shadow_ms", "shadow_wrong_pct", "shadow_err_max_rel_peak", "shadow_err_rmse",
+    "shadow_err_p99", "shadow_err_psnr_db", "shadow_exact_ms",
 }
 MAX_PANELS = 12  # figures per kind, at most
 # Columns every row needs (the figures are keyed and sorted by them).
@@ -223,7 +225,7 @@ def finite(values):
     return [x for x in values if isinstance(x, float) and math.isfinite(x)]
 
 
-def summarize(rows, dims):
+def summarize(rows, dims, with_shadow_maps=False):
     by = OrderedDict()
     for row in rows:
         by.setdefault(row["config_id"], []).append(row)
@@ -235,7 +237,10 @@ def summarize(rows, dims):
         s["device_name"] = rs[0].get("device_name", "")
         s["rows"] = rs
         s["frames"] = len(rs)
-        total = finite([r.get("total_ms") for r in rs])
+        if with_shadow_maps:  # the frame with its shadow maps' drawing (shadow_ms)
+            total = finite([r.get("total_ms", float("nan")) + r.get("shadow_ms", 0.0) for r in rs])
+        else:
+            total = finite([r.get("total_ms") for r in rs])
         s["median"] = median(total)
         s["min"] = min(total) if total else float("nan")
         s["max"] = max(total) if total else float("nan")
@@ -502,7 +507,8 @@ PSNR_GOAL = 50.0     # dB, the "good enough" line of the report
 ERROR_FLOOR = 1e-9   # errors of exactly 0 are drawn here (a log axis has no 0)
 # Sweep dimensions that are accuracy/speed knobs of one rendering; every other dimension (scene,
 # lights, resolution, device, ...) defines the scene and device a Pareto front is drawn for.
-KNOBS = ["technique", "tile", "slices", "culling", "gbuffer", "math", "light_threshold", "lanes"]
+KNOBS = ["technique", "tile", "slices", "culling", "gbuffer", "math", "light_threshold", "lanes",
+         "shadow_map_size", "shadow_filter", "shadow_bias"]
 
 
 def error_of(s, prefix):
@@ -859,6 +865,9 @@ def plot(argv):
     ap.add_argument("--error-prefix", default="err_",
                     help="error columns of the speed/error plots: PREFIXmax_rel_peak and "
                          "PREFIXpsnr_db (default err_, what bench --error writes)")
+    ap.add_argument("--time-with-shadow-maps", action="store_true",
+                    help="time = total_ms + shadow_ms (the kernels and the frame's shadow-map "
+                         "drawing), e.g. with --error-prefix shadow_err_ (bench --shadow-error)")
     a = ap.parse_args(argv)
     for i, p in enumerate(a.inputs):
         if os.path.isdir(p):
@@ -875,7 +884,7 @@ def plot(argv):
         raise InputError("no rows in " + ", ".join(a.inputs))
     load_matplotlib()
     os.makedirs(a.out, exist_ok=True)
-    summaries = summarize(rows, dims)
+    summaries = summarize(rows, dims, a.time_with_shadow_maps)
     report = Report(a.out)
 
     plot_over_frames(report, summaries, dims, "total_ms", "frame time (ms, sum of kernels)",

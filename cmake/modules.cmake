@@ -94,12 +94,15 @@ tileshade_module(gbuffer DEPS util scene shading LIBS ${TILESHADE_OIIO_LIBS})
 tileshade_module(raster DEPS util cl gbuffer scene shading LIBS Threads::Threads ${TILESHADE_GL_LIBS}
                  EXCLUDE "${TILESHADE_GL_SOURCES}")
 tileshade_module(reference DEPS util gbuffer shading LIBS Threads::Threads)
-# Exact visibility through Embree: the scene's triangles against the G-buffer's points.
-tileshade_module(visibility DEPS util gbuffer scene LIBS ${TILESHADE_EMBREE_LIBS} Threads::Threads)
 tileshade_module(techniques DEPS util cl gbuffer raster scene shading)
 tileshade_module(render DEPS util cl gbuffer raster reference scene shading techniques
                  LIBS nlohmann_json::nlohmann_json ${TILESHADE_OIIO_LIBS})
+# Exact visibility through Embree: the scene's triangles against the G-buffer's points, and the
+# shadow maps measured against it (the references of render/).
+tileshade_module(visibility DEPS util gbuffer reference render scene
+                 LIBS ${TILESHADE_EMBREE_LIBS} Threads::Threads nlohmann_json::nlohmann_json)
 tileshade_module(bench DEPS util cl gbuffer raster reference render scene shading techniques
+                 visibility
                  LIBS CLI11::CLI11 nlohmann_json::nlohmann_json)
 tileshade_module(check DEPS util cl gbuffer reference render scene shading techniques
                  LIBS CLI11::CLI11 nlohmann_json::nlohmann_json Threads::Threads)

@@ -323,6 +323,11 @@ struct ErrorReport {
   double tolerance = 0.0;  // 1e-4 of the peak
   uint64_t pixelsAboveTolerance = 0, nonfinitePixels = 0;
   double peak = 0.0;
+  // A technique that draws the scene (forward): the error is what lies beyond the reference's
+  // slack for shadow tests decided within rounding of the fragment's position (docs/shadows.md,
+  // "Forward techniques"); the pixels it reduced and the ambiguous (pixel, light) pairs.
+  bool receiverSlack = false;
+  uint64_t slackPixels = 0, ambiguousShadowPairs = 0;
 };
 
 struct CheckReport {

@@ -4,10 +4,12 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include "api/api_internal.h"
 #include "gbuffer/gbuffer_checks.h"
 #include "render/gbuffer_dump.h"
+#include "render/receiver_rounding.h"
 #include "reference/transparent_composite.h"
 #include "render/render_input.h"
 #include "scene/scene_loader.h"
@@ -513,17 +515,23 @@ const FrameReferences& Frame::Impl::ensureSampleReferences(const PassProgress& p
           sizeText(p.intrinsics.width, p.intrinsics.height) + " MSAA frame",
       [&] {
         const std::vector<EncodedGBuffer>& planes = samplePlanes();
+        // Only the forward techniques take MSAA: each sample's shadow tests get their slack.
+        std::optional<ReceiverRounding> rounding;
+        if (scene) rounding = receiverRounding(*scene, p.camera.viewFromWorld);
+        const ReceiverRounding* slack = rounding ? &*rounding : nullptr;
         std::vector<ReferenceImage> ref, shadingOnly, phys;
         for (size_t k = 0; k < planes.size(); ++k) {
           const std::string sample = ", sample " + std::to_string(k);
           ref.push_back(shadeReference(planes[k], p.intrinsics, p.lights, p.ambient, windowed, 0,
-                                       progress("windowed model" + sample)));
+                                       progress("windowed model" + sample),
+                                       ReferencePositions::FromDepth, nullptr, slack));
           shadingOnly.push_back(
               shadeReference(planes[k], p.intrinsics, p.lights, p.ambient, windowed, 0,
                              progress("windowed model, kernel positions" + sample),
-                             ReferencePositions::KernelFloat));
+                             ReferencePositions::KernelFloat, nullptr, slack));
           phys.push_back(shadeReference(planes[k], p.intrinsics, p.lights, p.ambient, physical, 0,
-                                        progress("physical model" + sample)));
+                                        progress("physical model" + sample),
+                                        ReferencePositions::FromDepth, nullptr, slack));
         }
         FrameReferences r;
         r.reference = averageSamples(ref);
@@ -550,20 +558,28 @@ const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass, b
           sizeText(p.intrinsics.width, p.intrinsics.height) + " frame",
       [&] {
         FrameReferences r;
+        // A frame the forward techniques can draw: its references also give the shadow tests'
+        // slack over their fragments' rounding (allowed in their comparisons only).
+        std::optional<ReceiverRounding> rounding;
+        if (forward && scene) rounding = receiverRounding(*scene, p.camera.viewFromWorld);
+        const ReceiverRounding* forwardRounding = rounding ? &*rounding : nullptr;
         r.reference = shadeReference(planes, p.intrinsics, p.lights, p.ambient, model, 0,
-                                     progress("windowed model"));
+                                     progress("windowed model"), ReferencePositions::FromDepth,
+                                     nullptr, forwardRounding);
         r.shadingOnly = shadeReference(planes, p.intrinsics, p.lights, p.ambient, model, 0,
                                        progress("windowed model, kernel positions"),
-                                       ReferencePositions::KernelFloat);
+                                       ReferencePositions::KernelFloat, nullptr, forwardRounding);
         if (drawn) {
           r.physical = shadeReference(planes, p.intrinsics, p.lights, p.ambient,
-                                      int(RangeModel::Physical), 0, progress("physical model"));
+                                      int(RangeModel::Physical), 0, progress("physical model"),
+                                      ReferencePositions::FromDepth, nullptr, forwardRounding);
         } else {
           const EncodedGBuffer fp32 = p.encoded.format == GBufferFormat::FP32
                                           ? p.encoded
                                           : encode(p.gbuffer, GBufferFormat::FP32);
           r.physical = shadeReference(fp32, p.intrinsics, p.lights, p.ambient,
-                                      int(RangeModel::Physical), 0, progress("physical model"));
+                                      int(RangeModel::Physical), 0, progress("physical model"),
+                                      ReferencePositions::FromDepth, nullptr, forwardRounding);
         }
         compositeTransparentSurfaces(r, drawsScene);
         cached = std::move(r);

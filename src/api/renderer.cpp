@@ -27,11 +27,17 @@ ErrorReport errorReport(const ErrorStats& e) {
   r.pixelsAboveTolerance = e.pixelsAboveTolerance;
   r.nonfinitePixels = e.nonfinitePixels;
   r.peak = e.peak;
+  r.receiverSlack = e.receiverSlack;
+  r.slackPixels = e.slackPixels;
+  r.ambiguousShadowPairs = e.ambiguousShadowPairs;
   return r;
 }
 
-ErrorReport compared(const std::vector<glm::vec4>& image, const ReferenceImage& reference) {
-  return errorReport(compareToReference(image, reference, kReportTolerance * reference.peak));
+// slack: Allow for a technique that draws the scene (its fragments' own positions; reference.h).
+ErrorReport compared(const std::vector<glm::vec4>& image, const ReferenceImage& reference,
+                     ReceiverSlack slack) {
+  return errorReport(
+      compareToReference(image, reference, kReportTolerance * reference.peak, slack));
 }
 
 }  // namespace
@@ -126,9 +132,10 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
     if (options.check) {
       const FrameReferences& refs = f.ensureReferences({}, drawsScene);
       CheckReport check;
-      check.error = compared(r.image, refs.reference);
-      check.shadingError = compared(r.image, refs.shadingOnly);
-      check.physicalError = compared(r.image, refs.physical);
+      const ReceiverSlack slack = drawsScene ? ReceiverSlack::Allow : ReceiverSlack::Ignore;
+      check.error = compared(r.image, refs.reference, slack);
+      check.shadingError = compared(r.image, refs.shadingOnly, slack);
+      check.physicalError = compared(r.image, refs.physical, slack);
       check.contributing = refs.reference.contributing;
       check.referencePeak = refs.reference.peak;
       if (r.assignment) {

@@ -27,8 +27,9 @@ struct BenchCliState {
   std::map<std::string, CLI::Option*> dimOptions;
   std::string config, frames = "8", errorFrames = "all", out = "bench-out", shard = "0/1";
   int warmup = 1, repeat = 1, calibMiB = 256;
-  bool error = false, resume = false, overwrite = false, noCalibrate = false, quiet = false,
-       list = false;
+  bool error = false, shadowError = false, resume = false, overwrite = false, noCalibrate = false,
+       quiet = false, list = false;
+  CLI::Option* shadowErrorOpt = nullptr;
   CLI::Option *framesOpt = nullptr, *warmupOpt = nullptr, *repeatOpt = nullptr, *errorOpt = nullptr,
               *errorFramesOpt = nullptr, *calibOpt = nullptr;
 };
@@ -80,6 +81,7 @@ void applyConfigFile(BenchCliState& s, BenchOptions& o) {
                                                           {"repeat", s.repeatOpt},
                                                           {"error", s.errorOpt},
                                                           {"error_frames", s.errorFramesOpt},
+                                                          {"shadow_error", s.shadowErrorOpt},
                                                           {"calib_mib", s.calibOpt}};
   applyBenchConfig(text, s.config, o, [&](const std::string& field) {
     auto run = runOptions.find(field);
@@ -95,6 +97,7 @@ void runCommand(BenchCliState& s) {
   o.repeat = s.repeat;
   o.error = s.error;
   o.errorFrames = s.errorFrames;
+  o.shadowError = s.shadowError;
   o.outDir = s.out;
   o.shard = Shard::parse(s.shard);
   o.resume = s.resume;
@@ -200,6 +203,9 @@ void applyBenchConfig(const std::string& text, const std::string& source, BenchO
     } else if (key == "error_frames") {
       std::string f = frameSpec();
       if (!givenOnCommandLine(key)) o.errorFrames = f;
+    } else if (key == "shadow_error") {
+      want(v.is_boolean(), "true or false");
+      if (!givenOnCommandLine(key)) o.shadowError = v.get<bool>();
     } else if (key == "calib_mib") {
       size_t mib = size_t(integer(1, kMaxCalibMiB));
       if (!givenOnCommandLine(key)) o.calibration.copyBytes = mib << 20;
@@ -211,8 +217,10 @@ void applyBenchConfig(const std::string& text, const std::string& source, BenchO
         if (d.matchesKey(key)) dim = &d;
       }
       if (!dim)
-        throw Error("bench config " + source + ": unknown field '" + shortText(key) + "' (known: " +
-                    known + "frames, warmup, repeat, error, error_frames, calib_mib, description)");
+        throw Error("bench config " + source + ": unknown field '" + shortText(key) +
+                    "' (known: " + known +
+                    "frames, warmup, repeat, error, error_frames, shadow_error, calib_mib, "
+                    "description)");
       if (!givenOnCommandLine(dim->name)) o.sweep.set(dim->name, jsonValues(key, v));
     }
   }
@@ -237,7 +245,7 @@ CliCommand addBenchCommand(CLI::App& app) {
   cmd->add_option("--config", s.config,
                   "JSON file with the same fields (dimension names as keys, "
                   "lists or single values; frames, warmup, repeat, error, "
-                  "error_frames); command-line options win")
+                  "error_frames, shadow_error); command-line options win")
       ->group(run);
   s.framesOpt = cmd->add_option("--frames", s.frames,
                                 "timed frames of the camera path: A:B[:S] (half-open range), N "
@@ -259,10 +267,18 @@ CliCommand addBenchCommand(CLI::App& app) {
                              "peak, quantiles); expensive on a CPU")
                    ->group(run);
   s.errorFramesOpt = cmd->add_option("--error-frames", s.errorFrames,
-                                     "with --error: all, N (N of the timed frames) or a frame "
-                                     "range/list")
+                                     "with --error or --shadow-error: all, N (N of the timed "
+                                     "frames) or a frame range/list")
                          ->capture_default_str()
                          ->group(run);
+  s.shadowErrorOpt =
+      cmd->add_flag("--shadow-error", s.shadowError,
+                    "the shadow maps against exact visibility (Embree ray queries) on the error "
+                    "frames: shadow_wrong_pct (the (pixel, light) pairs the maps get wrong), "
+                    "shadow_err_max_rel_peak/rmse/p99 (the image against the one shaded with "
+                    "exact visibility, of its peak), shadow_err_psnr_db; expensive "
+                    "(docs/shadows.md)")
+          ->group(run);
   cmd->add_option("--out", s.out, "output folder: bench.csv, bench.json, summary.csv")
       ->capture_default_str()
       ->group(run);

@@ -67,6 +67,13 @@ const std::vector<BenchColumn>& measurementColumns() {
       {"err_p999", "/error/p999", Type::Number, false, "err_max_abs"},
       {"err_shading_max_rel_peak", "/error_shading/max_rel_peak", Type::Number, false,
        "err_shading_max_rel_peak"},
+      // With --shadow-error, on the frames that get it (--error-frames).
+      {"shadow_wrong_pct", "/shadow_error/wrong_pct", Type::Number, false, ""},
+      {"shadow_err_max_rel_peak", "/shadow_error/err_max_rel_peak", Type::Number, false, ""},
+      {"shadow_err_rmse", "/shadow_error/err_rmse", Type::Number, false, ""},
+      {"shadow_err_p99", "/shadow_error/err_p99", Type::Number, false, ""},
+      {"shadow_err_psnr_db", "/shadow_error/err_psnr_db", Type::Number, false, ""},
+      {"shadow_exact_ms", "/shadow_error/exact_ms", Type::Time, false, ""},
       {"notes", "/notes", Type::Notes, false, ""},
   };
   return columns;

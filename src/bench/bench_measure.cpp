@@ -1,6 +1,7 @@
 #include "bench/bench_measure.h"
 
 #include "reference/transparent_composite.h"
+#include "render/receiver_rounding.h"
 
 #include <algorithm>
 #include <chrono>
@@ -101,9 +102,11 @@ const ReferenceImage& GroupFrame::sceneReference() {
 
 ReferenceImage GroupFrame::shadeFrame(const EncodedGBuffer& enc, const ViewLights& lights,
                                       int model, ReferencePositions positions) {
+  const std::optional<ReceiverRounding> rounding = forwardRounding();
+  const ReceiverRounding* slack = rounding ? &*rounding : nullptr;
   if (!forward_ || forward_->samples() <= 1)
     return shadeReference(enc, prepared_.intrinsics, lights, prepared_.ambient, model, 0, {},
-                          positions);
+                          positions, nullptr, slack);
   if (samplePlanes_.empty()) {
     RasterOptions raster;  // as the frame was rasterized
     raster.model = prepared_.features.model;
@@ -114,8 +117,30 @@ ReferenceImage GroupFrame::shadeFrame(const EncodedGBuffer& enc, const ViewLight
   std::vector<ReferenceImage> samples;
   for (const EncodedGBuffer& planes : samplePlanes_)
     samples.push_back(shadeReference(planes, prepared_.intrinsics, lights, prepared_.ambient, model,
-                                     0, {}, positions));
+                                     0, {}, positions, nullptr, slack));
   return averageSamples(samples);
+}
+
+const ExactVisibilityResult* GroupFrame::exactShadows() {
+  if (!exactShadows_) {
+    exactShadows_.emplace();
+    if (prepared_.lights.hasShadows())
+      *exactShadows_ = measureAgainstExactVisibility(scene_.scene(), prepared_, prepared_.encoded);
+  }
+  return *exactShadows_ ? &**exactShadows_ : nullptr;
+}
+
+void measureShadowError(GroupFrame& frame, const std::vector<glm::vec4>& image, FrameErrors& out) {
+  out.shadowErrorWanted = true;
+  out.exact = frame.exactShadows();
+  if (out.exact)
+    out.errorVsExact = compareToReference(image, out.exact->exactReference,
+                                          kTolerance * out.exact->exactReference.peak);
+}
+
+std::optional<ReceiverRounding> GroupFrame::forwardRounding() const {
+  if (!forward_) return std::nullopt;
+  return receiverRounding(scene_.scene(), prepared_.camera.viewFromWorld);
 }
 
 const PerLightShadowMaps* GroupFrame::perLightShadows() {
@@ -179,15 +204,18 @@ FrameErrors measureErrors(const BenchEntry& e, GroupFrame& frame, const EncodedG
   const EncodedGBuffer& planes = drawn ? frame.encoded(format, tc.features) : enc;
   out.reference =
       &frame.storedReference(planes, format, int(tc.rangeModel), ReferencePositions::FromDepth);
-  out.errorStored = compareToReference(image, *out.reference, kTolerance * out.reference->peak);
+  // A forward image: what lies beyond its fragments' shadow-test slack (reference.h).
+  const ReceiverSlack slack = drawn ? ReceiverSlack::Allow : ReceiverSlack::Ignore;
+  out.errorStored =
+      compareToReference(image, *out.reference, kTolerance * out.reference->peak, slack);
   const ReferenceImage& shading =
       frame.storedReference(planes, format, int(tc.rangeModel), ReferencePositions::KernelFloat);
-  out.errorShading = compareToReference(image, shading, kTolerance * shading.peak);
+  out.errorShading = compareToReference(image, shading, kTolerance * shading.peak, slack);
   // fp32 with the scene's own ranges is the scene reference itself: not shaded twice.
   bool same = format == GBufferFormat::FP32 && e.config.lightThreshold <= 0.0f &&
               tc.rangeModel == RangeModel::Windowed;
   const ReferenceImage& truth = same ? *out.reference : frame.sceneReference();
-  out.error = compareToReference(image, truth, kTolerance * truth.peak);
+  out.error = compareToReference(image, truth, kTolerance * truth.peak, slack);
   return out;
 }
 
@@ -223,6 +251,26 @@ json measurementRow(const BenchEntry& e, const GroupFrame& frame, int f, const E
   if (err.reference) row["reference_contributing"] = err.reference->contributing;
   if (err.errorStored) row["error_vs_stored"] = errorJson(*err.errorStored);
   if (err.errorShading) row["error_shading"] = errorJson(*err.errorShading);
+  if (err.exact && err.errorVsExact) {
+    // Relative to the exact-shaded reference's peak, as render's error_vs_exact.
+    const nlohmann::json& wrong = err.exact->stats.at("wrong_pairs");
+    const double peak = err.errorVsExact->peak > 0.0 ? err.errorVsExact->peak : 1.0;
+    row["shadow_error"] = {{"pairs", wrong.at("pairs")},
+                           {"false_shadow", wrong.at("false_shadow")},
+                           {"light_leak", wrong.at("light_leak")},
+                           {"wrong_pct", 100.0 * wrong.at("fraction").get<double>()},
+                           {"mean_abs_factor_error", wrong.at("mean_abs_factor_error")},
+                           {"err_max_rel_peak", err.errorVsExact->maxRelPeak},
+                           {"err_rmse", err.errorVsExact->rmse / peak},
+                           {"err_p99", err.errorVsExact->p99 / peak},
+                           {"err_p50", err.errorVsExact->p50 / peak},
+                           {"err_psnr_db", jsonNumber(err.errorVsExact->psnr)},
+                           {"maps_err_max", err.exact->stats.at("image_error").at("max_rel_peak")},
+                           {"exact_ms", err.exact->stats.at("build_ms").get<double>() +
+                                            err.exact->stats.at("query_ms").get<double>()}};
+  } else if (err.shadowErrorWanted) {
+    row["notes"].push_back("--shadow-error: no light casts a shadow in this frame");
+  }
   return row;
 }
 

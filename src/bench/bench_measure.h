@@ -21,6 +21,7 @@
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
 #include "techniques/technique.h"
+#include "visibility/shadow_error.h"
 
 namespace ts {
 
@@ -31,6 +32,7 @@ struct BenchEntry {
   std::vector<int> frames;  // timed frames
   std::set<int> pending;    // not in the output yet
   std::set<int> errorFrames;
+  std::set<int> shadowErrorFrames;  // --shadow-error's
   std::unique_ptr<Technique> technique;
   ClContext* cl = nullptr;
   const Calibration* calibration = nullptr;
@@ -71,8 +73,15 @@ class GroupFrame {
   // the fp32 G-buffer and the scene's own light ranges, so storage precision, light ranges,
   // arithmetic and culling all show in err_* (error_vs_stored isolates the last two).
   const ReferenceImage& sceneReference();
+  // The frame's maps against exact visibility (measured at the first call; shared by the group's
+  // configurations, whose maps and sampling are the group's), null without a shadow-casting
+  // light.
+  const ExactVisibilityResult* exactShadows();
 
  private:
+  // The rounding box of the forward techniques' fragments where the frame is OpenGL's (their
+  // references give the shadow tests' slack over it), else none.
+  std::optional<ReceiverRounding> forwardRounding() const;
   // The frame's transparent fragments (captured once) composited over `ref` where the frame has
   // transparent draws (--blend blend); nothing otherwise.
   void withTransparentSurfaces(ReferenceImage& ref, const ViewLights& lights, int model);
@@ -91,6 +100,7 @@ class GroupFrame {
   std::map<std::pair<GBufferFormat, std::string>, EncodedGBuffer> layouts_;
   std::map<std::pair<int, int>, ReferenceImage> references_, shadingReferences_;
   std::optional<ReferenceImage> sceneReference_;
+  std::optional<std::optional<ExactVisibilityResult>> exactShadows_;
   std::optional<std::vector<TransparentFragment>> transparentFragments_;
   std::vector<EncodedGBuffer> samplePlanes_;  // --msaa: each sample's fp32 planes
 };
@@ -116,7 +126,15 @@ struct FrameErrors {
   std::optional<ErrorStats> errorStored;      // against the stored values (error_vs_stored)
   std::optional<ErrorStats> errorShading;     // the same with float positions (err_shading_*)
   const ReferenceImage* reference = nullptr;  // the stored values' reference
+  // --shadow-error: the frame's maps against exact visibility, and the image against the
+  // reference shaded with exact visibility; null / none without a shadow-casting light.
+  const ExactVisibilityResult* exact = nullptr;
+  std::optional<ErrorStats> errorVsExact;
+  bool shadowErrorWanted = false;
 };
+
+// --shadow-error's part of `out`: the frame's exact visibility and `image` against it.
+void measureShadowError(GroupFrame& frame, const std::vector<glm::vec4>& image, FrameErrors& out);
 
 // The errors of `image`, configuration `e`'s render of `frame` from `enc`.
 FrameErrors measureErrors(const BenchEntry& e, GroupFrame& frame, const EncodedGBuffer& enc,

@@ -152,9 +152,10 @@ void BenchRunner::loadScenes() {
                          [&] { return scenes_.try_emplace(key, e.config).first; });
     else it->second.check(e.config);
     e.frames = o_.frames.resolve(it->second.pathLength());
-    if (o_.error) {
+    if (o_.error || o_.shadowError) {
       auto ef = selectErrorFrames(o_.errorFrames, e.frames);
-      e.errorFrames.insert(ef.begin(), ef.end());
+      if (o_.error) e.errorFrames.insert(ef.begin(), ef.end());
+      if (o_.shadowError) e.shadowErrorFrames.insert(ef.begin(), ef.end());
     }
   }
 }
@@ -262,6 +263,7 @@ void BenchRunner::startFiles() {
           {"repeat", o_.repeat},
           {"error", o_.error},
           {"error_frames", o_.errorFrames},
+          {"shadow_error", o_.shadowError},
           {"shard", std::to_string(o_.shard.index) + "/" + std::to_string(o_.shard.count)},
           {"sweep", sweep_},
           {"shade_flops",
@@ -403,6 +405,7 @@ json BenchRunner::measure(BenchEntry& e, GroupFrame& frame, int f) {
       timeFrame(e, enc, frame.prepared(), frame.forward(), perLight, o_.warmup, o_.repeat);
   FrameErrors errors;
   if (e.errorFrames.count(f)) errors = measureErrors(e, frame, enc, tc, m.r.image);
+  if (e.shadowErrorFrames.count(f)) measureShadowError(frame, m.r.image, errors);
   return measurementRow(e, frame, f, enc, m, errors, o_.warmup, o_.repeat);
 }
 

@@ -24,6 +24,9 @@ struct BenchOptions {
   int repeat = 1;                   // timed renders per frame; the row keeps the median one
   bool error = false;               // error against the double reference
   std::string errorFrames = "all";  // "all", "N" (N of the timed frames), or a frame list/range
+  // The shadow maps against exact visibility (Embree) on the error frames (error_frames), with
+  // or without --error: the shadow_* error columns (docs/shadows.md).
+  bool shadowError = false;
   std::string outDir = "bench-out";
   Shard shard;
   bool resume = false;     // skip (configuration, frame) rows already in DIR/bench.csv

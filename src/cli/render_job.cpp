@@ -266,6 +266,9 @@ ErrorStats errorStats(const ErrorReport& e) {
   s.pixelsAboveTolerance = e.pixelsAboveTolerance;
   s.nonfinitePixels = e.nonfinitePixels;
   s.peak = e.peak;
+  s.receiverSlack = e.receiverSlack;
+  s.slackPixels = e.slackPixels;
+  s.ambiguousShadowPairs = e.ambiguousShadowPairs;
   return s;
 }
 
@@ -428,6 +431,11 @@ void runRender(const RenderOptions& options) {
             << double(r.shadowUse->writtenBytes) / double(1 << 20) << " MB written"
             << std::defaultfloat << "\n";
     for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
+    if (r.check && r.check->error.slackPixels)
+      table << "    note: " << r.check->error.ambiguousShadowPairs
+            << " (pixel, light) pair(s) whose shadow test lies within rounding of the fragment's "
+               "position: either answer allowed on "
+            << r.check->error.slackPixels << " pixel(s) (error.receiver_slack in stats.json)\n";
     if (r.nonfinitePixels)
       table << "    note: " << r.nonfinitePixels
             << " pixel(s) NaN or inf (nonfinite_pixels in stats.json)\n";

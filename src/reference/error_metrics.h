@@ -22,14 +22,23 @@ struct ErrorStats {
   uint64_t pixelsAboveTolerance = 0;        // non-finite pixels included
   uint64_t nonfinitePixels = 0;             // pixels with a NaN or inf channel (image or reference)
   double peak = 0.0;                        // largest finite channel value of the reference
+  // With ReceiverSlack::Allow: pixels whose difference the reference's receiverSlack reduced (the
+  // error is what lies beyond it), and the reference's ambiguous (pixel, light) pairs.
+  bool receiverSlack = false;
+  uint64_t slackPixels = 0;
+  uint64_t ambiguousShadowPairs = 0;
 };
+
+// Whether a comparison allows the reference's receiverSlack (reference.h, ReceiverRounding): for
+// the images of the forward techniques, which shade the interpolated position.
+enum class ReceiverSlack { Ignore, Allow };
 
 // Pixels of an image with a NaN or inf colour channel.
 uint64_t countNonFinitePixels(const std::vector<glm::vec4>& image);
 
 // `tolerance` is absolute; pass e.g. 1e-4 * ref.peak.
 ErrorStats compareToReference(const std::vector<glm::vec4>& image, const ReferenceImage& ref,
-                              double tolerance);
+                              double tolerance, ReceiverSlack slack = ReceiverSlack::Ignore);
 
 // The same for a double image (one reference against another), without rounding it to float.
 ErrorStats compareReferences(const ReferenceImage& image, const ReferenceImage& ref,

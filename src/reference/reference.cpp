@@ -69,30 +69,73 @@ double hookedFactor(ReferenceShadowHook* hook, size_t slot, size_t pixel, double
   return mapFactor;
 }
 
+// The range of a light's factor over the corners of the rounding box around the receiver (and the
+// receiver itself): where it is not 0, a receiver within rounding of this one may be decided
+// otherwise. The factor is a step function of the tap coordinates and the depth, each nearly
+// linear in P across so small a box, so their extremes lie at its corners.
+struct FactorRange {
+  const ReceiverRounding* rounding = nullptr;
+  glm::dvec3 slack{0.0};
+  uint64_t ambiguous = 0;
+
+  template <typename Factor>
+  void add(const SurfaceD& s, const glm::dvec3& unshadowed, double centre, Factor factor) {
+    if (!rounding) return;
+    const double h = rounding->halfSide(s.P);
+    double lo = centre, hi = centre;
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::dvec3 P = s.P + h * glm::dvec3(corner & 1 ? 1.0 : -1.0, corner & 2 ? 1.0 : -1.0,
+                                                corner & 4 ? 1.0 : -1.0);
+      const double f = factor(P);
+      lo = std::min(lo, f);
+      hi = std::max(hi, f);
+    }
+    if (hi > lo) {
+      slack += (hi - lo) * glm::abs(unshadowed);
+      ++ambiguous;
+    }
+  }
+};
+
 glm::dvec3 lightContribution(const SurfaceD& s, const shading_d::ts_shading_point& p,
                              const ViewLights& lights, size_t i, int model, int shading,
-                             ReferenceShadowHook* hook = nullptr, size_t pixel = 0) {
+                             ReferenceShadowHook* hook = nullptr, size_t pixel = 0,
+                             FactorRange* range = nullptr) {
   glm::dvec3 c = shading_d::ts_punctual_light(&p, s.kd, s.ks, widen(lights.positionRange[i]),
                                               widen(lights.color[i]), widen(lights.spot[i]), model,
                                               shading, 1, 1);
   const int first = lights.shadowOf(i);
-  if (first >= 0 && nonZero(c))
-    c *= hookedFactor(
-        hook, i, pixel,
-        shadowFactor(lights, first, s,
-                     glm::normalize(glm::dvec3(glm::vec3(lights.positionRange[i])) - s.P)));
+  if (first >= 0 && nonZero(c)) {
+    const glm::dvec3 at(glm::vec3(lights.positionRange[i]));
+    auto factorAt = [&](const glm::dvec3& P) {
+      SurfaceD moved = s;
+      moved.P = P;
+      return shadowFactor(lights, first, moved, glm::normalize(at - P));
+    };
+    const double f = factorAt(s.P);
+    if (range) range->add(s, c, f, factorAt);
+    c *= hookedFactor(hook, i, pixel, f);
+  }
   return c;
 }
 
 glm::dvec3 directionalContribution(const SurfaceD& s, const shading_d::ts_shading_point& p,
                                    const ViewLights& lights, size_t i, int shading,
-                                   ReferenceShadowHook* hook, size_t pixel) {
+                                   ReferenceShadowHook* hook, size_t pixel, FactorRange* range) {
   const glm::dvec3 towards(glm::vec3(lights.directionalDir[i]));
   glm::dvec3 c = shading_d::ts_directional_light(
       &p, s.kd, s.ks, towards, glm::dvec3(glm::vec3(lights.directionalColor[i])), shading, 1);
   const int first = lights.directionalShadowOf(i);
-  if (first >= 0 && nonZero(c))
-    c *= hookedFactor(hook, lights.size() + i, pixel, shadowFactor(lights, first, s, towards));
+  if (first >= 0 && nonZero(c)) {
+    auto factorAt = [&](const glm::dvec3& P) {
+      SurfaceD moved = s;
+      moved.P = P;
+      return shadowFactor(lights, first, moved, towards);
+    };
+    const double f = factorAt(s.P);
+    if (range) range->add(s, c, f, factorAt);
+    c *= hookedFactor(hook, lights.size() + i, pixel, f);
+  }
   return c;
 }
 
@@ -110,11 +153,19 @@ void useKernelPosition(SurfaceD& s, const EncodedGBuffer& gbuffer, const CameraI
 
 }  // namespace
 
+double ReceiverRounding::halfSide(const glm::dvec3& P) const {
+  const double eps = std::ldexp(1.0, -23);
+  return 8.0 * eps * (std::max({std::abs(P.x), std::abs(P.y), std::abs(P.z)}) + worldMagnitude);
+}
+
 ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrinsics& camera,
                               const ViewLights& lights, glm::vec3 ambient, int model, int threads,
                               const RowProgress& progress, ReferencePositions positions,
-                              ReferenceShadowHook* shadows) {
+                              ReferenceShadowHook* shadows, const ReceiverRounding* rounding) {
   ReferenceImage ref;
+  if (rounding && lights.hasShadows())
+    ref.receiverSlack.assign(gbuffer.pixelCount(), glm::dvec3(0.0));
+  std::vector<uint64_t> rowAmbiguous(size_t(gbuffer.height), 0);
   if (shadows) {
     const size_t slots = lights.size() + lights.directionalCount();
     shadows->factors.assign(slots, {});
@@ -139,25 +190,32 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
       shading_d::ts_shading_point p = shadingPoint(s, shading);
       glm::dvec3 sum(0.0);
       const size_t pixel = size_t(y) * size_t(gbuffer.width) + size_t(x);
+      FactorRange range;
+      range.rounding = ref.receiverSlack.empty() ? nullptr : rounding;
       // Punctual lights in list order, then the directional ones, as the kernels add them.
       for (size_t i = 0; i < lights.size(); ++i) {
-        glm::dvec3 c = lightContribution(s, p, lights, i, model, shading, shadows, pixel);
+        glm::dvec3 c = lightContribution(s, p, lights, i, model, shading, shadows, pixel, &range);
         if (nonZero(c)) {
           sum += c;
           ++rowContributing[size_t(y)];
         }
       }
       for (size_t i = 0; i < lights.directionalCount(); ++i) {
-        glm::dvec3 c = directionalContribution(s, p, lights, i, shading, shadows, pixel);
+        glm::dvec3 c = directionalContribution(s, p, lights, i, shading, shadows, pixel, &range);
         if (nonZero(c)) {
           sum += c;
           ++rowContributing[size_t(y)];
         }
       }
       ref.rgb[size_t(y) * gbuffer.width + x] = sum + shading_d::ts_surface_base(s.ke, s.cDiff, a);
+      if (range.rounding) {
+        ref.receiverSlack[pixel] = range.slack;
+        rowAmbiguous[size_t(y)] += range.ambiguous;
+      }
     }
   });
   for (auto n : rowContributing) ref.contributing += n;
+  for (auto n : rowAmbiguous) ref.ambiguousShadowPairs += n;
   for (const auto& c : ref.rgb) ref.peak = std::max({ref.peak, c.x, c.y, c.z});
   return ref;
 }
@@ -173,12 +231,19 @@ ReferenceImage averageSamples(const std::vector<ReferenceImage>& samples) {
       throw Error("averageSamples: the samples' references differ in size");
     for (size_t i = 0; i < s.rgb.size(); ++i) mean.rgb[i] += s.rgb[i];
     mean.contributing += s.contributing;
+    // The mean's slack is the mean of the samples' (each bounds its own sample's shadow flips).
+    if (!s.receiverSlack.empty()) {
+      mean.receiverSlack.resize(s.receiverSlack.size(), glm::dvec3(0.0));
+      for (size_t i = 0; i < s.receiverSlack.size(); ++i) mean.receiverSlack[i] += s.receiverSlack[i];
+    }
+    mean.ambiguousShadowPairs += s.ambiguousShadowPairs;
   }
   const double weight = 1.0 / double(samples.size());
   for (glm::dvec3& c : mean.rgb) {
     c *= weight;
     mean.peak = std::max({mean.peak, c.x, c.y, c.z});
   }
+  for (glm::dvec3& c : mean.receiverSlack) c *= weight;
   return mean;
 }
 

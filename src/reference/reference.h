@@ -20,6 +20,25 @@ struct ReferenceImage {
   uint64_t contributing = 0;    // (pixel, light) pairs with a non-zero contribution (every
                                 // light type): the ideal
   double peak = 0.0;            // largest channel value
+  // With ReceiverRounding only (else empty / 0): per pixel and channel, how far the image of a
+  // receiver within that rounding of this pixel's may lie from `rgb` through its shadow tests
+  // alone (a shadow-casting light's unshadowed term times the range of its factor over the
+  // rounding box), and the (pixel, light) pairs where that range is not 0.
+  std::vector<glm::dvec3> receiverSlack;
+  uint64_t ambiguousShadowPairs = 0;
+};
+
+// The forward techniques shade the fragment's interpolated float position, the reference the
+// one rebuilt from the stored depth (issue #18): the same point within float rounding of OpenGL's
+// vertex transform and interpolation, |dP| <= 8 eps (|P|max + W) per coordinate (eps = 2^-23, W
+// the largest coordinate entering the float view transform: docs/opengl.md's depth bound times
+// the depth). A receiver that close to a shadow-map texel edge (or to its texel's depth) may be
+// decided either way; the reference then also gives the factor's range over that box of
+// positions (ReferenceImage::receiverSlack), which a forward image's comparison allows.
+struct ReceiverRounding {
+  double worldMagnitude = 0.0;  // W
+  // The box's half-side at view-space P.
+  double halfSide(const glm::dvec3& P) const;
 };
 
 // Where the reference takes a pixel's view-space position from.
@@ -54,7 +73,8 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
                               const ViewLights& lights, glm::vec3 ambient, int model,
                               int threads = 0, const RowProgress& progress = {},
                               ReferencePositions positions = ReferencePositions::FromDepth,
-                              ReferenceShadowHook* shadows = nullptr);
+                              ReferenceShadowHook* shadows = nullptr,
+                              const ReceiverRounding* rounding = nullptr);
 
 // --msaa: the reference of a multisampled frame from its samples' own (one per sample, all of one
 // size, shaded from each sample's G-buffer): each pixel the mean of its samples, with equal

@@ -11,17 +11,22 @@ nlohmann::json jsonNumber(double v) {
 }
 
 nlohmann::json errorJson(const ErrorStats& e) {
-  return {{"max_abs", jsonNumber(e.maxAbs)},
-          {"rmse", jsonNumber(e.rmse)},
-          {"psnr_db", jsonNumber(e.psnr)},
-          {"max_rel_peak", jsonNumber(e.maxRelPeak)},
-          {"p50", jsonNumber(e.p50)},
-          {"p99", jsonNumber(e.p99)},
-          {"p999", jsonNumber(e.p999)},
-          {"tolerance", jsonNumber(e.tolerance)},
-          {"pixels_above_tolerance", e.pixelsAboveTolerance},
-          {"nonfinite_pixels", e.nonfinitePixels},
-          {"reference_peak", jsonNumber(e.peak)}};
+  nlohmann::json j = {{"max_abs", jsonNumber(e.maxAbs)},
+                      {"rmse", jsonNumber(e.rmse)},
+                      {"psnr_db", jsonNumber(e.psnr)},
+                      {"max_rel_peak", jsonNumber(e.maxRelPeak)},
+                      {"p50", jsonNumber(e.p50)},
+                      {"p99", jsonNumber(e.p99)},
+                      {"p999", jsonNumber(e.p999)},
+                      {"tolerance", jsonNumber(e.tolerance)},
+                      {"pixels_above_tolerance", e.pixelsAboveTolerance},
+                      {"nonfinite_pixels", e.nonfinitePixels},
+                      {"reference_peak", jsonNumber(e.peak)}};
+  // Only where the comparison allowed the receivers' slack (a forward technique's image).
+  if (e.receiverSlack)
+    j["receiver_slack"] = {{"pixels", e.slackPixels},
+                           {"ambiguous_shadow_pairs", e.ambiguousShadowPairs}};
+  return j;
 }
 
 nlohmann::json techniqueJson(const std::string& name, const FrameResult& r,

@@ -11,6 +11,7 @@
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
 #include "render/frame_setup.h"
+#include "render/receiver_rounding.h"
 #include "scene/scene_features.h"
 #include "techniques/technique.h"
 #include "test_support.h"
@@ -68,9 +69,11 @@ struct GlFrame {
 // max error <= `bound` of the peak, no NaN, no missed light contribution. Returns the error.
 inline ErrorStats expectMatchesReference(const GlFrame& g, const FrameResult& r, double bound) {
   const PreparedFrame& f = g.prepared;
-  const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
+  const ReceiverRounding rounding = receiverRounding(g.rasterizer.scene(), f.camera.viewFromWorld);
+  const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0, 0, {},
+                                            ReferencePositions::FromDepth, nullptr, &rounding);
   EXPECT_GT(ref.peak, 0.0);
-  const ErrorStats e = compareToReference(r.image, ref, bound * ref.peak);
+  const ErrorStats e = compareToReference(r.image, ref, bound * ref.peak, ReceiverSlack::Allow);
   EXPECT_LE(e.maxRelPeak, bound);
   EXPECT_EQ(e.nonfinitePixels, 0u);
   EXPECT_TRUE(r.assignment.has_value());

@@ -19,6 +19,7 @@
 #include "raster/shadow_maps.h"
 #include "reference_check.h"
 #include "require_gl.h"
+#include "scene/scene_loader.h"
 #include "test_scenes.h"
 #include "util/file_read.h"
 
@@ -155,6 +156,30 @@ TEST(ForwardShadows, AFullyOccludedLightContributesNothing) {
         << "unshadowed, the enclosed light reaches the floor";
     test::expectMatchesReference(g, enclosed, kForwardBound);
   }
+}
+
+// Issue #18's accuracy failure: the atrium at 640x360 with thesis-big-shadows (16 casters, 8 of
+// them reduced to 256^2 by the 64 MB budget) was 5.4e-3 of the peak off in every forward
+// technique. The cause: one pixel, (565, 69), whose receiver lies 2.3e-5 texel from a texel edge
+// of light 13's map (u = 205.99998), a float ulp of its position; the fragment's interpolated
+// position fell on the lit side, the one rebuilt from depth on the shadowed. The comparison now
+// allows either answer within the fragment's rounding box (reference.h, ReceiverRounding); the
+// frame must have such a pair (else it tests nothing) and pass the forward bound. No smaller
+// frame of the atrium meets one (96x54, 160x90, frames 0-8 at 320x180 were tried).
+TEST(ForwardShadows, AShadowTestWithinRoundingOfATexelEdgeIsNotAnError) {
+  REQUIRE_GL();
+  Scene scene = makeBuiltinScene("atrium", "thesis-big-shadows", 1);
+  GlFrame g(scene, 0, 640, 360);
+  attachMaps(g, scene, 1);
+  const FrameResult r = g.render("forward-single");
+  const ErrorStats e = test::expectMatchesReference(g, r, kForwardBound);
+  EXPECT_GT(e.ambiguousShadowPairs, 0u);
+  const PreparedFrame& f = g.prepared;
+  const ErrorStats strict = compareToReference(
+      r.image, shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0), 0.0);
+  std::cout << "[ forward shadows ] atrium 640x360: " << e.ambiguousShadowPairs
+            << " ambiguous pair(s), error " << e.maxRelPeak << " of the peak beyond their slack, "
+            << strict.maxRelPeak << " without it\n";
 }
 
 }  // namespace

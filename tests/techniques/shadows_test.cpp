@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -170,6 +171,63 @@ TEST(Shadows, TheReferenceHookRecordsTheFactorsAndTakesAnOverride) {
   const ReferenceImage agreeing = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0, 0,
                                                  {}, ReferencePositions::FromDepth, &same);
   EXPECT_EQ(compareReferences(agreeing, ref, 0.0).maxAbs, 0.0);
+}
+
+// The receivers' slack (reference.h, ReceiverRounding; issue #18): the forward techniques decide
+// a shadow test at their fragment's position, a rounding away from the reference's. Emulated here
+// with receivers moved along their rays by 1e-3 of their position (the depth scaled: at most
+// ~1.2e-2 here), inside a rounding box made that wide (W = 3e4: a half-side of ~2.9e-2): the image
+// shaded with the moved receivers' shadow answers differs from the reference's where a test
+// flipped, and lies within the slack everywhere; the slack leaves the reference's image unchanged.
+TEST(Shadows, ReceiverSlackCoversShadowTestsFlippedWithinRounding) {
+  const ShadowedFrame s = shadowedFrame(litFloorAndBox(), GBufferFormat::FP32, 1);  // filter none
+  const PreparedFrame& f = s.frame;
+  ReferenceShadowHook here;
+  const ReferenceImage ref = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0, 0, {},
+                                            ReferencePositions::FromDepth, &here);
+  EncodedGBuffer moved = f.encoded;
+  for (float& d : moved.depth) d *= 1.0f + 1e-3f;
+  ReferenceShadowHook there;
+  shadeReference(moved, f.intrinsics, f.lights, f.ambient, 0, 0, {}, ReferencePositions::FromDepth,
+                 &there);
+  // The moved receivers' answers (one tap: 0 or 1) at the reference's own receivers.
+  ReferenceShadowHook answers;
+  answers.visibility.resize(there.factors.size());
+  size_t flipped = 0;
+  for (size_t slot = 0; slot < there.factors.size(); ++slot)
+    for (size_t i = 0; i < there.factors[slot].size(); ++i) {
+      const double v = there.factors[slot][i];
+      answers.visibility[slot].push_back(std::isnan(v) ? 2 : uint8_t(v));
+      flipped += !std::isnan(v) && !std::isnan(here.factors[slot][i]) && v != here.factors[slot][i];
+    }
+  const ReferenceImage forwardLike = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0,
+                                                    0, {}, ReferencePositions::FromDepth, &answers);
+  ASSERT_GT(flipped, 0u) << "no shadow test flipped: the case does not test the slack";
+  ReceiverRounding wide;
+  wide.worldMagnitude = 3e4;
+  const ReferenceImage slacked = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0, 0,
+                                                {}, ReferencePositions::FromDepth, nullptr, &wide);
+  EXPECT_EQ(compareReferences(slacked, ref, 0.0).maxAbs, 0.0);
+  ASSERT_EQ(slacked.receiverSlack.size(), f.encoded.pixelCount());
+  EXPECT_GE(slacked.ambiguousShadowPairs, flipped);
+  std::vector<glm::vec4> image;
+  for (const glm::dvec3& c : forwardLike.rgb) image.emplace_back(glm::vec3(c), 1.0f);
+  const ErrorStats strict = compareToReference(image, slacked, 0.0);
+  EXPECT_GT(strict.maxRelPeak, 1e-3) << flipped << " flipped pair(s)";
+  const ErrorStats allowed = compareToReference(image, slacked, 0.0, ReceiverSlack::Allow);
+  EXPECT_LE(allowed.maxRelPeak, 1e-6);  // the float image's rounding only
+  EXPECT_TRUE(allowed.receiverSlack);
+  EXPECT_GE(allowed.slackPixels, 1u);
+  // The true rounding box (W: the scene's own) is far smaller: few pairs, if any, are ambiguous.
+  ReceiverRounding small;
+  small.worldMagnitude = 10.0;
+  const ReferenceImage own = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0, 0, {},
+                                            ReferencePositions::FromDepth, nullptr, &small);
+  EXPECT_LT(own.ambiguousShadowPairs, slacked.ambiguousShadowPairs);
+  std::cout << "[ receiver slack ] " << flipped << " flipped pair(s), "
+            << slacked.ambiguousShadowPairs << " ambiguous in the wide box, "
+            << own.ambiguousShadowPairs << " in W = 10's; strict " << strict.maxRelPeak
+            << " of the peak, allowed " << allowed.maxRelPeak << "\n";
 }
 
 // Kernels built without TS_HAS_SHADOWS would shade a shadow-casting light unshadowed: refused.
