@@ -213,8 +213,6 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   __local float lmin[GROUP_SIZE];
   __local float lmax[GROUP_SIZE];
   __local uint accept_bits[ACCEPT_WORDS];
-  /* The list's length (every light accepted so far), written by one work-item before a barrier. */
-  __local uint shared_len;
   int width = (int)camera.z, height = (int)camera.w;
   int tx = get_group_id(0), ty = get_group_id(1);
   int tile = ty * get_num_groups(0) + tx;
@@ -233,7 +231,6 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   }
   lmin[lid] = zmin;
   lmax[lid] = zmax;
-  if (lid == 0) shared_len = 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   float2 zr = group_depth_range(lmin, lmax);
 
@@ -267,7 +264,6 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   float4 pre_norms = ts_pretest_norms(pre_slopes);
   for (int base = 0; any_geometry && base < light_count; base += GROUP_SIZE) {
     barrier(CLK_LOCAL_MEM_FENCE); /* the last batch's appends (and bit reads) are done */
-    list_len = shared_len;
     uint n = list_len - accepted;
     int flush = n + GROUP_SIZE > LIST_CAPACITY;
 #if TS_LANES == 1
@@ -297,23 +293,17 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
       if (accept) atomic_or(&accept_bits[lid / 32], 1u << (lid % 32));
     }
     barrier(CLK_LOCAL_MEM_FENCE); /* every accept bit is set */
-    /* Only an accepted light needs its rank (the accepted lights of this batch before it), and
-     * one work-item the batch's count: PoCL runs a barrier region's work-items one after
-     * another, and every work-item counting every word cost as much as the light tests
-     * themselves (bench/RESULTS.md, "`tiled-single`'s per-tile work"). */
-    if (accept) {
-      uint before = popcount(accept_bits[lid / 32] & ((1u << (lid % 32)) - 1u));
-      for (int w = 0; w < lid / 32; ++w) before += popcount(accept_bits[w]);
-      list[list_len + before - accepted] = (uint)light;
+    uint before = 0, batch = 0; /* accepted lights of this batch before this one; in all */
+    for (int w = 0; w < ACCEPT_WORDS; ++w) {
+      uint bits = accept_bits[w];
+      if (w < lid / 32) before += popcount(bits);
+      if (w == lid / 32) before += popcount(bits & ((1u << (lid % 32)) - 1u));
+      batch += popcount(bits);
     }
-    if (lid == 0) {
-      uint batch = 0;
-      for (int w = 0; w < ACCEPT_WORDS; ++w) batch += popcount(accept_bits[w]);
-      shared_len = list_len + batch;
-    }
+    if (accept) list[list_len + before - accepted] = (uint)light;
+    list_len += batch;
   }
   barrier(CLK_LOCAL_MEM_FENCE);
-  list_len = shared_len;
   uint n = list_len - accepted;
 #if TS_LANES == 1
   shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, TS_LIGHT_ARGS, TS_DIRECTIONAL_ARGS,
