@@ -135,8 +135,7 @@ int main(int argc, char** argv) {
   std::string blend = "refuse";
   renderCmd
       ->add_option("--blend", blend,
-                   "glTF alphaMode BLEND materials, which no technique renders yet: " +
-                       ts::blendPolicyNames().help())
+                   "glTF alphaMode BLEND materials: " + ts::blendPolicyNames().help())
       ->capture_default_str();
   renderCmd
       ->add_option("--shading-model", render.shadingModel,

@@ -510,35 +510,35 @@ const FrameReferences& Frame::Impl::ensureSampleReferences(const PassProgress& p
   const PreparedFrame& p = prepared;
   const int windowed = int(RangeModel::Windowed), physical = int(RangeModel::Physical);
   auto progress = [&](const std::string& label) { return pass ? pass(label) : RowProgress(); };
-  outOfMemoryAs(
-      "computing the per-sample references of a " +
-          sizeText(p.intrinsics.width, p.intrinsics.height) + " MSAA frame",
-      [&] {
-        const std::vector<EncodedGBuffer>& planes = samplePlanes();
-        // Only the forward techniques take MSAA: each sample's shadow tests get their slack.
-        std::optional<ReceiverRounding> rounding;
-        if (scene) rounding = receiverRounding(*scene, p.camera.viewFromWorld);
-        const ReceiverRounding* slack = rounding ? &*rounding : nullptr;
-        std::vector<ReferenceImage> ref, shadingOnly, phys;
-        for (size_t k = 0; k < planes.size(); ++k) {
-          const std::string sample = ", sample " + std::to_string(k);
-          ref.push_back(shadeReference(planes[k], p.intrinsics, p.lights, p.ambient, windowed, 0,
-                                       progress("windowed model" + sample),
-                                       ReferencePositions::FromDepth, nullptr, slack));
-          shadingOnly.push_back(
-              shadeReference(planes[k], p.intrinsics, p.lights, p.ambient, windowed, 0,
-                             progress("windowed model, kernel positions" + sample),
-                             ReferencePositions::KernelFloat, nullptr, slack));
-          phys.push_back(shadeReference(planes[k], p.intrinsics, p.lights, p.ambient, physical, 0,
-                                        progress("physical model" + sample),
-                                        ReferencePositions::FromDepth, nullptr, slack));
-        }
-        FrameReferences r;
-        r.reference = averageSamples(ref);
-        r.shadingOnly = averageSamples(shadingOnly);
-        r.physical = averageSamples(phys);
-        sampleReferences = std::move(r);
-      });
+  outOfMemoryAs("computing the per-sample references of a " +
+                    sizeText(p.intrinsics.width, p.intrinsics.height) + " MSAA frame",
+                [&] {
+                  const std::vector<EncodedGBuffer>& planes = samplePlanes();
+                  // Only the forward techniques take MSAA: each sample's shadow tests get their
+                  // slack.
+                  std::optional<ReceiverRounding> rounding;
+                  if (scene) rounding = receiverRounding(*scene, p.camera.viewFromWorld);
+                  const ReceiverRounding* slack = rounding ? &*rounding : nullptr;
+                  std::vector<ReferenceImage> ref, shadingOnly, phys;
+                  for (size_t k = 0; k < planes.size(); ++k) {
+                    const std::string sample = ", sample " + std::to_string(k);
+                    ref.push_back(shadeReference(planes[k], p.intrinsics, p.lights, p.ambient,
+                                                 windowed, 0, progress("windowed model" + sample),
+                                                 ReferencePositions::FromDepth, nullptr, slack));
+                    shadingOnly.push_back(
+                        shadeReference(planes[k], p.intrinsics, p.lights, p.ambient, windowed, 0,
+                                       progress("windowed model, kernel positions" + sample),
+                                       ReferencePositions::KernelFloat, nullptr, slack));
+                    phys.push_back(shadeReference(planes[k], p.intrinsics, p.lights, p.ambient,
+                                                  physical, 0, progress("physical model" + sample),
+                                                  ReferencePositions::FromDepth, nullptr, slack));
+                  }
+                  FrameReferences r;
+                  r.reference = averageSamples(ref);
+                  r.shadingOnly = averageSamples(shadingOnly);
+                  r.physical = averageSamples(phys);
+                  sampleReferences = std::move(r);
+                });
   return *sampleReferences;
 }
 

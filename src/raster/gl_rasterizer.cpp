@@ -1283,12 +1283,15 @@ ForwardImage GlRasterizer::transparentOver(const SceneCamera& camera, int width,
                                            const ForwardLightGrid& grid) {
   const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
   if (!lighting.lights) throw Error("the transparent pass: no lights");
+  if (lighting.samples != 1)
+    throw Error("the transparent pass over a deferred image is not done with --msaa " +
+                std::to_string(lighting.samples));
   checkGrid(grid, width, height);
   if (opaque.size() != size_t(width) * size_t(height))
     throw Error("the transparent pass: the opaque image does not match the " +
                 std::to_string(width) + "x" + std::to_string(height) + " frame");
   State& s = beginForward(width, height, lighting.lights->hasShadows());
-  s.ensureForwardFramebuffer(width, height);
+  s.ensureForwardFramebuffer(width, height, 1);
 
   ForwardImage out;
   glFinish();

@@ -57,7 +57,8 @@ class GlForwardScene : public ForwardScene {
                                glm::vec3 ambient, const SceneFeatures& features, int rangeModel,
                                const ForwardLightGrid& grid) override {
     return gl_.transparentOver(camera_, width_, height_,
-                               lightingOf(lights, ambient, features, rangeModel), opaque, grid);
+                               lightingOf(lights, ambient, features, rangeModel, samples_), opaque,
+                               grid);
   }
   size_t transparentDraws() const override { return gl_.transparentDraws(); }
   std::vector<TransparentFragment> captureTransparent(const SceneFeatures& features,

@@ -234,7 +234,8 @@ ReferenceImage averageSamples(const std::vector<ReferenceImage>& samples) {
     // The mean's slack is the mean of the samples' (each bounds its own sample's shadow flips).
     if (!s.receiverSlack.empty()) {
       mean.receiverSlack.resize(s.receiverSlack.size(), glm::dvec3(0.0));
-      for (size_t i = 0; i < s.receiverSlack.size(); ++i) mean.receiverSlack[i] += s.receiverSlack[i];
+      for (size_t i = 0; i < s.receiverSlack.size(); ++i)
+        mean.receiverSlack[i] += s.receiverSlack[i];
     }
     mean.ambiguousShadowPairs += s.ambiguousShadowPairs;
   }

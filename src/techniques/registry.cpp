@@ -18,7 +18,8 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
       {"tiled",
        "multi-kernel tiled deferred: depth min/max, light binning, per-pixel shading; glass "
        "(--blend blend, --raster gl) in a tiled forward pass over its grid after",
-       makeTiledTechnique, 16, false, false, true},
+       makeTiledTechnique, 16, /*drawsScene=*/false, /*reusesShadowMaps=*/false,
+       /*hybridTransparency=*/true},
       {"tiled-single",
        "single-kernel tiled deferred: one work-group per tile reduces depth, tests every light "
        "and shades in local memory",
@@ -30,12 +31,12 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
        "traditional deferred: one launch per light over its screen rectangle, each pixel re-reads "
        "the G-buffer and blends into an accumulation buffer",
        [](ClContext& cl, const TechniqueConfig& c) { return makeDeferredTechnique(cl, c, false); },
-       1, false, true},
+       1, /*drawsScene=*/false, /*reusesShadowMaps=*/true},
       {"deferred-stencil",
        "traditional deferred with the stencil test's effect: only pixels inside the light sphere "
        "read the full G-buffer and shade",
        [](ClContext& cl, const TechniqueConfig& c) { return makeDeferredTechnique(cl, c, true); },
-       1, false, true},
+       1, /*drawsScene=*/false, /*reusesShadowMaps=*/true},
       {"brute", "every light for every pixel, range test only: the naive baseline",
        makeBruteTechnique, 16},
       {"tiled-forward",
@@ -44,22 +45,24 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
        [](ClContext& cl, const TechniqueConfig& c) {
          return makeTiledForwardTechnique(cl, c, false);
        },
-       1, true, false, true},
+       1, /*drawsScene=*/true, /*reusesShadowMaps=*/false, /*hybridTransparency=*/false,
+       /*multisamples=*/true},
       {"tiled-forward-prez",
        "tiled forward with a depth pre-pass (needs --raster gl): pre-pass depth -> tiled's depth "
        "bounds and binning kernels, then the forward pass with depth test EQUAL",
        [](ClContext& cl, const TechniqueConfig& c) {
          return makeTiledForwardTechnique(cl, c, true);
        },
-       1, true, false, true},
+       1, /*drawsScene=*/true, /*reusesShadowMaps=*/false, /*hybridTransparency=*/false,
+       /*multisamples=*/true},
       {"forward",
        "multi-pass forward (needs --raster gl): a base pass (ambient, emission, directional), then "
        "per light one additive pass, depth test EQUAL, over the draw batches its sphere touches",
-       makeForwardTechnique, 1, true},
+       makeForwardTechnique, 1, /*drawsScene=*/true},
       {"forward-single",
        "single-pass forward (needs --raster gl): per draw batch the lights touching its box, found "
        "on the host each frame (no list cap), the scene drawn once",
-       makeForwardSingleTechnique, 1, true},
+       makeForwardSingleTechnique, 1, /*drawsScene=*/true},
   };
   return registry;
 }
