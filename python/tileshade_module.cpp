@@ -115,13 +115,17 @@ PYBIND11_MODULE(tileshade, m) {
       [] {
         py::list list;
         for (const auto& t : ts::listTechniques()) {
-          list.append(py::dict("name"_a = t.name, "description"_a = t.description,
-                               "draws_scene"_a = t.drawsScene));
+          list.append(py::dict(
+              "name"_a = t.name, "description"_a = t.description, "draws_scene"_a = t.drawsScene,
+              "reuses_shadow_maps"_a = t.reusesShadowMaps,
+              "hybrid_transparency"_a = t.hybridTransparency, "multisamples"_a = t.multisamples));
         }
         return list;
       },
       "The techniques, as dicts (name, description, draws_scene: a forward technique, which needs "
-      "a frame rasterized with raster=\"gl\").");
+      "a frame rasterized with raster=\"gl\"; reuses_shadow_maps: may use shadow_storage="
+      "\"per-light\"; hybrid_transparency: a G-buffer technique that shades glass; multisamples: "
+      "shades msaa above 1).");
 
   py::class_<ts::Device>(m, "Device", "An OpenCL device (spec as `tileshade render --device`).")
       .def(py::init<const std::string&>(), "spec"_a = "")

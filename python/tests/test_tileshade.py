@@ -49,6 +49,12 @@ def test_devices_and_techniques(device):
     names = [t["name"] for t in tileshade.techniques()]
     assert {"tiled", "clustered", "deferred"} <= set(names)
     assert all(t["description"] for t in tileshade.techniques())
+    # The registry's flags, as the C++ API's TechniqueDescription gives them.
+    by_name = {t["name"]: t for t in tileshade.techniques()}
+    assert by_name["tiled-forward"]["draws_scene"] and not by_name["tiled"]["draws_scene"]
+    assert by_name["deferred"]["reuses_shadow_maps"] and not by_name["tiled"]["reuses_shadow_maps"]
+    assert by_name["tiled"]["hybrid_transparency"] and not by_name["clustered"]["hybrid_transparency"]
+    assert by_name["tiled-forward"]["multisamples"] and not by_name["forward"]["multisamples"]
 
 
 def test_render_returns_an_image_and_stats():

@@ -13,6 +13,11 @@
 
 namespace ts {
 
+// The note a --shadow-error row carries instead of the shadow_* columns when no light of its
+// frame casts a shadow (bench_measure.cpp); --resume keeps such a row (bench_resume.cpp).
+inline constexpr const char* kNoShadowErrorNote =
+    "--shadow-error: no light casts a shadow in this frame";
+
 // How a column's JSON value becomes CSV text, comes back, and is checked on --resume.
 enum class BenchColumnType {
   Text,           // a string as it is (other JSON as its dump); read back as a string

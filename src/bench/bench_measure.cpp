@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "bench/bench_columns.h"
 #include "shading/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
 #include "techniques/technique.h"
 #include "render/stats.h"
@@ -269,7 +270,7 @@ json measurementRow(const BenchEntry& e, const GroupFrame& frame, int f, const E
                            {"exact_ms", err.exact->stats.at("build_ms").get<double>() +
                                             err.exact->stats.at("query_ms").get<double>()}};
   } else if (err.shadowErrorWanted) {
-    row["notes"].push_back("--shadow-error: no light casts a shadow in this frame");
+    row["notes"].push_back(kNoShadowErrorNote);
   }
   return row;
 }

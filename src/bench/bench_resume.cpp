@@ -35,6 +35,10 @@ std::string unusable(const std::map<std::string, std::string>& r,
     return "measured with another --warmup or --repeat";
   if (e.errorFrames.count(frame) && r.at("err_max_abs").empty())
     return "no error columns where --error wants them";
+  // A frame without shadow-casting lights gets the note instead of the columns (bench_measure).
+  if (e.shadowErrorFrames.count(frame) && r.at("shadow_wrong_pct").empty() &&
+      r.at("notes").find(kNoShadowErrorNote) == std::string::npos)
+    return "no shadow-error columns where --shadow-error wants them";
   return "";
 }
 

@@ -18,9 +18,10 @@ namespace ts {
 // What the current run writes for one configuration (by config_id).
 struct ResumeExpectation {
   BenchConfig config;
-  std::string deviceName;     // what its device spec resolves to
-  std::set<int> frames;       // its timed frames
-  std::set<int> errorFrames;  // the frames that get error columns
+  std::string deviceName;           // what its device spec resolves to
+  std::set<int> frames;             // its timed frames
+  std::set<int> errorFrames;        // the frames that get error columns
+  std::set<int> shadowErrorFrames;  // the frames that get shadow-error columns (--shadow-error)
 };
 
 struct ResumeScan {

@@ -172,7 +172,8 @@ void BenchRunner::loadResumeState() {
     expected[e.config.id()] = {e.config,
                                contexts_.at(e.config.device)->deviceName(),
                                {e.frames.begin(), e.frames.end()},
-                               e.errorFrames};
+                               e.errorFrames,
+                               e.shadowErrorFrames};
   ResumeScan scan = scanBenchCsv(csvPath_, expected, o_.warmup, o_.repeat);
   std::map<std::pair<std::string, int>, json> recorded;
   if (fs::exists(jsonPath_, ec)) {

@@ -612,6 +612,27 @@ TEST_F(BenchResume, RowsWithoutErrorColumnsAreMeasuredAgainWithError) {
   expectDropped(resume(o, 2, 4), 2, "no error columns where --error wants them");
 }
 
+TEST_F(BenchResume, RowsWithoutShadowErrorAreMeasuredAgainWithIt) {
+  ts::BenchOptions o = resumeOptions("shadow_error");
+  o.shadowError = true;
+  o.errorFrames = "1";  // frame 0
+  expectDropped(resume(o, 2, 4), 2, "no shadow-error columns where --shadow-error wants them");
+}
+
+TEST_F(BenchResume, RowsWithTheNoShadowNoteAreKept) {
+  // The tiny scene casts no shadow: --shadow-error rows carry the note instead of the columns.
+  ts::BenchOptions o = resumeOptions("shadow_note");
+  o.shadowError = true;
+  o.errorFrames = "1";
+  o.resume = false;
+  o.overwrite = true;
+  o.printTable = false;
+  ASSERT_EQ(ts::runBench(o).measuredRows, 4u);
+  o.resume = true;
+  o.overwrite = false;
+  EXPECT_EQ(resume(o, 0, 4), "");
+}
+
 TEST_F(BenchResume, RepeatedRowsKeepTheLast) {
   ts::BenchOptions o = resumeOptions("repeated");
   auto l = lines(o);
