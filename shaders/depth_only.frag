@@ -4,10 +4,14 @@
 // (as the G-buffer's depth plane) for the OpenCL tile_depth_bounds kernel. The shadow maps
 // (drawShadowAtlas) are drawn with it too: -z_view of a face's view is the maps' linear depth.
 // alphaMode MASK fragments are left out as the G-buffer and forward passes leave them
-// (material_planes.h), and as the software maps do.
+// (material_planes.h), and as the software maps do. Location 3 gets the fragment's triangle, as
+// tiled_forward.frag's base pass writes it: the forward pass after the pre-pass shades only that
+// triangle (u_visibleOnly), as the EQUAL test alone would shade coplanar faces drawn twice.
 in vec3 v_viewPosition;
 in vec2 v_uv;
 layout(location = 1) out float o_depth;
+layout(location = 3) out int o_triangle;
+uniform int u_firstTriangle;
 
 struct TsMaterial {
   vec3 diffuse;
@@ -33,4 +37,5 @@ uniform bool u_hasTexture[4];
 void main() {
   if (!ts_material_covered(u_material)) discard;
   o_depth = -v_viewPosition.z;
+  o_triangle = u_firstTriangle + gl_PrimitiveID;
 }

@@ -1170,10 +1170,14 @@ std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int wid
   warmUpForward(false);
   s.ensureForwardFramebuffer(width, height, samples);
   s.passState(in);
-  const GLenum buffers[2] = {GL_NONE, GL_COLOR_ATTACHMENT1};
-  glDrawBuffers(2, buffers);
+  // Colour 1: the linear depth; colour 3: each pixel's visible triangle (-1: none), which the
+  // forward pass's u_visibleOnly reads.
+  const GLenum buffers[4] = {GL_NONE, GL_COLOR_ATTACHMENT1, GL_NONE, GL_COLOR_ATTACHMENT3};
+  glDrawBuffers(4, buffers);
   const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   glClearBufferfv(GL_COLOR, 1, zero);
+  const GLint none[4] = {-1, -1, -1, -1};
+  glClearBufferiv(GL_COLOR, 3, none);
   s.clearDepth(in);
   glDepthFunc(GL_GREATER);
   glUseProgram(s.depthProgram);
@@ -1256,8 +1260,12 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
   s.passState(in);
   s.clearImage();
   if (depthEqual) {
+    // EQUAL and the pre-pass's triangle: coplanar faces drawn twice pass EQUAL both, and the
+    // later would overwrite the one the pre-pass (and the G-buffer pass) kept.
     glDepthFunc(GL_EQUAL);
     glDepthMask(GL_FALSE);
+    s.keepVisibleTriangles(width, height);
+    glUniform1i(s.forwardUniform("u_visibleOnly"), 1);
   } else {
     s.clearDepth(in);
     glDepthFunc(GL_GREATER);
@@ -1267,6 +1275,7 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
       out.queryMs);
   out.draws = s.draws.size() - s.backToFront(camera).size();
   glDepthMask(GL_TRUE);
+  glUniform1i(s.forwardUniform("u_visibleOnly"), 0);
   gl::checkErrors("the tiled forward pass of scene '" + s.scene.name + "'");
   if (transparentGrid) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileBins, s.storage[kGlassBins]);
