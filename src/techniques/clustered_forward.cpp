@@ -130,11 +130,11 @@ class ClusteredForwardTechnique : public Technique {
     result.totalMs = 0.0;
     for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
     result.image = drawn.image;
-    result.counters.notes.push_back(
-        "slices span the scene's view depth " + std::to_string(slicing.zn) + ".." +
-        std::to_string(slicing.zf) + "; forward pass: OpenGL timer query " +
-        std::to_string(drawn.queryMs) + " ms, wall clock " + std::to_string(drawn.drawMs) +
-        " ms (the row)");
+    result.counters.notes.push_back("slices span the scene's view depth " +
+                                    std::to_string(slicing.zn) + ".." + std::to_string(slicing.zf) +
+                                    "; forward pass: OpenGL timer query " +
+                                    std::to_string(drawn.queryMs) + " ms, wall clock " +
+                                    std::to_string(drawn.drawMs) + " ms (the row)");
     setCounters(result.counters, grid, drawn, frame);
     if (request.wantAssignment) result.assignment = assignment(grid, slicing, frame);
     return result;
@@ -271,9 +271,10 @@ class ClusteredForwardTechnique : public Technique {
     for (int y = 0; y < frame.height(); ++y)
       for (int x = 0; x < frame.width(); ++x) {
         const size_t i = size_t(y) * frame.width() + x;
-        a.pixelBin[i] = depth[i] > 0.0f ? int32_t(grid_.tileOf(x, y) * grid.slices +
-                                                  s.slice(depth[i], grid.slices))
-                                        : -1;
+        a.pixelBin[i] =
+            depth[i] > 0.0f
+                ? int32_t(grid_.tileOf(x, y) * grid.slices + s.slice(depth[i], grid.slices))
+                : -1;
       }
     return a;
   }
@@ -283,8 +284,8 @@ class ClusteredForwardTechnique : public Technique {
   cl::Program program_;
   cl::Kernel binLights_, scan_, sort_;
   TileGrid grid_;
-  cl::Buffer depthRange_, clusterDepth_, tileSlices_, clusterCount_, clusterOffset_,
-      clusterCursor_, total_, clusterLights_;
+  cl::Buffer depthRange_, clusterDepth_, tileSlices_, clusterCount_, clusterOffset_, clusterCursor_,
+      total_, clusterLights_;
   size_t capacity_ = 0;
   std::vector<cl_float2> sliceBounds_;  // host copy kept alive for the non-blocking write
   cl_uint2 sliceRange_{};

@@ -193,8 +193,7 @@ TEST(ClusteredForward, CommandLineRefusesOrIncludes) {
       "--check" +
       size);
   EXPECT_EQ(r.exitCode(), 0) << r.output;
-  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "clustered-forward" / "image.png"))
-      << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "clustered-forward" / "image.png")) << r.output;
   std::filesystem::remove_all(dir);
 }
 
