@@ -148,8 +148,16 @@ class ClusteredForwardTechnique : public Technique {
     if (grid.tilesX == grid_.tilesX && grid.tilesY == grid_.tilesY && grid.width == grid_.width &&
         grid.height == grid_.height)
       return;
+    // Refused before any allocation: tiny tiles times many slices (say 1x1 x 1024 at 640x360)
+    // ask for gigabytes of per-cluster buffers, which would fail far later, less clearly.
+    const size_t clusters = size_t(grid.count()) * config_.clusterSlices;
+    const size_t maxAlloc = size_t(cl_.device().getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>());
+    if (clusters * sizeof(cl_float2) > maxAlloc)
+      throw Error("clustered-forward: " + std::to_string(grid.count()) + " tiles x " +
+                  std::to_string(config_.clusterSlices) + " slices = " + std::to_string(clusters) +
+                  " clusters need more than the device's largest buffer (" +
+                  std::to_string(maxAlloc >> 20) + " MiB): use bigger tiles or fewer slices");
     grid_ = grid;
-    const size_t clusters = clusterCount();
     auto& ctx = cl_.context();
     depthRange_ = cl::Buffer(ctx, CL_MEM_READ_ONLY, 2 * sizeof(cl_uint));
     clusterDepth_ = cl::Buffer(ctx, CL_MEM_READ_ONLY, clusters * sizeof(cl_float2));
