@@ -112,6 +112,10 @@ ivec2 ts_atlas_texel(int i) {
 uniform vec3 u_ambient;
 uniform int u_dirLightCount;
 uniform ivec3 u_tiles;  // tile width, height, tiles per row
+// clustered-forward's grid: (slices per tile, slicing's near depth, scale); a fragment's bin is
+// tile * slices + its slice, computed from its own view depth as kernels/clustered.cl computes a
+// pixel's (so a glass fragment finds its own cluster). slices 1: the tile's list.
+uniform vec3 u_slicing;
 uniform int u_model;
 uniform int u_shading;
 uniform int u_specularOn;
@@ -202,8 +206,14 @@ void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   int tile = (pixel.y / u_tiles.y) * u_tiles.z + pixel.x / u_tiles.x;
   uvec2 bin;
-  if (u_drawList) bin = u_list;
-  else bin = tile_bin[tile];
+  if (u_drawList) {
+    bin = u_list;
+  } else if (u_slicing.x > 1.0) {
+    float slice = clamp(log(-P.z / u_slicing.y) * u_slicing.z, 0.0, u_slicing.x - 1.0);
+    bin = tile_bin[tile * int(u_slicing.x) + int(slice)];
+  } else {
+    bin = tile_bin[tile];
+  }
   vec3 sum = vec3(0.0);
   for (uint k = 0u; k < bin.y; ++k) {
     uint i = tile_lights[bin.x + k];

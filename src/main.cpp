@@ -176,7 +176,9 @@ int main(int argc, char** argv) {
                    "technique(s): " + joined(ts::techniqueNames()) + ", or all")
       ->capture_default_str();
   renderCmd->add_option("--tile", tile, "tile size N or WxH (pixels)")->capture_default_str();
-  renderCmd->add_option("--slices", render.clusterSlices, "depth slices of clustered shading")
+  renderCmd
+      ->add_option("--slices", render.clusterSlices,
+                   "depth slices of clustered and clustered-forward")
       ->capture_default_str();
   auto* rasterOpt =
       renderCmd

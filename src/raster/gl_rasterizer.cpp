@@ -921,6 +921,7 @@ struct GlRasterizer::State {
     glUniform1i(forwardUniform("u_emissiveOn"), f.emissive ? 1 : 0);
     glUniform1i(forwardUniform("u_visibleOnly"), 0);
     glUniform1i(forwardUniform("u_samples"), forwardTargets.samples);
+    glUniform3f(forwardUniform("u_slicing"), 1.0f, 1.0f, 0.0f);  // tile lists (tiledForward sets)
   }
 
   // The image target drawn and cleared to 0 (the background); with batchIds also the batch
@@ -1201,10 +1202,11 @@ std::vector<float> GlRasterizer::depthPrepass(const SceneCamera& camera, int wid
 
 // Throws ts::Error unless `grid` tiles a width x height frame.
 static void checkGrid(const ForwardLightGrid& grid, int width, int height) {
-  const size_t tiles = size_t(grid.tilesX) * size_t(grid.tilesY);
-  if (grid.tileW < 1 || grid.tileH < 1 || grid.tilesX != (width + grid.tileW - 1) / grid.tileW ||
-      grid.tilesY != (height + grid.tileH - 1) / grid.tileH || grid.offsets.size() != tiles ||
-      grid.counts.size() != tiles)
+  const size_t bins = size_t(grid.tilesX) * size_t(grid.tilesY) * size_t(std::max(grid.slices, 0));
+  if (grid.tileW < 1 || grid.tileH < 1 || grid.slices < 1 ||
+      grid.tilesX != (width + grid.tileW - 1) / grid.tileW ||
+      grid.tilesY != (height + grid.tileH - 1) / grid.tileH || grid.offsets.size() != bins ||
+      grid.counts.size() != bins)
     throw Error("tiled forward: the light grid does not match the " + std::to_string(width) + "x" +
                 std::to_string(height) + " frame");
 }
@@ -1233,12 +1235,14 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
   ForwardImage out;
   const auto t0 = Clock::now();
   const int directionals = s.uploadLights(lighting);
-  std::vector<glm::uvec2> bins(tiles);
-  for (size_t t = 0; t < tiles; ++t) bins[t] = {grid.offsets[t], grid.counts[t]};
+  std::vector<glm::uvec2> bins(grid.offsets.size());  // tiles, or clusters
+  for (size_t t = 0; t < bins.size(); ++t) bins[t] = {grid.offsets[t], grid.counts[t]};
   s.storeVector(kTileBins, bins);
   s.storeVector(kTileLights, grid.lights);
   if (transparentGrid) {
-    for (size_t t = 0; t < tiles; ++t)
+    if (transparentGrid->slices != grid.slices)
+      throw Error("tiled forward: the transparent pass's grid has other slices than the opaque's");
+    for (size_t t = 0; t < bins.size(); ++t)
       bins[t] = {transparentGrid->offsets[t], transparentGrid->counts[t]};
     s.storeVectorAt(kGlassBins, kTileBins, bins);
     s.storeVectorAt(kGlassLights, kTileLights, transparentGrid->lights);
@@ -1253,6 +1257,7 @@ ForwardImage GlRasterizer::tiledForward(const SceneCamera& camera, int width, in
   out.shadowUploadMs = s.uploadShadows(*lighting.lights);
 
   s.setForwardUniforms(lighting, directionals, {grid.tileW, grid.tileH, grid.tilesX});
+  glUniform3f(s.forwardUniform("u_slicing"), float(grid.slices), grid.sliceNear, grid.sliceScale);
   glUniform1i(s.forwardUniform("u_drawList"), 0);
   glUniform1i(s.forwardUniform("u_baseTerms"), 1);
   const bool metallicRoughness = lighting.features.model == ShadingModel::MetallicRoughness;

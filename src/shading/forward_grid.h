@@ -11,8 +11,13 @@ namespace ts {
 // The tile light grid, copied to the host: tiles of tileW x tileH pixels, row-major from the top
 // left; tile t's lights are lights[offsets[t] .. offsets[t] + counts[t]), indices into the
 // frame's ViewLights.
+// Clustered (clustered-forward): `slices` depth slices per tile, bin = tile * slices + slice, a
+// fragment's slice from its view depth z as kernels/clustered.cl has it:
+// int(clamp(log(z / sliceNear) * sliceScale, 0, slices - 1)).
 struct ForwardLightGrid {
   int tileW = 16, tileH = 16, tilesX = 0, tilesY = 0;
+  int slices = 1;
+  float sliceNear = 1.0f, sliceScale = 0.0f;
   std::vector<uint32_t> offsets, counts, lights;
 };
 

@@ -55,6 +55,11 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
        },
        1, /*drawsScene=*/true, /*reusesShadowMaps=*/false, /*hybridTransparency=*/false,
        /*multisamples=*/true},
+      {"clustered-forward",
+       "clustered forward (needs --raster gl): clustered's tiles x depth slices over the scene's "
+       "view depth, binned by its kernel, the scene drawn once in OpenGL, each fragment (glass "
+       "too) shading the lights of the cluster of its own depth",
+       makeClusteredForwardTechnique, 1, /*drawsScene=*/true},
       {"forward",
        "multi-pass forward (needs --raster gl): a base pass (ambient, emission, directional), then "
        "per light one additive pass, depth test EQUAL, over the draw batches its sphere touches",
@@ -156,6 +161,11 @@ std::string msaaRefusal(const std::string& technique, int samples) {
            "the deferred ones is not)";
   // A fragment interpolated at the pixel centre for a sample its triangle covers can lie off
   // the triangle, outside its batch's box (docs/techniques.md, "MSAA").
+  if (technique == "clustered-forward")
+    return "technique 'clustered-forward' with --msaa " + std::to_string(samples) +
+           " is not done: its slices span the scene's view depth bounds, which a fragment "
+           "extrapolated to the pixel centre can leave (tiled-forward and tiled-forward-prez "
+           "take --msaa)";
   return "technique '" + technique + "' with --msaa " + std::to_string(samples) +
          " is not done: its per-batch light lists are culled against the batches' boxes, which a "
          "fragment extrapolated to the pixel centre can leave (tiled-forward and "

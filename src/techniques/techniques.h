@@ -13,6 +13,7 @@ std::unique_ptr<Technique> makeBruteTechnique(ClContext& cl, const TechniqueConf
 std::unique_ptr<Technique> makeDeferredTechnique(ClContext&, const TechniqueConfig&, bool stencil);
 // prez: tiled-forward-prez (depth pre-pass, tile depth bounds, depth EQUAL); else tiled-forward.
 std::unique_ptr<Technique> makeTiledForwardTechnique(ClContext&, const TechniqueConfig&, bool prez);
+std::unique_ptr<Technique> makeClusteredForwardTechnique(ClContext&, const TechniqueConfig&);
 std::unique_ptr<Technique> makeForwardTechnique(ClContext&, const TechniqueConfig&);
 std::unique_ptr<Technique> makeForwardSingleTechnique(ClContext&, const TechniqueConfig&);
 

@@ -68,7 +68,7 @@ TEST(GlassCli, AllRendersTheCompositingTechniquesAndSaysWhatItLeavesOut) {
   std::vector<std::string> rendered;
   for (const nlohmann::json& t : stats["techniques"]) rendered.push_back(t["technique"]);
   EXPECT_EQ(rendered, (std::vector<std::string>{"tiled", "tiled-forward", "tiled-forward-prez",
-                                                "forward", "forward-single"}));
+                                                "clustered-forward", "forward", "forward-single"}));
 }
 
 TEST(GlassCli, RefusedInOneLineWhereItCannotBeComposited) {

@@ -147,8 +147,9 @@ TEST(TiledForward, CommandLineRefusesOrIncludes) {
 // `all` without a scene: the G-buffer techniques, every one but the forward family.
 TEST(TiledForward, GbufferTechniquesLeaveOutTheForwardFamily) {
   const std::vector<std::string> all = techniqueNames(), gbuffer = gbufferTechniqueNames();
-  EXPECT_EQ(all.size(), gbuffer.size() + 4);
-  for (const char* t : {"tiled-forward", "tiled-forward-prez", "forward", "forward-single"}) {
+  EXPECT_EQ(all.size(), gbuffer.size() + 5);
+  for (const char* t :
+       {"tiled-forward", "tiled-forward-prez", "clustered-forward", "forward", "forward-single"}) {
     EXPECT_NE(std::find(all.begin(), all.end(), t), all.end());
     EXPECT_EQ(std::find(gbuffer.begin(), gbuffer.end(), t), gbuffer.end());
   }

@@ -1,0 +1,310 @@
+// Clustered forward shading (Olsson, Billeter & Assarsson 2012, its forward form): `clustered`'s
+// grid of tiles x exponential depth slices, binned by the same OpenCL kernel (bin_clusters,
+// kernels/clustered.cl), copied to OpenGL through the host (row grid_copy, as tiled-forward's),
+// and the scene drawn once in OpenGL (shaders/tiled_forward.frag): each fragment finds its
+// cluster from its own view depth and shades that cluster's list with kernels/shading.h.
+//
+// The slices' depth range: forward has no G-buffer, and no depth pre-pass here, so the slices
+// span the view-space depth bounds of the scene's draw batches at this camera (their boxes,
+// ForwardScene::batchBoxes, clipped to [znear, zfar]) rather than the frame's geometry depth as
+// `clustered` has it. Every fragment, opaque or transparent, lies inside those bounds, so a glass
+// fragment in front of the opaque surface still finds its own cluster: no far bound of the opaque
+// depth is needed (the reason the paper gives for clusters and transparency). For the same
+// reason a cluster's depth range is its whole slice, not the depths of the geometry in it (which
+// only a pre-pass could give, and which would leave out the glass): binning tests each light
+// against every cluster of its tile rectangle and slice range. The slice's bounds are widened by
+// kSliceSlack so that the rounding of log in GLSL (which picks a fragment's slice) never puts a
+// fragment in a cluster whose bounds exclude it; the lists are thus exact (conservative) for
+// every fragment drawn.
+//
+// Counters: lighting computations and evaluations are the fragment shader's own count
+// (invocations x lights evaluated, overdrawn and transparent fragments included), as for the
+// other forward techniques; list statistics over all clusters (each may receive fragments).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "cl/kernel_args.h"
+#include "techniques/forward_batches.h"
+#include "techniques/tile_grid.h"
+#include "techniques/techniques.h"
+#include "util/error.h"
+#include "util/option_values.h"
+
+namespace ts {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Relative widening of each slice's depth bounds: GLSL's log (a few ulps) and the kernels' differ
+// by far less than 1e-3 in log units, so the fragment's slice always contains its depth.
+constexpr double kSliceSlack = 1e-3;
+
+// The slicing of one frame: slices from zn to zf (view depth), scale = slices / log(zf / zn).
+struct Slicing {
+  float zn = 1.0f, zf = 1.0f, scale = 0.0f;
+  int slice(float z, int slices) const {  // as kernels/clustered.cl and the fragment shader
+    return int(std::clamp(std::log(z / zn) * scale, 0.0f, float(slices - 1)));
+  }
+};
+
+// The scene's depth bounds at this camera: the union of the batches' view boxes (the camera looks
+// down -z), clipped to the camera's range. An empty or flat range gives scale 0 (one slice used).
+Slicing sceneSlicing(const std::vector<ViewBox>& boxes, float znear, float zfar, int slices) {
+  float nearest = zfar, farthest = znear;
+  for (const ViewBox& b : boxes) {
+    nearest = std::min(nearest, -b.max.z);
+    farthest = std::max(farthest, -b.min.z);
+  }
+  Slicing s;
+  s.zn = std::clamp(nearest, znear, zfar);
+  s.zf = std::clamp(farthest, s.zn, zfar);
+  s.scale = s.zf > s.zn ? float(slices) / std::log(s.zf / s.zn) : 0.0f;
+  return s;
+}
+
+class ClusteredForwardTechnique : public Technique {
+ public:
+  ClusteredForwardTechnique(ClContext& cl, const TechniqueConfig& config)
+      : cl_(cl), config_(config) {
+    if (config.tileWidth < 1 || config.tileHeight < 1) throw Error("tile size must be positive");
+    if (config.clusterSlices < 1 || config.clusterSlices > kMaxClusterSlices)
+      throw Error("cluster slices must be 1.." + std::to_string(kMaxClusterSlices) + ", got " +
+                  std::to_string(config.clusterSlices));
+    // clustered.cl as `clustered` builds it (its binning kernels only; shading happens in GL).
+    std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
+                          " -DTILE_H=" + std::to_string(config.tileHeight) +
+                          " -DSLICES=" + std::to_string(config.clusterSlices);
+    program_ = cl.build("clustered.cl", options);
+    binLights_ = cl::Kernel(program_, "bin_clusters");
+    scan_ = cl::Kernel(program_, "exclusive_scan");
+    sort_ = cl::Kernel(program_, "sort_bins");
+  }
+
+  std::string name() const override { return "clustered-forward"; }
+
+  FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
+    ForwardScene& scene = sceneToDraw(frame, name());
+    allocate(frame);
+    FrameResult result;
+    const int slices = config_.clusterSlices;
+
+    // Host: the scene's depth bounds and every cluster's slice bounds, written to the device.
+    auto boundsStart = Clock::now();
+    const Slicing slicing =
+        sceneSlicing(scene.batchBoxes(), frame.camera.znear, frame.camera.zfar, slices);
+    writeSliceBounds(slicing);
+    const double boundsMs = msSince(boundsStart);
+
+    if (config_.presizeLists)
+      reserveList(cl_, clusterLights_, capacity_,
+                  std::min(tileListBound(grid_, frame, int(config_.spotCulling)) * size_t(slices),
+                           size_t(16) << 20));
+    const uint32_t total = runUntilListFits(
+        cl_, clusterLights_, capacity_, total_,
+        [&] {
+          timer_.clear();
+          enqueueBinning(frame);
+        },
+        "cluster", result.counters.notes);
+    cl_.queue().finish();
+    result.kernels = timer_.kernels();
+    result.kernels.insert(result.kernels.begin(), {"slice_bounds", boundsMs, 1});
+
+    auto copyStart = Clock::now();
+    const ForwardLightGrid grid = toHost(total, slicing);
+    const double readMs = msSince(copyStart);
+
+    const ForwardImage drawn = scene.tiledForward(*frame.lights, frame.ambient, features(),
+                                                  int(config_.rangeModel), grid, false, nullptr);
+    result.kernels.push_back({"grid_copy", readMs + drawn.uploadMs, 1});
+    result.kernels.push_back({"forward", drawn.drawMs, 1});
+    addShadowUploadRow(*frame.lights, drawn, result.kernels);
+    if (drawn.transparentDraws > 0)
+      result.kernels.push_back({"transparent", drawn.transparentMs, int(drawn.transparentDraws)});
+    result.totalMs = 0.0;
+    for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
+    result.image = drawn.image;
+    result.counters.notes.push_back("slices span the scene's view depth " +
+                                    std::to_string(slicing.zn) + ".." + std::to_string(slicing.zf) +
+                                    "; forward pass: OpenGL timer query " +
+                                    std::to_string(drawn.queryMs) + " ms, wall clock " +
+                                    std::to_string(drawn.drawMs) + " ms (the row)");
+    setCounters(result.counters, grid, drawn, frame);
+    if (request.wantAssignment) result.assignment = assignment(grid, slicing, frame);
+    return result;
+  }
+
+ private:
+  size_t clusterCount() const { return size_t(grid_.count()) * config_.clusterSlices; }
+
+  void allocate(const DeviceFrame& frame) {
+    TileGrid grid(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight);
+    if (grid.tilesX == grid_.tilesX && grid.tilesY == grid_.tilesY && grid.width == grid_.width &&
+        grid.height == grid_.height)
+      return;
+    // Refused before any allocation: tiny tiles times many slices (say 1x1 x 1024 at 640x360)
+    // ask for gigabytes of per-cluster buffers, which would fail far later, less clearly.
+    const size_t clusters = size_t(grid.count()) * config_.clusterSlices;
+    const size_t maxAlloc = size_t(cl_.device().getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>());
+    if (clusters * sizeof(cl_float2) > maxAlloc)
+      throw Error("clustered-forward: " + std::to_string(grid.count()) + " tiles x " +
+                  std::to_string(config_.clusterSlices) + " slices = " + std::to_string(clusters) +
+                  " clusters need more than the device's largest buffer (" +
+                  std::to_string(maxAlloc >> 20) + " MiB): use bigger tiles or fewer slices");
+    grid_ = grid;
+    auto& ctx = cl_.context();
+    depthRange_ = cl::Buffer(ctx, CL_MEM_READ_ONLY, 2 * sizeof(cl_uint));
+    clusterDepth_ = cl::Buffer(ctx, CL_MEM_READ_ONLY, clusters * sizeof(cl_float2));
+    tileSlices_ = cl::Buffer(ctx, CL_MEM_READ_ONLY, size_t(grid_.count()) * sizeof(cl_int2));
+    clusterCount_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
+    clusterOffset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
+    clusterCursor_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
+    total_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(uint32_t));
+    reserveList(cl_, clusterLights_, capacity_, size_t(grid_.count()) * 8);
+    // Every tile holds all its slices (any of them may receive a fragment).
+    const int slices = config_.clusterSlices;
+    const std::vector<cl_int2> all(size_t(grid_.count()), cl_int2{{0, slices - 1}});
+    cl_.queue().enqueueWriteBuffer(tileSlices_, CL_TRUE, 0, all.size() * sizeof(cl_int2),
+                                   all.data());
+  }
+
+  // Cluster c = tile * slices + k spans slice k's depths, widened by kSliceSlack; the kernels'
+  // (zn, zf) is the slicing's range, so bin_clusters slices a light's depth extent the same way.
+  void writeSliceBounds(const Slicing& s) {
+    const int slices = config_.clusterSlices;
+    std::vector<cl_float2> one(static_cast<size_t>(slices));
+    for (int k = 0; k < slices; ++k) {
+      double lo = s.scale > 0.0f ? double(s.zn) * std::exp(double(k) / s.scale) : s.zn;
+      double hi = s.scale > 0.0f ? double(s.zn) * std::exp(double(k + 1) / s.scale) : s.zf;
+      if (k == 0) lo = s.zn;
+      if (k == slices - 1) hi = s.zf;
+      one[size_t(k)] = {{float(lo * (1.0 - kSliceSlack)), float(hi * (1.0 + kSliceSlack))}};
+    }
+    sliceBounds_.resize(clusterCount());
+    for (size_t c = 0; c < sliceBounds_.size(); ++c) sliceBounds_[c] = one[c % size_t(slices)];
+    auto& q = cl_.queue();
+    q.enqueueWriteBuffer(clusterDepth_, CL_FALSE, 0, sliceBounds_.size() * sizeof(cl_float2),
+                         sliceBounds_.data());
+    // As float bits (the kernels' depth_range), not widened: bin_clusters slices a light's depth
+    // extent with them, which must be the shader's slicing (zn, scale); its own slack covers the
+    // rounding. The boxes already hold every fragment (raster/draw_batches.h), so clipping a
+    // light's extent to [zn, zf] drops none that reaches one.
+    sliceRange_ = {{0u, 0u}};
+    std::memcpy(&sliceRange_.s[0], &s.zn, 4);
+    std::memcpy(&sliceRange_.s[1], &s.zf, 4);
+    q.enqueueWriteBuffer(depthRange_, CL_TRUE, 0, sizeof(cl_uint2), &sliceRange_);
+  }
+
+  void enqueueBinning(DeviceFrame& frame) {
+    auto& q = cl_.queue();
+    const size_t clusters = clusterCount();
+    const uint32_t zero = 0;
+    q.enqueueFillBuffer(clusterCount_, zero, 0, clusters * 4, nullptr, timer_.next("clear"));
+    q.enqueueFillBuffer(clusterCursor_, zero, 0, clusters * 4, nullptr, timer_.next("clear"));
+    cl_uint fillArg = 0;
+    KernelArgs(binLights_)
+        .add(frame.lightPositionRange)
+        .add(frame.lightSpot)
+        .add(frame.lightCount())
+        .add(toCl(frame.camera.kernelCamera()))
+        .add(frame.camera.znear)
+        .add(depthRange_)
+        .add(clusterDepth_)
+        .add(tileSlices_)
+        .later(fillArg)
+        .add(clusterCount_)
+        .add(clusterOffset_)
+        .add(clusterCursor_)
+        .add(clusterLights_)
+        .add(cl_uint(capacity_))
+        .done();
+    ts::enqueueBinning(cl_, {binLights_, fillArg, scan_, sort_}, frame.lightCount(), clusterCount_,
+                       int(clusters), clusterOffset_, total_, clusterLights_, capacity_, timer_);
+  }
+
+  ForwardLightGrid toHost(uint32_t total, const Slicing& s) const {
+    ForwardLightGrid g;
+    g.tileW = grid_.tileW;
+    g.tileH = grid_.tileH;
+    g.tilesX = grid_.tilesX;
+    g.tilesY = grid_.tilesY;
+    g.slices = config_.clusterSlices;
+    g.sliceNear = s.zn;
+    g.sliceScale = s.scale;
+    const size_t clusters = clusterCount();
+    g.counts.resize(clusters);
+    g.offsets.resize(clusters);
+    g.lights.resize(std::max<uint32_t>(total, 1));
+    auto& q = cl_.queue();
+    q.enqueueReadBuffer(clusterCount_, CL_FALSE, 0, clusters * 4, g.counts.data());
+    q.enqueueReadBuffer(clusterOffset_, CL_FALSE, 0, clusters * 4, g.offsets.data());
+    q.enqueueReadBuffer(clusterLights_, CL_TRUE, 0, g.lights.size() * 4, g.lights.data());
+    g.lights.resize(total);
+    return g;
+  }
+
+  void setCounters(WorkCounters& c, const ForwardLightGrid& grid, const ForwardImage& drawn,
+                   const DeviceFrame& frame) const {
+    // Forward shading's count is the fragment shader's own (see the file's comment).
+    c.lightingComputations = drawn.lightingComputations;
+    c.evaluations = drawn.lightingComputations;
+    c.gbufferBytesRead = 0;  // no G-buffer
+    c.listMin = grid.counts.empty() ? 0 : UINT32_MAX;
+    double sum = 0.0;
+    for (uint32_t n : grid.counts) {
+      c.listMin = std::min(c.listMin, n);
+      c.listMax = std::max(c.listMax, n);
+      sum += n;
+    }
+    c.listMean = grid.counts.empty() ? 0.0 : sum / double(grid.counts.size());
+    (void)frame;
+  }
+
+  // Each pixel's opaque surface in the cluster of its depth (the frame's G-buffer from the same
+  // rasterization, sliced as the shader slices its fragment's depth), for the missed count.
+  LightAssignment assignment(const ForwardLightGrid& grid, const Slicing& s,
+                             const DeviceFrame& frame) const {
+    LightAssignment a;
+    a.binOffset = grid.offsets;
+    a.binCount = grid.counts;
+    a.binLights = grid.lights;
+    const auto& depth = frame.gbuffer->depth;
+    a.pixelBin.resize(size_t(frame.width()) * frame.height());
+    for (int y = 0; y < frame.height(); ++y)
+      for (int x = 0; x < frame.width(); ++x) {
+        const size_t i = size_t(y) * frame.width() + x;
+        a.pixelBin[i] =
+            depth[i] > 0.0f
+                ? int32_t(grid_.tileOf(x, y) * grid.slices + s.slice(depth[i], grid.slices))
+                : -1;
+      }
+    return a;
+  }
+
+  ClContext& cl_;
+  TechniqueConfig config_;
+  cl::Program program_;
+  cl::Kernel binLights_, scan_, sort_;
+  TileGrid grid_;
+  cl::Buffer depthRange_, clusterDepth_, tileSlices_, clusterCount_, clusterOffset_, clusterCursor_,
+      total_, clusterLights_;
+  size_t capacity_ = 0;
+  std::vector<cl_float2> sliceBounds_;  // host copy kept alive for the non-blocking write
+  cl_uint2 sliceRange_{};
+  FrameTimer timer_;
+};
+
+}  // namespace
+
+std::unique_ptr<Technique> makeClusteredForwardTechnique(ClContext& cl,
+                                                         const TechniqueConfig& config) {
+  return std::make_unique<ClusteredForwardTechnique>(cl, config);
+}
+
+}  // namespace ts
