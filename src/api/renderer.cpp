@@ -140,9 +140,9 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
       check.referencePeak = refs.reference.peak;
       if (r.assignment) {
         const PreparedFrame& p = f.prepared;
-        if (drawsScene && f.multisampled())
-          check.missed = countMissedOverSamples(*r.assignment, f.samplePlanes(), p.intrinsics,
-                                                p.lights, int(config.rangeModel));
+        if (f.multisampled())
+          check.missed = countMissedOverSamples(*r.assignment, f.samplePlanes(drawsScene),
+                                                p.intrinsics, p.lights, int(config.rangeModel));
         else
           check.missed = countMissedContributions(*r.assignment, f.planesShadedBy(drawsScene),
                                                   p.intrinsics, p.lights, int(config.rangeModel));

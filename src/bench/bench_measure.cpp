@@ -107,18 +107,9 @@ ReferenceImage GroupFrame::shadeFrame(const EncodedGBuffer& enc, const ViewLight
   if (!forward_ || forward_->samples() <= 1)
     return shadeReference(enc, prepared_.intrinsics, lights, prepared_.ambient, model, 0, {},
                           positions, nullptr, slack);
-  if (samplePlanes_.empty()) {
-    RasterOptions raster;  // as the frame was rasterized
-    raster.model = prepared_.features.model;
-    raster.normalMaps = prepared_.features.normalMaps;
-    for (const GBuffer& g : forward_->sampleGBuffers(raster))
-      samplePlanes_.push_back(encode(g, GBufferFormat::FP32));
-  }
-  std::vector<ReferenceImage> samples;
-  for (const EncodedGBuffer& planes : samplePlanes_)
-    samples.push_back(shadeReference(planes, prepared_.intrinsics, lights, prepared_.ambient, model,
-                                     0, {}, positions, nullptr, slack));
-  return averageSamples(samples);
+  if (!samples_) samples_ = std::make_unique<SampleGBuffers>(*forward_, prepared_.features);
+  return shadeSampleAverage(samples_->fp32(), prepared_.intrinsics, lights, prepared_.ambient,
+                            model, positions, slack);
 }
 
 const ExactVisibilityResult* GroupFrame::exactShadows() {

@@ -18,6 +18,7 @@
 #include "bench/bench_frames.h"
 #include "bench/calibrate.h"
 #include "cl/cl_context.h"
+#include "raster/sample_gbuffers.h"
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
 #include "techniques/technique.h"
@@ -102,7 +103,7 @@ class GroupFrame {
   std::optional<ReferenceImage> sceneReference_;
   std::optional<std::optional<ExactVisibilityResult>> exactShadows_;
   std::optional<std::vector<TransparentFragment>> transparentFragments_;
-  std::vector<EncodedGBuffer> samplePlanes_;  // --msaa: each sample's fp32 planes
+  std::unique_ptr<SampleGBuffers> samples_;  // --msaa: each sample's planes, made at first use
 };
 
 // The median of a configuration's timed renders of one frame.
