@@ -86,6 +86,7 @@ std::shared_ptr<Frame::Impl> uploaded(Device& device, RenderInput input) {
   if (impl->forward && impl->forward->samples() > 1)
     impl->sampleGBuffers =
         std::make_unique<SampleGBuffers>(*impl->forward, impl->prepared.features);
+  impl->onDevice.samples = impl->sampleGBuffers.get();
   impl->info.drawsScene = impl->forward != nullptr;
   impl->info.transparentDraws = impl->forward ? impl->forward->transparentDraws() : 0;
   impl->info.msaa = impl->forward ? impl->forward->samples() : 1;

@@ -122,6 +122,11 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
     out.counters.listMax = c.listMax;
     out.counters.listMean = c.listMean;
     out.counters.notes = c.notes;
+    if (c.sampleShading) {
+      out.counters.msaaSamples = c.sampleShading->samples;
+      out.counters.pixelsShadedPerSample = c.sampleShading->pixelsShadedPerSample;
+      out.counters.msaaGBufferBytes = c.sampleShading->gbufferBytes;
+    }
     out.nonfinitePixels = countNonFinitePixels(r.image);
     if (r.shadowUse)
       out.shadowUse =

@@ -107,9 +107,16 @@ ReferenceImage GroupFrame::shadeFrame(const EncodedGBuffer& enc, const ViewLight
   if (!forward_ || forward_->samples() <= 1)
     return shadeReference(enc, prepared_.intrinsics, lights, prepared_.ambient, model, 0, {},
                           positions, nullptr, slack);
+  // The planes the configuration shades: tiled's, or (fp32) those the forward techniques'
+  // fragments hold.
+  return shadeSampleAverage(sampleGBuffers()->like(enc), prepared_.intrinsics, lights,
+                            prepared_.ambient, model, positions, slack);
+}
+
+SampleGBuffers* GroupFrame::sampleGBuffers() {
+  if (!forward_ || forward_->samples() <= 1) return nullptr;
   if (!samples_) samples_ = std::make_unique<SampleGBuffers>(*forward_, prepared_.features);
-  return shadeSampleAverage(samples_->fp32(), prepared_.intrinsics, lights, prepared_.ambient,
-                            model, positions, slack);
+  return samples_.get();
 }
 
 const ExactVisibilityResult* GroupFrame::exactShadows() {
@@ -151,13 +158,14 @@ void GroupFrame::withTransparentSurfaces(ReferenceImage& ref, const ViewLights& 
 }
 
 TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFrame& prepared,
-                     ForwardScene* forward, const PerLightShadowMaps* perLight, int warmup,
-                     int repeat) {
+                     ForwardScene* forward, SampleGBuffers* samples,
+                     const PerLightShadowMaps* perLight, int warmup, int repeat) {
   ClContext& cl = *e.cl;
   auto upload = [&] {
     DeviceFrame df =
         DeviceFrame::upload(cl, enc, prepared.intrinsics, prepared.lights, prepared.ambient);
     df.forward = forward;
+    df.samples = samples;
     df.perLightShadows = perLight;
     return df;
   };
