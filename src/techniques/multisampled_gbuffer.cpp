@@ -123,8 +123,8 @@ WorkCounters multisampledTileWorkCounters(const TileGrid& grid, const std::vecto
   c.listMean = counts.empty() ? 0.0 : sum / double(counts.size());
   // Depth bounds read every sample's depth, the edge mask every sample's planes (at most: it
   // stops at a pixel's first difference), shading sample 0's depth and the rest counted above.
-  c.gbufferBytesRead += 4 * pixels * samples.size() + perSample * pixels * samples.size() +
-                        4 * pixels;
+  c.gbufferBytesRead +=
+      4 * pixels * samples.size() + perSample * pixels * samples.size() + 4 * pixels;
   c.lightingComputations += shaded * directional;
   c.evaluations += shaded * directional;
   shading.gbufferBytes = perSample * pixels * samples.size();

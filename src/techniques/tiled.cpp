@@ -67,7 +67,8 @@ class TiledTechnique : public Technique {
 
   void allocate(const DeviceFrame& frame) {
     if (grid_.allocate(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight))
-      image_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY,
+      // Read and write: with --msaa shade_tiled_edge_samples adds to sample 0's shades.
+      image_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE,
                           size_t(frame.width()) * frame.height() * sizeof(cl_float4));
   }
 

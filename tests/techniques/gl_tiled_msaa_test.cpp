@@ -31,11 +31,11 @@ const Scene& builtin(const std::string& name) {
   return cache.emplace(name, loadScene("builtin:" + name, options)).first->second;
 }
 
-#define REQUIRE_SAMPLES(n)                                                                       \
-  do {                                                                                           \
-    REQUIRE_GL();                                                                                \
-    if (GlRasterizer(builtin("atrium")).maxSamples() < (n))                                      \
-      GTEST_SKIP() << "the OpenGL implementation renders fewer than " << (n) << " samples";      \
+#define REQUIRE_SAMPLES(n)                                                                  \
+  do {                                                                                      \
+    REQUIRE_GL();                                                                           \
+    if (GlRasterizer(builtin("atrium")).maxSamples() < (n))                                 \
+      GTEST_SKIP() << "the OpenGL implementation renders fewer than " << (n) << " samples"; \
   } while (0)
 
 // A frame of `scene` with 4 samples in `format`, and its per-sample reference in that layout.
@@ -96,8 +96,8 @@ TEST(TiledMsaa, MatchesThePerSampleReference) {
     const PreparedFrame& f = m.g.prepared;
     const ReferenceImage one = shadeReference(f.encoded, f.intrinsics, f.lights, f.ambient, 0);
     EXPECT_GT(compareToReference(r.image, one, kBound * one.peak).maxRelPeak, kBound);
-    std::cout << "[ tiled msaa ] " << name << " x" << kSamples << ": " << edges << " of "
-              << pixels << " pixels shaded per sample, max error " << error
+    std::cout << "[ tiled msaa ] " << name << " x" << kSamples << ": " << edges << " of " << pixels
+              << " pixels shaded per sample, max error " << error
               << " of the peak against the per-sample reference\n";
   }
 }
@@ -190,8 +190,8 @@ TEST(TiledMsaa, ThresholdRuleAgainstTheExactOne) {
           const glm::vec4 a = decodeStored(s[0], p, i), b = decodeStored(s[k], p, i);
           bits |= a != b;
           if (p == GBufferPlane::Normal)
-            far |= glm::dot(glm::vec3(a), glm::vec3(b)) < 0.999f * glm::length(glm::vec3(a)) *
-                                                             glm::length(glm::vec3(b));
+            far |= glm::dot(glm::vec3(a), glm::vec3(b)) <
+                   0.999f * glm::length(glm::vec3(a)) * glm::length(glm::vec3(b));
           else
             for (int c = 0; c < 4; ++c) far |= std::abs(a[c] - b[c]) > 1.0f / 255.0f;
         }

@@ -96,9 +96,9 @@ TEST(TiledMsaaKernels, ShiftedSamplesMatchThePerSampleReference) {
       EXPECT_GT(r.counters.sampleShading->pixelsShadedPerSample, 0u);
       EXPECT_LT(r.counters.sampleShading->pixelsShadedPerSample, r.image.size());
       ASSERT_TRUE(r.assignment.has_value());
-      EXPECT_EQ(countMissedOverSamples(*r.assignment, samples.like(f.encoded), f.intrinsics,
-                                       f.lights, 0),
-                0u);
+      EXPECT_EQ(
+          countMissedOverSamples(*r.assignment, samples.like(f.encoded), f.intrinsics, f.lights, 0),
+          0u);
     }
   }
 }
