@@ -239,3 +239,50 @@ __kernel void shade_tiled(float4 camera, float4 ambient, TS_GBUFFER_PARAMS, TS_L
   image[y * width + x] = (float4)(ts_lanes_pixel_colour(soa, lit, lights > 0, &s), 0.0f);
 }
 #endif
+
+/* ---- --msaa: the edges' samples (kernels/msaa_edges.h) ----------------------------------- */
+
+#include "msaa_edges.h"
+
+#if TS_LANES == 1
+/* shade_tiled has shaded every pixel's sample 0 (the planes' first); here each edge pixel
+ * (msaa_edge_mask) shades its samples 1..samples-1 with its tile's list as shade_tiled shades a
+ * pixel, adds them to sample 0's shade and divides by the samples (equal weights: OpenGL's box
+ * resolve, the reference's averageSamples). One work-item per pixel, the others return at once;
+ * built without lanes only (kernels/gbuffer.h's scalar shading; the host builds tiled.cl a
+ * second time for it when shade_tiled has lanes): edge pixels are few and scattered over a
+ * tile, a poor fit for lanes of neighbouring pixels. plane_bytes as
+ * msaa_edge_mask's: a plane's element type is not always one pixel (fp16's half: a quarter). */
+__kernel void shade_tiled_edge_samples(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
+                                       TS_LIGHT_PARAMS, TS_DIRECTIONAL_PARAMS,
+                                       __global const uint *tile_count,
+                                       __global const uint *tile_offset,
+                                       __global const uint *tile_lights, uint capacity,
+                                       __global const uchar *edge, int samples,
+                                       int4 plane_bytes, __global float4 *image) {
+  int x = get_global_id(0), y = get_global_id(1);
+  int width = (int)camera.z, height = (int)camera.w;
+  if (x >= width || y >= height) return;
+  size_t i = (size_t)y * (size_t)width + (size_t)x, plane = (size_t)width * (size_t)height;
+  if (!edge[i]) return;
+  int tile = (y / TILE_H) * ((width + TILE_W - 1) / TILE_W) + x / TILE_W;
+  uint begin = tile_offset[tile];
+  uint n = ts_bin_written(begin, tile_count[tile], capacity);
+  float3 sum = image[i].xyz;
+  for (int k = 1; k < samples; ++k) {
+    size_t o = (size_t)k * plane;
+    ts_surface s;
+    if (ts_load_surface(x, y, camera, ambient, gb_depth + o,
+                        TS_SAMPLE_PLANE(ts_gb_normal, gb_normal, plane_bytes.x, o),
+                        TS_SAMPLE_PLANE(ts_gb_diffuse, gb_diffuse, plane_bytes.y, o),
+                        TS_SAMPLE_PLANE(ts_gb_specular, gb_specular, plane_bytes.z, o),
+                        TS_SAMPLE_PLANE(ts_gb_emissive, gb_emissive, plane_bytes.w, o), &s)) {
+      float3 shade = (float3)(0.0f);
+      for (uint l = 0; l < n; ++l) shade += ts_shade_punctual(&s, TS_LIGHT_ARGS, tile_lights[begin + l]);
+      shade += ts_shade_directionals(&s, TS_DIRECTIONAL_ARGS) + s.base;
+      sum += shade;
+    }
+  }
+  image[i] = (float4)(sum / (float)samples, 0.0f);
+}
+#endif

@@ -187,9 +187,10 @@ int main(int argc, char** argv) {
           ->capture_default_str();
   renderCmd
       ->add_option("--msaa", render.msaa,
-                   "MSAA samples a pixel: 1, 2, 4 or 8 (above 1: --raster gl, tiled-forward and "
-                   "tiled-forward-prez, shaded per fragment and resolved by OpenGL; --check "
-                   "against the per-sample reference; docs/techniques.md)")
+                   "MSAA samples a pixel: 1, 2, 4 or 8 (above 1: --raster gl; tiled-forward and "
+                   "tiled-forward-prez shaded per fragment and resolved by OpenGL, tiled from a "
+                   "per-sample G-buffer, its edge pixels shaded per sample; --check against the "
+                   "per-sample reference; docs/techniques.md)")
       ->capture_default_str();
   auto* gbufferInOpt = renderCmd->add_option(
       "--gbuffer-in", render.gbufferIn,

@@ -314,6 +314,11 @@ struct Counters {
   uint32_t listMin = 0, listMax = 0;  // lights per bin (0 without bins)
   double listMean = 0.0;
   std::vector<std::string> notes;  // e.g. a light list that was grown
+  // --msaa in tiled (a multisampled G-buffer): its samples (1 elsewhere), the pixels it shaded
+  // once per sample (the edge mask's; the others once) and the per-sample planes' bytes.
+  int msaaSamples = 1;
+  uint64_t pixelsShadedPerSample = 0;
+  uint64_t msaaGBufferBytes = 0;
 };
 
 // The image against a double-precision reference (docs/accuracy.md).

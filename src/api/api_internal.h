@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "raster/sample_gbuffers.h"
 #include "reference/reference.h"
 #include "render/frame_setup.h"
 #include "render/render_input.h"
@@ -83,15 +84,15 @@ struct Frame::Impl {
   // fragments shaded with the planes' terms of planesShadedBy(drawsScene).
   void compositeTransparentSurfaces(FrameReferences& r, bool drawsScene);
 
-  // --msaa: a frame whose forward passes draw multisampled targets. Its references (for the
-  // techniques that draw the scene) shade every sample's G-buffer and average them
-  // (averageSamples); the planes are each sample's fp32 encoding (forward->sampleGBuffers), in
-  // sample order, made at the first check.
+  // --msaa: a frame whose forward passes draw multisampled targets. Its references shade every
+  // sample's G-buffer and average them (averageSamples): for the techniques that draw the scene
+  // each sample's fp32 encoding (with every plane), for tiled each sample in the frame's layout
+  // (the planes it shades); made at the first check.
   bool multisampled() const { return forward && forward->samples() > 1; }
-  const std::vector<EncodedGBuffer>& samplePlanes();
-  const FrameReferences& ensureSampleReferences(const PassProgress& pass);
-  std::vector<EncodedGBuffer> samplePlanesCache;
-  std::optional<FrameReferences> sampleReferences;
+  const std::vector<EncodedGBuffer>& samplePlanes(bool drawsScene);
+  const FrameReferences& ensureSampleReferences(const PassProgress& pass, bool drawsScene);
+  std::optional<FrameReferences> drawnSampleReferences, gbufferSampleReferences;
+  std::unique_ptr<SampleGBuffers> sampleGBuffers;  // --msaa: made with `forward`
 };
 
 // The frame's references (computed now if no check asked for them yet): the command's heatmap.

@@ -83,6 +83,10 @@ std::shared_ptr<Frame::Impl> uploaded(Device& device, RenderInput input) {
         std::make_unique<PerLightShadowMaps>(*impl->scene, impl->shadowAtlas->layout);
   impl->onDevice.perLightShadows = impl->perLightShadows.get();
   impl->onDevice.forward = impl->forward.get();
+  if (impl->forward && impl->forward->samples() > 1)
+    impl->sampleGBuffers =
+        std::make_unique<SampleGBuffers>(*impl->forward, impl->prepared.features);
+  impl->onDevice.samples = impl->sampleGBuffers.get();
   impl->info.drawsScene = impl->forward != nullptr;
   impl->info.transparentDraws = impl->forward ? impl->forward->transparentDraws() : 0;
   impl->info.msaa = impl->forward ? impl->forward->samples() : 1;
@@ -494,56 +498,45 @@ void Frame::Impl::compositeTransparentSurfaces(FrameReferences& r, bool drawsSce
   r.transparentFragments = fragments.size();
 }
 
-const std::vector<EncodedGBuffer>& Frame::Impl::samplePlanes() {
-  if (samplePlanesCache.empty()) {
-    RasterOptions raster;  // as prepareFrame rasterizes the frame
-    raster.model = prepared.features.model;
-    raster.normalMaps = prepared.features.normalMaps;
-    for (const GBuffer& g : forward->sampleGBuffers(raster))
-      samplePlanesCache.push_back(encode(g, GBufferFormat::FP32));
-  }
-  return samplePlanesCache;
+const std::vector<EncodedGBuffer>& Frame::Impl::samplePlanes(bool drawsScene) {
+  return drawsScene ? sampleGBuffers->fp32() : sampleGBuffers->like(prepared.encoded);
 }
 
-const FrameReferences& Frame::Impl::ensureSampleReferences(const PassProgress& pass) {
+const FrameReferences& Frame::Impl::ensureSampleReferences(const PassProgress& pass,
+                                                           bool drawsScene) {
+  std::optional<FrameReferences>& sampleReferences =
+      drawsScene ? drawnSampleReferences : gbufferSampleReferences;
   if (sampleReferences) return *sampleReferences;
   const PreparedFrame& p = prepared;
-  const int windowed = int(RangeModel::Windowed), physical = int(RangeModel::Physical);
-  auto progress = [&](const std::string& label) { return pass ? pass(label) : RowProgress(); };
   outOfMemoryAs("computing the per-sample references of a " +
                     sizeText(p.intrinsics.width, p.intrinsics.height) + " MSAA frame",
                 [&] {
-                  const std::vector<EncodedGBuffer>& planes = samplePlanes();
-                  // Only the forward techniques take MSAA: each sample's shadow tests get their
-                  // slack.
+                  const std::vector<EncodedGBuffer>& planes = samplePlanes(drawsScene);
+                  // The forward techniques' shadow tests get their slack, as without MSAA.
                   std::optional<ReceiverRounding> rounding;
                   if (scene) rounding = receiverRounding(*scene, p.camera.viewFromWorld);
                   const ReceiverRounding* slack = rounding ? &*rounding : nullptr;
-                  std::vector<ReferenceImage> ref, shadingOnly, phys;
-                  for (size_t k = 0; k < planes.size(); ++k) {
-                    const std::string sample = ", sample " + std::to_string(k);
-                    ref.push_back(shadeReference(planes[k], p.intrinsics, p.lights, p.ambient,
-                                                 windowed, 0, progress("windowed model" + sample),
-                                                 ReferencePositions::FromDepth, nullptr, slack));
-                    shadingOnly.push_back(
-                        shadeReference(planes[k], p.intrinsics, p.lights, p.ambient, windowed, 0,
-                                       progress("windowed model, kernel positions" + sample),
-                                       ReferencePositions::KernelFloat, nullptr, slack));
-                    phys.push_back(shadeReference(planes[k], p.intrinsics, p.lights, p.ambient,
-                                                  physical, 0, progress("physical model" + sample),
-                                                  ReferencePositions::FromDepth, nullptr, slack));
-                  }
+                  auto shade = [&](int model, ReferencePositions positions, const char* label) {
+                    auto progress = [&](size_t k) {
+                      return pass ? pass(label + (", sample " + std::to_string(k))) : RowProgress();
+                    };
+                    return shadeSampleAverage(planes, p.intrinsics, p.lights, p.ambient, model,
+                                              positions, slack, progress);
+                  };
                   FrameReferences r;
-                  r.reference = averageSamples(ref);
-                  r.shadingOnly = averageSamples(shadingOnly);
-                  r.physical = averageSamples(phys);
+                  r.reference = shade(int(RangeModel::Windowed), ReferencePositions::FromDepth,
+                                      "windowed model");
+                  r.shadingOnly = shade(int(RangeModel::Windowed), ReferencePositions::KernelFloat,
+                                        "windowed model, kernel positions");
+                  r.physical = shade(int(RangeModel::Physical), ReferencePositions::FromDepth,
+                                     "physical model");
                   sampleReferences = std::move(r);
                 });
   return *sampleReferences;
 }
 
 const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass, bool drawsScene) {
-  if (drawsScene && multisampled()) return ensureSampleReferences(pass);
+  if (multisampled()) return ensureSampleReferences(pass, drawsScene);
   // The references of the techniques that draw the scene apart where they differ: other planes
   // than the frame's layout (transparent surfaces are composited over both).
   const bool drawn = drawsScene && prepared.encoded.format != GBufferFormat::FP32;

@@ -122,6 +122,11 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
     out.counters.listMax = c.listMax;
     out.counters.listMean = c.listMean;
     out.counters.notes = c.notes;
+    if (c.sampleShading) {
+      out.counters.msaaSamples = c.sampleShading->samples;
+      out.counters.pixelsShadedPerSample = c.sampleShading->pixelsShadedPerSample;
+      out.counters.msaaGBufferBytes = c.sampleShading->gbufferBytes;
+    }
     out.nonfinitePixels = countNonFinitePixels(r.image);
     if (r.shadowUse)
       out.shadowUse =
@@ -140,9 +145,9 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
       check.referencePeak = refs.reference.peak;
       if (r.assignment) {
         const PreparedFrame& p = f.prepared;
-        if (drawsScene && f.multisampled())
-          check.missed = countMissedOverSamples(*r.assignment, f.samplePlanes(), p.intrinsics,
-                                                p.lights, int(config.rangeModel));
+        if (f.multisampled())
+          check.missed = countMissedOverSamples(*r.assignment, f.samplePlanes(drawsScene),
+                                                p.intrinsics, p.lights, int(config.rangeModel));
         else
           check.missed = countMissedContributions(*r.assignment, f.planesShadedBy(drawsScene),
                                                   p.intrinsics, p.lights, int(config.rangeModel));

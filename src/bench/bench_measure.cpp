@@ -108,18 +108,16 @@ ReferenceImage GroupFrame::shadeFrame(const EncodedGBuffer& enc, const ViewLight
   if (!forward_ || forward_->samples() <= 1)
     return shadeReference(enc, prepared_.intrinsics, lights, prepared_.ambient, model, 0, {},
                           positions, nullptr, slack);
-  if (samplePlanes_.empty()) {
-    RasterOptions raster;  // as the frame was rasterized
-    raster.model = prepared_.features.model;
-    raster.normalMaps = prepared_.features.normalMaps;
-    for (const GBuffer& g : forward_->sampleGBuffers(raster))
-      samplePlanes_.push_back(encode(g, GBufferFormat::FP32));
-  }
-  std::vector<ReferenceImage> samples;
-  for (const EncodedGBuffer& planes : samplePlanes_)
-    samples.push_back(shadeReference(planes, prepared_.intrinsics, lights, prepared_.ambient, model,
-                                     0, {}, positions, nullptr, slack));
-  return averageSamples(samples);
+  // The planes the configuration shades: tiled's, or (fp32) those the forward techniques'
+  // fragments hold.
+  return shadeSampleAverage(sampleGBuffers()->like(enc), prepared_.intrinsics, lights,
+                            prepared_.ambient, model, positions, slack);
+}
+
+SampleGBuffers* GroupFrame::sampleGBuffers() {
+  if (!forward_ || forward_->samples() <= 1) return nullptr;
+  if (!samples_) samples_ = std::make_unique<SampleGBuffers>(*forward_, prepared_.features);
+  return samples_.get();
 }
 
 const ExactVisibilityResult* GroupFrame::exactShadows() {
@@ -161,13 +159,14 @@ void GroupFrame::withTransparentSurfaces(ReferenceImage& ref, const ViewLights& 
 }
 
 TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFrame& prepared,
-                     ForwardScene* forward, const PerLightShadowMaps* perLight, int warmup,
-                     int repeat) {
+                     ForwardScene* forward, SampleGBuffers* samples,
+                     const PerLightShadowMaps* perLight, int warmup, int repeat) {
   ClContext& cl = *e.cl;
   auto upload = [&] {
     DeviceFrame df =
         DeviceFrame::upload(cl, enc, prepared.intrinsics, prepared.lights, prepared.ambient);
     df.forward = forward;
+    df.samples = samples;
     df.perLightShadows = perLight;
     return df;
   };

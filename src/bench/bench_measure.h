@@ -18,6 +18,7 @@
 #include "bench/bench_frames.h"
 #include "bench/calibrate.h"
 #include "cl/cl_context.h"
+#include "raster/sample_gbuffers.h"
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
 #include "techniques/technique.h"
@@ -55,6 +56,8 @@ class GroupFrame {
   const PreparedFrame& prepared() const { return prepared_; }
   // The scene to draw for the forward techniques (null where the frame is not OpenGL's).
   ForwardScene* forward() const { return forward_.get(); }
+  // --msaa: the frame's G-buffer per sample (made at the first call), null without MSAA.
+  SampleGBuffers* sampleGBuffers();
   // Its shadow maps (BenchScene::drawShadows), null without a shadow-casting light.
   const ShadowAtlas* shadows() const { return shadows_.get(); }
   // The same maps one light at a time, for per-light shadow storage (made at the first call);
@@ -86,7 +89,7 @@ class GroupFrame {
   // transparent draws (--blend blend); nothing otherwise.
   void withTransparentSurfaces(ReferenceImage& ref, const ViewLights& lights, int model);
   // The reference of `enc`'s values, or where the forward passes draw multisampled targets
-  // (--msaa) every sample's fp32 G-buffer shaded and averaged (averageSamples).
+  // (--msaa) every sample's G-buffer in enc's layout shaded and averaged (averageSamples).
   ReferenceImage shadeFrame(const EncodedGBuffer& enc, const ViewLights& lights, int model,
                             ReferencePositions positions);
 
@@ -102,7 +105,7 @@ class GroupFrame {
   std::optional<ReferenceImage> sceneReference_;
   std::optional<std::optional<ExactVisibilityResult>> exactShadows_;
   std::optional<std::vector<TransparentFragment>> transparentFragments_;
-  std::vector<EncodedGBuffer> samplePlanes_;  // --msaa: each sample's fp32 planes
+  std::unique_ptr<SampleGBuffers> samples_;  // --msaa: each sample's planes, made at first use
 };
 
 // The median of a configuration's timed renders of one frame.
@@ -116,9 +119,10 @@ struct TimedFrame {
 // forward: the frame's scene to draw (GroupFrame::forward), null for a G-buffer-only frame.
 // perLight: the frame's maps one light at a time (GroupFrame::perLightShadows), for a
 // configuration with per-light shadow storage; else null.
+// samples: --msaa's per-sample G-buffers (GroupFrame::sampleGBuffers), null without.
 TimedFrame timeFrame(BenchEntry& e, const EncodedGBuffer& enc, const PreparedFrame& prepared,
-                     ForwardScene* forward, const PerLightShadowMaps* perLight, int warmup,
-                     int repeat);
+                     ForwardScene* forward, SampleGBuffers* samples,
+                     const PerLightShadowMaps* perLight, int warmup, int repeat);
 
 // The error of one frame against the references (on the frames --error-frames selects).
 struct FrameErrors {

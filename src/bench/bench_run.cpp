@@ -402,8 +402,8 @@ json BenchRunner::measure(BenchEntry& e, GroupFrame& frame, int f) {
   TechniqueConfig tc = e.config.techniqueConfig(e.features);
   const PerLightShadowMaps* perLight =
       e.config.shadowStorage == ShadowStorage::PerLight ? frame.perLightShadows() : nullptr;
-  TimedFrame m =
-      timeFrame(e, enc, frame.prepared(), frame.forward(), perLight, o_.warmup, o_.repeat);
+  TimedFrame m = timeFrame(e, enc, frame.prepared(), frame.forward(), frame.sampleGBuffers(),
+                           perLight, o_.warmup, o_.repeat);
   FrameErrors errors;
   if (e.errorFrames.count(f)) errors = measureErrors(e, frame, enc, tc, m.r.image);
   if (e.shadowErrorFrames.count(f)) measureShadowError(frame, m.r.image, errors);

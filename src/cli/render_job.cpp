@@ -285,6 +285,9 @@ FrameResult frameResultOf(const ShadeResult& r, std::vector<glm::vec4> image) {
   f.counters.listMean = r.counters.listMean;
   f.counters.listMax = r.counters.listMax;
   f.counters.notes = r.counters.notes;
+  if (r.counters.msaaSamples > 1)
+    f.counters.sampleShading = SampleShading{
+        r.counters.msaaSamples, r.counters.pixelsShadedPerSample, r.counters.msaaGBufferBytes};
   return f;
 }
 
@@ -323,13 +326,17 @@ void runRender(const RenderOptions& options) {
   if (ec) throw Error("cannot create output folder " + o.outDir + ": " + ec.message());
 
   // Three references (FrameReferences; docs/accuracy.md), computed once for every technique.
-  // --msaa: three per sample, averaged (every technique then draws the scene).
+  // --msaa: three per sample, averaged (those of the techniques that draw the scene where one
+  // does, else tiled's, in the frame's layout).
   ReferenceProgress progress(size_t(width) * size_t(height), info.lights - info.directionalLights,
                              3 * info.msaa, height);
   const FrameReferences* references =
       o.check
           ? &frameReferences(
-                frame, [&](const std::string& label) { return progress.pass(label); }, multisampled)
+                frame, [&](const std::string& label) { return progress.pass(label); },
+                multisampled &&
+                    std::any_of(techniques.begin(), techniques.end(),
+                                [](const std::string& t) { return findTechnique(t).drawsScene; }))
           : nullptr;
 
   std::cout << "tileshade: " << info.sceneName << " (" << info.triangles << " triangles, "
@@ -388,9 +395,10 @@ void runRender(const RenderOptions& options) {
       if (r.check->missedCounted) missed = r.check->missed;
       if (o.heatmap) {
         // A technique that draws the scene has its own references (fp32 planes; the check's).
-        const ReferenceImage& reference = findTechnique(name).drawsScene
-                                              ? frameReferences(frame, {}, true).reference
-                                              : references->reference;
+        const ReferenceImage& reference =
+            findTechnique(name).drawsScene || multisampled
+                ? frameReferences(frame, {}, findTechnique(name).drawsScene).reference
+                : references->reference;
         writeHeatMapPng(dir + "/error.png", width, height, errorMap(image, reference),
                         float(1e-7 * reference.peak), float(1e-2 * reference.peak));
       }
@@ -430,6 +438,12 @@ void runRender(const RenderOptions& options) {
             << double(r.shadowUse->residentBytes) / double(1 << 20) << " MB resident, "
             << double(r.shadowUse->writtenBytes) / double(1 << 20) << " MB written"
             << std::defaultfloat << "\n";
+    if (r.counters.msaaSamples > 1)
+      table << "    per-sample shading: " << r.counters.pixelsShadedPerSample << " of "
+            << uint64_t(width) * uint64_t(height) << " pixels are edges (their "
+            << r.counters.msaaSamples << " samples differ), shaded per sample; G-buffer "
+            << std::fixed << std::setprecision(1) << double(r.counters.msaaGBufferBytes) / 1e6
+            << " MB over the samples" << std::defaultfloat << "\n";
     for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
     if (r.check && r.check->error.slackPixels)
       table << "    note: " << r.check->error.ambiguousShadowPairs

@@ -1594,15 +1594,19 @@ GlRasterizer::State& GlRasterizer::beginForward(int width, int height, bool shad
 
 std::string GlRasterizer::renderer() const { return EglContext::shared().renderer(); }
 
-GBuffer GlRasterizer::rasterize(const SceneCamera& camera, int width, int height,
-                                const RasterOptions& options) {
+void GlRasterizer::checkTarget(int width, int height, const RasterOptions& options) const {
   if (options.fragmentCounts)
     throw Error("fragment counts (overdraw) come from the software rasterizer only");
-  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
   if (width > state_->maxSize || height > state_->maxSize)
     throw Error("--raster gl: " + std::to_string(width) + "x" + std::to_string(height) +
                 " exceeds this OpenGL implementation's limit of " +
                 std::to_string(state_->maxSize) + " pixels per side");
+}
+
+GBuffer GlRasterizer::rasterize(const SceneCamera& camera, int width, int height,
+                                const RasterOptions& options) {
+  checkTarget(width, height, options);
+  const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
   EglContext::shared().makeCurrent();
   state_->ensureFramebuffer(width, height);
   state_->draw(camera, in, options, state_->gbufferTargets);
@@ -1637,14 +1641,9 @@ std::vector<GBuffer> GlRasterizer::rasterizeSamples(const SceneCamera& camera, i
                                                     int height, int samples,
                                                     const RasterOptions& options) {
   if (samples <= 1) return {rasterize(camera, width, height, options)};
-  if (options.fragmentCounts)
-    throw Error("fragment counts (overdraw) come from the software rasterizer only");
+  checkTarget(width, height, options);
   checkSamples(samples);
   const CameraIntrinsics in = CameraIntrinsics::from(camera, width, height);
-  if (width > state_->maxSize || height > state_->maxSize)
-    throw Error("--raster gl: " + std::to_string(width) + "x" + std::to_string(height) +
-                " exceeds this OpenGL implementation's limit of " +
-                std::to_string(state_->maxSize) + " pixels per side");
   EglContext::shared().makeCurrent();
   State& s = *state_;
   s.ensureSampleFramebuffer(width, height, samples);

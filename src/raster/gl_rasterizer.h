@@ -135,6 +135,9 @@ class GlRasterizer {
   void warmUpForward(bool shadows);
   void warmUpPasses(const ViewLights& none);
   struct State;
+  // What rasterize and rasterizeSamples refuse before drawing (one line each): fragment counts,
+  // a size beyond the implementation's limit.
+  void checkTarget(int width, int height, const RasterOptions& options) const;
   // The checks and setup every forward pass starts with (size limit, context, warm-up), and the
   // program variant for a frame with or without shadow-casting lights.
   State& beginForward(int width, int height, bool shadows);

@@ -248,6 +248,19 @@ ReferenceImage averageSamples(const std::vector<ReferenceImage>& samples) {
   return mean;
 }
 
+ReferenceImage shadeSampleAverage(const std::vector<EncodedGBuffer>& samples,
+                                  const CameraIntrinsics& camera, const ViewLights& lights,
+                                  glm::vec3 ambient, int model, ReferencePositions positions,
+                                  const ReceiverRounding* rounding,
+                                  const SampleProgress& progress) {
+  std::vector<ReferenceImage> shaded;
+  for (size_t k = 0; k < samples.size(); ++k)
+    shaded.push_back(shadeReference(samples[k], camera, lights, ambient, model, 0,
+                                    progress ? progress(k) : RowProgress(), positions, nullptr,
+                                    rounding));
+  return averageSamples(shaded);
+}
+
 uint64_t countMissedContributions(const LightAssignment& assignment, const EncodedGBuffer& gbuffer,
                                   const CameraIntrinsics& camera, const ViewLights& lights,
                                   int model, const RowProgress& progress) {

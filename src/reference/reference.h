@@ -82,6 +82,17 @@ ReferenceImage shadeReference(const EncodedGBuffer& gbuffer, const CameraIntrins
 // light), `peak` the mean image's. Throws ts::Error for none or unequal sizes.
 ReferenceImage averageSamples(const std::vector<ReferenceImage>& samples);
 
+// --msaa: the reference of a multisampled frame: every sample's planes (samples[k], sample k's)
+// shaded by shadeReference (positions, rounding as there) and averaged (averageSamples).
+// progress(k), where given, is sample k's row progress. The one loop render's check and bench
+// share.
+using SampleProgress = std::function<RowProgress(size_t sample)>;
+ReferenceImage shadeSampleAverage(const std::vector<EncodedGBuffer>& samples,
+                                  const CameraIntrinsics& camera, const ViewLights& lights,
+                                  glm::vec3 ambient, int model, ReferencePositions positions,
+                                  const ReceiverRounding* rounding,
+                                  const SampleProgress& progress = {});
+
 // For every geometry pixel and every point or spot light whose reference contribution is non-zero
 // (directional lights are never culled), checks that
 // the technique's assignment lets the pixel see the light (its bin lists it, or its screen

@@ -49,6 +49,11 @@ nlohmann::json techniqueJson(const std::string& name, const FrameResult& r,
   };
   if (error) j["error"] = errorJson(*error);
   if (missed) j["missed_contributions"] = *missed;
+  // --msaa in tiled: what its multisampled G-buffer held and where it shaded per sample.
+  if (c.sampleShading)
+    j["msaa_gbuffer"] = {{"samples", c.sampleShading->samples},
+                         {"pixels_shaded_per_sample", c.sampleShading->pixelsShadedPerSample},
+                         {"gbuffer_bytes", c.sampleShading->gbufferBytes}};
   return j;
 }
 

@@ -10,6 +10,7 @@
 #include "scene/scene.h"
 #include "raster/forward_scene.h"
 #include "raster/per_light_shadows.h"
+#include "raster/sample_gbuffers.h"
 #include "shading/view_lights.h"
 
 namespace ts {
@@ -28,6 +29,9 @@ struct DeviceFrame {
   // ShadowStorage::PerLight (it draws them itself): set where the frame came from a scene with
   // shadow-casting lights, null otherwise.
   const PerLightShadowMaps* perLightShadows = nullptr;
+  // --msaa: the frame's G-buffer per sample (raster/sample_gbuffers.h), for a G-buffer technique
+  // that shades a multisampled G-buffer (tiled): set with `forward` where it has samples() > 1.
+  SampleGBuffers* samples = nullptr;
 
   cl::Buffer depth, normal, diffuse, specular, emissive;  // G-buffer planes (absent: 1 element)
   cl::Buffer lightPositionRange, lightColor, lightSpot;   // at least one element each

@@ -17,9 +17,10 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
   static const std::vector<TechniqueInfo> registry = {
       {"tiled",
        "multi-kernel tiled deferred: depth min/max, light binning, per-pixel shading; glass "
-       "(--blend blend, --raster gl) in a tiled forward pass over its grid after",
+       "(--blend blend, --raster gl) in a tiled forward pass over its grid after; --msaa: a "
+       "per-sample G-buffer, edge pixels shaded per sample",
        makeTiledTechnique, 16, /*drawsScene=*/false, /*reusesShadowMaps=*/false,
-       /*hybridTransparency=*/true},
+       /*hybridTransparency=*/true, /*multisamples=*/true},
       {"tiled-single",
        "single-kernel tiled deferred: one work-group per tile reduces depth, tests every light "
        "and shades in local memory",
@@ -157,8 +158,8 @@ std::string msaaRefusal(const std::string& technique, int samples) {
   const TechniqueInfo& t = findTechnique(technique);
   if (!t.drawsScene)
     return "technique '" + technique + "' shades the G-buffer: --msaa " + std::to_string(samples) +
-           " is done for tiled-forward and tiled-forward-prez only (a multisampled G-buffer for "
-           "the deferred ones is not)";
+           " is done for tiled, tiled-forward and tiled-forward-prez only (a multisampled "
+           "G-buffer for the other deferred ones is not)";
   // A fragment interpolated at the pixel centre for a sample its triangle covers can lie off
   // the triangle, outside its batch's box (docs/techniques.md, "MSAA").
   if (technique == "clustered-forward")

@@ -71,6 +71,13 @@ struct KernelTime {
   int launches = 0;
 };
 
+// --msaa in a G-buffer technique (tiled): its multisampled G-buffer and where it shaded per sample.
+struct SampleShading {
+  int samples = 1;
+  uint64_t pixelsShadedPerSample = 0;  // the edge pixels (kernels/msaa_edges.h)
+  uint64_t gbufferBytes = 0;           // the per-sample planes on the device, every sample
+};
+
 // Work counters of one frame (definitions per technique in docs/techniques.md).
 struct WorkCounters {
   uint64_t lightingComputations = 0;  // counted the paper's way for this technique
@@ -80,7 +87,8 @@ struct WorkCounters {
   uint32_t listMin = 0;
   double listMean = 0.0;
   uint32_t listMax = 0;
-  std::vector<std::string> notes;  // e.g. "light list buffer grown to N entries"
+  std::vector<std::string> notes;              // e.g. "light list buffer grown to N entries"
+  std::optional<SampleShading> sampleShading;  // a multisampled G-buffer's (tiled --msaa) only
 };
 
 // The shadow maps a technique drew itself during the frame (--shadow-storage per-light): each

@@ -1,9 +1,14 @@
 // Multi-kernel tiled deferred shading; the kernels, in launch order, are in kernels/tiled.cl.
 // A frame with transparent surfaces (--blend blend, --raster gl) gets the paper's hybrid after
-// (techniques/transparent_hybrid.h).
+// (techniques/transparent_hybrid.h). A multisampled frame (--msaa N, --raster gl) is shaded from
+// its per-sample G-buffer as Lauritzen's tiled deferred (techniques/multisampled_gbuffer.h): the
+// tiles' depth ranges over every sample, an edge mask, every pixel's sample 0 shaded by
+// shade_tiled, then the edge pixels' other samples and the average (shade_tiled_edge_samples).
+#include <optional>
 
 #include "cl/kernel_args.h"
 #include "cl/work_group.h"
+#include "techniques/multisampled_gbuffer.h"
 #include "techniques/tile_light_grid.h"
 #include "techniques/techniques.h"
 #include "techniques/transparent_hybrid.h"
@@ -23,6 +28,7 @@ class TiledTechnique : public Technique {
   int lanes() const override { return config_.lanes; }
 
   FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
+    if (frame.forward && frame.forward->samples() > 1) return renderMultisampled(frame, request);
     allocate(frame);
     if (config_.presizeLists) grid_.presize(frame, int(config_.spotCulling));
     FrameResult result;
@@ -61,8 +67,53 @@ class TiledTechnique : public Technique {
 
   void allocate(const DeviceFrame& frame) {
     if (grid_.allocate(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight))
-      image_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY,
+      // Read and write: with --msaa shade_tiled_edge_samples adds to sample 0's shades.
+      image_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE,
                           size_t(frame.width()) * frame.height() * sizeof(cl_float4));
+  }
+
+  // --msaa N: the G-buffer of every sample (DeviceFrame::samples, in the frame's layout).
+  FrameResult renderMultisampled(DeviceFrame& frame, const FrameRequest& request) {
+    if (!frame.samples)
+      throw Error("tiled: this " + std::to_string(frame.forward->samples()) +
+                  "-sample frame carries no per-sample G-buffer (DeviceFrame::samples)");
+    if (hasTransparentDraws(frame))  // refused with the frame already (SceneRasterizer)
+      throw Error("tiled: --msaa with transparent draws is not done");
+    const std::vector<EncodedGBuffer>& planes = frame.samples->like(*frame.gbuffer);
+    if (!msaa_) {
+      // The edges' samples are shaded one per work-item (kernels/gbuffer.h's scalar shading, in
+      // builds without lanes only): with lanes a second build of tiled.cl without them, made at
+      // the first multisampled frame so that no other frame pays for its compile.
+      TechniqueConfig scalar = config_;
+      scalar.lanes = 1;
+      edgeProgram_ = config_.lanes > 1 ? build(cl_, scalar) : program_;
+      shadeEdges_ = cl::Kernel(edgeProgram_, "shade_tiled_edge_samples");
+      msaa_.emplace(cl_, edgeProgram_);
+    }
+    msaa_->upload(planes, *frame.gbuffer);
+    allocate(frame);
+    if (config_.presizeLists) grid_.presize(frame, int(config_.spotCulling));
+    FrameResult result;
+    uint32_t total = grid_.runUntilListFits(
+        [&] {
+          timer_.clear();
+          enqueueMultisampled(frame);
+        },
+        result.counters.notes);
+    cl_.queue().finish();
+    result.kernels = timer_.kernels();
+    result.totalMs = timer_.totalMs();
+
+    const std::vector<uint32_t> counts = grid_.readCounts();
+    auto notes = std::move(result.counters.notes);
+    result.counters =
+        multisampledTileWorkCounters(grid_.grid(), counts, planes, msaa_->readEdges(), frame);
+    result.counters.notes = std::move(notes);
+    if (request.wantAssignment)
+      result.assignment =
+          tileAssignment(grid_.grid(), grid_.readOffsets(), counts, grid_.readLights(total));
+    result.image = readImage(cl_, image_, frame);
+    return result;
   }
 
   void enqueueFrame(DeviceFrame& frame) {
@@ -70,12 +121,50 @@ class TiledTechnique : public Technique {
     grid_.enqueueClear(timer_);
     grid_.enqueueDepthBounds(frame.depth, frame.width(), frame.height(), timer_);
     grid_.enqueueBinning(frame, timer_);
-
     // 3. Shading: one work-item per pixel.
+    enqueueShading(frame, frame.gbufferArgs());
+  }
+
+  // The multisampled frame: the ranges over every sample's depth (no sample's surface culled),
+  // the same binning, the edge mask, sample 0 of every pixel as without MSAA (the planes'
+  // first width x height elements), then the edges' other samples.
+  void enqueueMultisampled(DeviceFrame& frame) {
+    const MultisampledGBuffer& ms = *msaa_;
+    grid_.enqueueClear(timer_);
+    grid_.enqueueDepthBounds(ms.depth(), frame.width(), frame.height(), timer_, ms.samples());
+    grid_.enqueueBinning(frame, timer_);
+    msaa_->enqueueEdgeMask(timer_);
+    enqueueShading(frame, ms.gbufferArgs());
+    KernelArgs args(shadeEdges_);
+    args.add(toCl(frame.camera.kernelCamera()))
+        .add(toCl(glm::vec4(frame.ambient, 0.0f)))
+        .add(ms.gbufferArgs())
+        .add(frame.lightArgs())
+        .addIf(config_.features.shadows, frame.lightShadowArgs())
+        .add(frame.directionalArgs())
+        .addIf(config_.features.shadows, frame.directionalShadowArgs())
+        .add(grid_.counts())
+        .add(grid_.offsets())
+        .add(grid_.lights())
+        .add(grid_.capacity())
+        .add(ms.edges())
+        .add(cl_int(ms.samples()))
+        .add(ms.planeBytes())
+        .add(image_)
+        .done();
+    const GroupShape g = fitGroup(16, 16, groupLimit(cl_, shadeEdges_));
+    cl_.queue().enqueueNDRangeKernel(shadeEdges_, cl::NullRange,
+                                     g.global(frame.width(), frame.height()), g.local(), nullptr,
+                                     timer_.next("shade_edge_samples"));
+  }
+
+  // shade_tiled over `planes` (the frame's, or sample 0's of the multisampled G-buffer).
+  template <typename Planes>
+  void enqueueShading(DeviceFrame& frame, const Planes& planes) {
     KernelArgs args(shade_);
     args.add(toCl(frame.camera.kernelCamera()))
         .add(toCl(glm::vec4(frame.ambient, 0.0f)))
-        .add(frame.gbufferArgs())
+        .add(planes)
         .add(frame.lightArgs())
         .addIf(config_.features.shadows, frame.lightShadowArgs())
         .add(frame.directionalArgs())
@@ -99,6 +188,9 @@ class TiledTechnique : public Technique {
   cl::Program program_;
   TileLightGrid grid_;
   cl::Kernel shade_;
+  cl::Program edgeProgram_;  // --msaa: tiled.cl without lanes (program_ itself at lanes 1)
+  cl::Kernel shadeEdges_;
+  std::optional<MultisampledGBuffer> msaa_;  // made at the first multisampled frame
   cl::Buffer image_;
   FrameTimer timer_;
 };

@@ -45,19 +45,33 @@ TEST(MsaaCli, ForwardTechniqueChecksAgainstThePerSampleReference) {
   const CliRun r =
       runTileshade(msaaRender(dir / "out") + " --raster gl --msaa 4 --technique all --check");
   ASSERT_EQ(r.exitCode(), 0) << r.output;
-  // `all` leaves the G-buffer techniques out, saying so.
-  EXPECT_NE(r.output.find("--technique all leaves out tiled (--msaa 4"), std::string::npos)
+  // `all` leaves the G-buffer techniques without it out, saying so.
+  EXPECT_NE(r.output.find("--technique all leaves out tiled-single (--msaa 4"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("--technique all leaves out forward-single (--msaa 4"), std::string::npos)
       << r.output;
   const nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir / "out" / "stats.json"));
   EXPECT_EQ(stats["msaa"], 4);
-  ASSERT_EQ(stats["techniques"].size(), 2u);  // tiled-forward, tiled-forward-prez
+  ASSERT_EQ(stats["techniques"].size(), 3u);  // tiled, tiled-forward, tiled-forward-prez
   for (const nlohmann::json& t : stats["techniques"]) {
     SCOPED_TRACE(t["technique"].get<std::string>());
     EXPECT_LE(t["error"]["max_rel_peak"].get<double>(), 1e-4);
     EXPECT_EQ(t["missed_contributions"].get<int>(), 0);
+    EXPECT_EQ(t.contains("msaa_gbuffer"), t["technique"] == "tiled");
   }
+  // tiled's multisampled G-buffer: 4x the frame's bytes; edges some of the pixels, in the table.
+  const nlohmann::json& tiled = stats["techniques"][0];
+  ASSERT_EQ(tiled["technique"], "tiled");
+  const uint64_t pixels = 96 * 54;
+  EXPECT_EQ(tiled["msaa_gbuffer"]["samples"], 4);
+  EXPECT_EQ(tiled["msaa_gbuffer"]["gbuffer_bytes"].get<uint64_t>(),
+            4 * pixels * stats["gbuffer_bytes_per_pixel"].get<uint64_t>());
+  const uint64_t edges = tiled["msaa_gbuffer"]["pixels_shaded_per_sample"].get<uint64_t>();
+  EXPECT_GT(edges, 0u);
+  EXPECT_LT(edges, pixels);
+  EXPECT_NE(r.output.find("per-sample shading: " + std::to_string(edges) + " of 5184 pixels"),
+            std::string::npos)
+      << r.output;
 }
 
 TEST(MsaaCli, RefusedInOneLine) {
@@ -70,11 +84,12 @@ TEST(MsaaCli, RefusedInOneLine) {
       {" --msaa 3", "--msaa 3: samples a pixel must be 1, 2, 4 or 8"},
       {" --msaa 0", "--msaa 0: samples a pixel must be 1, 2, 4 or 8"},
       {" --msaa 4", "--msaa 4 needs --raster gl"},
+      {" --msaa 4 --raster software --technique tiled", "--msaa 4 needs --raster gl"},
       {" --msaa 4 --raster gl --exact-visibility", "--exact-visibility with --msaa 4"},
   };
   if (glGivesSamples(4)) {
-    cases.push_back({" --msaa 4 --raster gl --technique tiled",
-                     "technique 'tiled' shades the G-buffer: --msaa 4"});
+    cases.push_back({" --msaa 4 --raster gl --technique tiled-single",
+                     "technique 'tiled-single' shades the G-buffer: --msaa 4"});
     cases.push_back({" --msaa 4 --raster gl --technique forward-single",
                      "technique 'forward-single' with --msaa 4 is not done"});
     cases.push_back(

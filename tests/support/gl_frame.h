@@ -8,6 +8,7 @@
 
 #include "raster/forward_scene.h"
 #include "raster/raster_backend.h"
+#include "raster/sample_gbuffers.h"
 #include "reference/error_metrics.h"
 #include "reference/reference.h"
 #include "render/frame_setup.h"
@@ -24,22 +25,28 @@ struct GlFrame {
   SceneFeatures features;
   PreparedFrame prepared;
   std::unique_ptr<ForwardScene> forward;
+  std::unique_ptr<SampleGBuffers> sampleGBuffers;  // --msaa (samples > 1) only
 
   // The scene's own features (analyzeScene), or the ones given.
   GlFrame(const Scene& scene, int frame, int w, int h)
       : GlFrame(scene, frame, w, h, analyzeScene(scene, nativeShadingModel(scene))) {}
-  // samples: --msaa's (the forward passes' targets).
-  GlFrame(const Scene& scene, int frame, int w, int h, const SceneFeatures& f, int samples = 1)
+  // samples: --msaa's (the forward passes' targets, tiled's per-sample G-buffer); format: the
+  // G-buffer's layout.
+  GlFrame(const Scene& scene, int frame, int w, int h, const SceneFeatures& f, int samples = 1,
+          GBufferFormat format = GBufferFormat::FP32)
       : rasterizer(scene, RasterBackend::Gl),
         features(f),
-        prepared(prepareFrame(rasterizer, frame, w, h, GBufferFormat::FP32, features)),
-        forward(rasterizer.forwardScene(prepared.camera, w, h, samples)) {}
+        prepared(prepareFrame(rasterizer, frame, w, h, format, features)),
+        forward(rasterizer.forwardScene(prepared.camera, w, h, samples)) {
+    if (samples > 1) sampleGBuffers = std::make_unique<SampleGBuffers>(*forward, features);
+  }
 
   // The frame on the device with `lights`, its scene to draw attached.
   DeviceFrame upload(const ViewLights& lights) const {
     DeviceFrame frame = DeviceFrame::upload(context(), prepared.encoded, prepared.intrinsics,
                                             lights, prepared.ambient);
     frame.forward = forward.get();
+    frame.samples = sampleGBuffers.get();
     return frame;
   }
   TechniqueConfig config() const {
