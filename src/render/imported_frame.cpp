@@ -65,6 +65,7 @@ void attachImportedShadows(const GBufferDescriptor& d, ViewLights& lights) {
   }
   sampling.biasConstant = file.biasConstant;
   sampling.biasSlope = file.biasSlope;
+  sampling.receiverPlane = file.receiverPlane;
 
   const int faces = int(file.faces.size());
   std::vector<int> count(size_t(faces), 0);  // per face: its light's face count, 0 = no light
