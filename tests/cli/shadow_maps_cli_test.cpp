@@ -122,7 +122,9 @@ TEST(ShadowMapsCli, BadOptionsFailWithOneLine) {
        {"--shadows 20 --shadow-budget 0.001", "--shadow-map-size 100", "--shadow-map-size 8",
         "--shadow-map-size 16384", "--shadow-budget 0", "--shadow-budget -3",
         "--shadow-budget 5000", "--shadow-budget nan", "--shadow-filter pcf4", "--shadow-bias 1",
-        "--shadow-bias 1,x", "--shadow-bias 1,-2", "--shadow-bias 1,2,3", "--shadow-bias inf,1"}) {
+        "--shadow-bias 1,x", "--shadow-bias 1,-2", "--shadow-bias 1,2,3", "--shadow-bias inf,1",
+        "--shadow-bias receiver", "--shadow-bias receiver,1,2", "--shadow-bias receiver,-1",
+        "--shadow-bias 1,receiver"}) {
     CliRun r = runTileshade(kFrame + args + " --out " + tmp.string());
     EXPECT_NE(r.status, 0) << args;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;

@@ -58,8 +58,8 @@ std::vector<glm::vec4> image(const PreparedFrame& f, const std::string& techniqu
 Scene litFloorAndBox() {
   Scene s = test::floorAndBox(glm::vec3(0.0f));
   s.lights.push_back(casting(SceneLight::point({1.5, 4.0, 0.5}, glm::vec3(8.0f), 20.0f)));
-  s.lights.push_back(casting(
-      SceneLight::spot({-3.0, 5.0, 2.0}, {0.5f, -1.0f, -0.3f}, glm::vec3(10.0f), 20.0f, 0.3f, 0.7f)));
+  s.lights.push_back(casting(SceneLight::spot({-3.0, 5.0, 2.0}, {0.5f, -1.0f, -0.3f},
+                                              glm::vec3(10.0f), 20.0f, 0.3f, 0.7f)));
   s.lights.push_back(casting(SceneLight::directional({-0.3f, -1.0f, -0.4f}, glm::vec3(0.5f))));
   return s;
 }
@@ -138,8 +138,7 @@ TEST(ShadowReceiverPlane, AFlatFloorShowsNoAcneAtAConstantBias) {
     const size_t acne = darkened(image(plain, "tiled"), unshadowed);
     const size_t receiverAcne = darkened(image(receiver, "tiled"), unshadowed);
     std::cout << "[ acne ] " << c.what << ": plain " << c.plainBias << " " << acne
-              << " pixel(s), receiver,0.25 " << receiverAcne << " of " << unshadowed.size()
-              << "\n";
+              << " pixel(s), receiver,0.25 " << receiverAcne << " of " << unshadowed.size() << "\n";
     EXPECT_GT(acne, 20u) << c.what;
     EXPECT_EQ(receiverAcne, 0u) << c.what;
   }

@@ -58,8 +58,7 @@ TEST(ReceiverPlaneExact, NoMoreWrongPairsThanThePlainBias) {
   const Scene scene = boxOverFloor();
   for (int mapSize : {64, 256})
     for (int taps : {1, 3, 5}) {
-      const std::string what =
-          std::to_string(mapSize) + "^2 " + shadowFilterName(taps);
+      const std::string what = std::to_string(mapSize) + "^2 " + shadowFilterName(taps);
       const Wrong plain = wrongPairs(scene, mapSize, taps, "1.5,1.5");
       const Wrong receiver = wrongPairs(scene, mapSize, taps, "receiver,0.5");
       const Wrong plainSmall = wrongPairs(scene, mapSize, taps, "0.5,0");
