@@ -23,7 +23,8 @@
  *   4        the face's atlas rectangle (x, y, size) and the atlas's width, in texels
  *   5        a texel's world footprint at linear depth d: a + b d (perspective: b; ortho: a),
  *            then the bias's constant C and slope S (in footprints; below)
- *   6        the filter's taps a side N (1: none), the light's face count (6 cube, or 1)
+ *   6        the filter's taps a side N (1: none), the light's face count (6 cube, or 1), and
+ *            1 for the receiver-plane bias (--shadow-bias receiver,C; below), else 0
  * A light's faces are consecutive; a light refers to its first.
  */
 #ifndef TS_SHADOWS_H
@@ -47,6 +48,43 @@
 
 static inline TS_REAL ts_shadow_row(TS_REAL4 r, TS_REAL3 P) {
   return r.x * P.x + r.y * P.y + r.z * P.z + r.w;
+}
+
+/* The receiver-plane depth bias (Isidoro, GDC 2006; Schuler, ShaderX5): the gradient (gu, gv) of
+ * the face's linear depth across the plane through P with normal N, per texel column and row.
+ * The kernels have no screen derivatives, so the plane is the G-buffer's: with Gu, Gv the
+ * gradients of the texel coordinates u, v in view space, the depth row's xyz is
+ * gu Gu + gv Gv + k N (a change along N leaves the plane), solved by Cramer's rule. Linear in the
+ * texel offset, so exact for planar receivers up to the perspective's curvature over the
+ * filter's reach. A plane seen edge-on (det 0) or steeper than TS_SHADOW_MAX_TAN is clamped to
+ * that slope, as the slope bias is. */
+static inline void ts_shadow_receiver_gradient(TS_SHADOW_FACES faces, int base, TS_REAL3 N,
+                                               TS_REAL nx, TS_REAL ny, TS_REAL w, TS_REAL size,
+                                               TS_REAL limit, TS_OUT(TS_REAL, gu),
+                                               TS_OUT(TS_REAL, gv)) {
+  TS_REAL4 r0 = TS_SHADOW_FACE(faces, base + 0);
+  TS_REAL4 r1 = TS_SHADOW_FACE(faces, base + 1);
+  TS_REAL4 rw = TS_SHADOW_FACE(faces, base + 2);
+  TS_REAL4 rd = TS_SHADOW_FACE(faces, base + 3);
+  /* u = (nx + 1) size / 2, v = (1 - ny) size / 2, nx = (r0 . P) / w: d nx = (r0 - nx rw) / w. */
+  TS_REAL su = TS_LIT(0.5) * size / w;
+  TS_REAL ax = su * (r0.x - nx * rw.x), ay = su * (r0.y - nx * rw.y), az = su * (r0.z - nx * rw.z);
+  TS_REAL bx = -su * (r1.x - ny * rw.x), by = -su * (r1.y - ny * rw.y),
+          bz = -su * (r1.z - ny * rw.z);
+  /* Gv x N, N x Gu */
+  TS_REAL cx = by * N.z - bz * N.y, cy = bz * N.x - bx * N.z, cz = bx * N.y - by * N.x;
+  TS_REAL ex = N.y * az - N.z * ay, ey = N.z * ax - N.x * az, ez = N.x * ay - N.y * ax;
+  TS_REAL det = ax * cx + ay * cy + az * cz;
+  TS_REAL du = rd.x * cx + rd.y * cy + rd.z * cz;
+  TS_REAL dv = rd.x * ex + rd.y * ey + rd.z * ez;
+  TS_REAL a = TS_LIT(0.0), b = TS_LIT(0.0);
+  if (det != TS_LIT(0.0)) { /* det 0: edge-on, N.l ~ 0 and the light term ~ 0 */
+    a = du / det;
+    b = dv / det;
+  }
+  /* Also false for NaN: min/max keep a finite value. */
+  TS_DEREF(gu) = !(a == a) ? TS_LIT(0.0) : max(-limit, min(limit, a));
+  TS_DEREF(gv) = !(b == b) ? TS_LIT(0.0) : max(-limit, min(limit, b));
 }
 
 /* The face's share of the visibility of P (1 lit, 0 shadowed) given the bias in world units. P
@@ -85,13 +123,25 @@ static inline TS_REAL ts_shadow_face(TS_SHADOW_FACES faces, TS_SHADOW_ATLAS atla
   int x0 = TS_CAST(int, floor(u - TS_LIT(0.5) * TS_CAST(TS_REAL, n - 1)));
   int y0 = TS_CAST(int, floor(v - TS_LIT(0.5) * TS_CAST(TS_REAL, n - 1)));
   int origin = TS_CAST(int, rect.y) * stride + TS_CAST(int, rect.x);
+  /* Receiver plane: each tap compares the depth of P's tangent plane at the tap's texel centre
+   * (gu, gv: the plane's depth per texel), so only C is left as bias (S is not used). */
+  TS_REAL gu = TS_LIT(0.0), gv = TS_LIT(0.0);
+  if (misc.z != TS_LIT(0.0)) {
+    ts_shadow_receiver_gradient(faces, base, N, nx, ny, w, size,
+                                footprint * TS_LIT(TS_SHADOW_MAX_TAN), TS_ADDR(gu), TS_ADDR(gv));
+    test = depth - footprint * bias.z;
+  }
   int lit = 0;
   /* N x N texels from (x0, y0), each clamped to the face's rectangle (never a neighbour's). */
   for (int j = 0; j < n; ++j) {
     int ty = y0 + j < 0 ? 0 : y0 + j >= isize ? isize - 1 : y0 + j;
     for (int i = 0; i < n; ++i) {
       int tx = x0 + i < 0 ? 0 : x0 + i >= isize ? isize - 1 : x0 + i;
-      if (test <= TS_SHADOW_TEXEL(atlas, origin + ty * stride + tx)) ++lit;
+      TS_REAL t = test;
+      if (misc.z != TS_LIT(0.0))
+        t = test + gu * (TS_CAST(TS_REAL, tx) + TS_LIT(0.5) - u) +
+            gv * (TS_CAST(TS_REAL, ty) + TS_LIT(0.5) - v);
+      if (t <= TS_SHADOW_TEXEL(atlas, origin + ty * stride + tx)) ++lit;
     }
   }
   return TS_CAST(TS_REAL, lit) / TS_CAST(TS_REAL, n * n);

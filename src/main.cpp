@@ -115,7 +115,8 @@ int main(int argc, char** argv) {
       ->add_option("--shadow-bias", render.shadowBias,
                    "depth bias CONSTANT,SLOPE in texels' world footprint at the receiver: "
                    "footprint * (C + S tan(angle between normal and light) N/2), N the "
-                   "filter's taps a side (none: 1); docs/shadows.md")
+                   "filter's taps a side (none: 1); or receiver,C: each tap compares the "
+                   "receiver plane's depth at its texel, bias footprint * C; docs/shadows.md")
       ->capture_default_str();
   renderCmd
       ->add_option("--shadow-map-size", render.shadowMapSize,

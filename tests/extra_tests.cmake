@@ -128,6 +128,11 @@ foreach(lanes 1 16)
   tileshade_oclgrind_test(deferred.shadows.lanes${lanes} "${TILESHADE_OCLGRIND_ALL}"
     $<TARGET_FILE:tileshade> render ${TILESHADE_OCLGRIND_FRAME} --technique deferred
     --shadows 4 --shadow-map-size 16 --shadow-filter pcf5 --lanes ${lanes})
+  # The receiver-plane bias's branch (its gradient and per-tap depths).
+  tileshade_oclgrind_test(deferred.shadows-receiver.lanes${lanes} "${TILESHADE_OCLGRIND_ALL}"
+    $<TARGET_FILE:tileshade> render ${TILESHADE_OCLGRIND_FRAME} --technique deferred
+    --shadows 4 --shadow-map-size 16 --shadow-filter pcf5 --shadow-bias receiver,0.5
+    --lanes ${lanes})
 endforeach()
 # tiled's binning on both of its paths (a work-item per light, a work-group per big light; the
 # default run above takes one path per device), its lists against the host's.

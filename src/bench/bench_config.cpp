@@ -207,7 +207,10 @@ std::vector<BenchDimension> makeDimensions() {
       [](const BenchConfig& c) { return c.shadowFilter; });
   d.back().keyedOffDefault = true;
   add(
-      "shadow_bias", "shadow depth bias(es) C:S (constant:slope, texels; docs/shadows.md)", true,
+      "shadow_bias",
+      "shadow depth bias(es) C:S (constant:slope, texels) or receiver:C (receiver plane; "
+      "docs/shadows.md)",
+      true,
       [](BenchConfig& c, const std::string& v) {
         // ':' inside a value, as ',' separates a list's values (render's --shadow-bias C,S).
         std::string s = trimmed(v);
@@ -217,10 +220,10 @@ std::vector<BenchDimension> makeDimensions() {
           parseShadowBias(s, sampling);
         } catch (const Error&) {  // render's message names its C,S form
           badOptionValue("--shadow-bias", v,
-                         "expected C:S, two finite numbers >= 0 (constant:slope; ':' as ',' "
-                         "separates values)");
+                         "expected C:S or receiver:C, finite numbers >= 0 (constant:slope; ':' "
+                         "as ',' separates values)");
         }
-        c.shadowBias = floatText(sampling.biasConstant) + "," + floatText(sampling.biasSlope);
+        c.shadowBias = shadowBiasText(sampling);
       },
       [](const BenchConfig& c) {
         std::string s = c.shadowBias;

@@ -628,22 +628,25 @@ json shadowAtlasJson(const ViewLights& lights, const std::string& filter, const 
   }
   const int width = lights.shadowAtlasWidth;
   const int height = int(lights.shadowAtlas->size() / size_t(width));
-  return {{"image", "shadow_atlas.exr"},
-          {"width", width},
-          {"height", height},
-          {"origin", "top"},
-          {"depth", "linear -Z of the face's view space; zfar where empty"},
-          {"space", "view"},
-          {"filter", filter},
-          {"bias", {r[5].z, r[5].w}},
-          {"faces", list}};
+  json out = {{"image", "shadow_atlas.exr"},
+              {"width", width},
+              {"height", height},
+              {"origin", "top"},
+              {"depth", "linear -Z of the face's view space; zfar where empty"},
+              {"space", "view"},
+              {"filter", filter},
+              {"bias", {r[5].z, r[5].w}},
+              {"faces", list}};
+  if (r[6].z != 0.0f) out["receiver_plane"] = true;  // written only when on: older dumps stay
+  return out;
 }
 
 ShadowAtlasFile parseShadowAtlasFile(const std::string& text, const std::string& file) {
   const json j = parseStrictJson(text, file);
   if (!j.is_object()) throw Error(file + " must hold a JSON object");
   const JsonFields top{file, j, ""};
-  top.onlyKeys({"image", "width", "height", "origin", "depth", "space", "filter", "bias", "faces"});
+  top.onlyKeys({"image", "width", "height", "origin", "depth", "space", "filter", "bias",
+                "receiver_plane", "faces"});
   ShadowAtlasFile out;
   out.path = file;
   out.imagePath = (fs::path(file).parent_path() / top.string("image")).string();
@@ -663,6 +666,10 @@ ShadowAtlasFile parseShadowAtlasFile(const std::string& text, const std::string&
       top.fail("bias", "must be [constant, slope], two numbers in [0, 1e6]");
     out.biasConstant = b[0].get<float>();
     out.biasSlope = b[1].get<float>();
+  }
+  if (top.has("receiver_plane")) {
+    if (!j.at("receiver_plane").is_boolean()) top.fail("receiver_plane", "must be true or false");
+    out.receiverPlane = j.at("receiver_plane").get<bool>();
   }
   if (!top.has("faces") || !j.at("faces").is_array() || j.at("faces").empty())
     top.fail("faces", "must be a non-empty array");

@@ -119,6 +119,7 @@ struct ShadowAtlasFile {
   int width = 0, height = 0;
   std::string filter = "none";  // --shadow-filter's name (raster/shadow_maps.h parses it)
   float biasConstant = 1.5f, biasSlope = 1.5f;
+  bool receiverPlane = false;  // "receiver_plane": --shadow-bias receiver,C
   std::vector<ShadowAtlasFaceRecord> faces;
 };
 // The view-space description of `lights`' shadow faces (lights.hasShadows()), the image named

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <thread>
 
@@ -18,6 +19,16 @@ namespace ts {
 namespace {
 
 constexpr int kSmallFace = 64;  // one tile of the rasterizer
+
+// Shortest text that reads back as the same float (a bias's canonical form).
+std::string shortestFloat(float v) {
+  char buf[32];
+  for (int p = 1; p <= 9; ++p) {
+    std::snprintf(buf, sizeof buf, "%.*g", p, double(v));
+    if (std::strtof(buf, nullptr) == v) break;
+  }
+  return buf;
+}
 
 glm::vec4 row(const glm::dmat4& m, int r) {
   return glm::vec4(glm::dvec4(m[0][r], m[1][r], m[2][r], m[3][r]));
@@ -37,21 +48,30 @@ int parseShadowFilter(const std::string& name) {
 std::string shadowFilterName(int taps) { return taps == 1 ? "none" : "pcf" + std::to_string(taps); }
 
 void parseShadowBias(const std::string& text, ShadowSampling& sampling) {
-  const std::vector<std::string> parts = splitList(text);
+  std::vector<std::string> parts = splitList(text);
+  const bool receiver = !parts.empty() && parts[0] == "receiver";
+  if (receiver) parts.erase(parts.begin());
+  const size_t count = receiver ? 1 : 2;
   char* end = nullptr;
   float v[2] = {0.0f, 0.0f};
-  bool ok = parts.size() == 2;
-  for (size_t i = 0; ok && i < 2; ++i) {
+  bool ok = parts.size() == count;
+  for (size_t i = 0; ok && i < count; ++i) {
     v[i] = std::strtof(parts[i].c_str(), &end);
     ok = !parts[i].empty() && *end == '\0' && std::isfinite(v[i]) && v[i] >= 0.0f;
   }
   if (!ok)
     throw Error(
-        "--shadow-bias: expected CONSTANT,SLOPE (two finite numbers >= 0, in texel "
-        "footprints), got '" +
+        "--shadow-bias: expected CONSTANT,SLOPE or receiver,CONSTANT (finite numbers >= 0, in "
+        "texel footprints), got '" +
         shortText(text) + "'");
   sampling.biasConstant = v[0];
   sampling.biasSlope = v[1];
+  sampling.receiverPlane = receiver;
+}
+
+std::string shadowBiasText(const ShadowSampling& sampling) {
+  if (sampling.receiverPlane) return "receiver," + shortestFloat(sampling.biasConstant);
+  return shortestFloat(sampling.biasConstant) + "," + shortestFloat(sampling.biasSlope);
 }
 
 void attachShadowMaps(const std::shared_ptr<const ShadowAtlas>& atlas,
@@ -91,7 +111,8 @@ void attachShadowMaps(const std::shared_ptr<const ShadowAtlas>& atlas,
     lights.shadowFaces.emplace_back(face.view.orthographic ? float(texel) : 0.0f,
                                     face.view.orthographic ? 0.0f : float(texel),
                                     sampling.biasConstant, sampling.biasSlope);
-    lights.shadowFaces.emplace_back(float(sampling.taps), float(faces), 0.0f, 0.0f);
+    lights.shadowFaces.emplace_back(float(sampling.taps), float(faces),
+                                    sampling.receiverPlane ? 1.0f : 0.0f, 0.0f);
   }
   if (lights.shadowFaces.size() != layout.faces.size() * TS_SHADOW_FACE_RECORDS)
     throw Error("shadow face table out of step with kernels/shadows.h");

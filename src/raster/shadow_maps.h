@@ -41,16 +41,20 @@ ShadowAtlas drawShadowAtlas(const Scene& scene, const std::vector<DrawBatch>& ba
 
 // How the maps are sampled (kernels/shadows.h; docs/shadows.md): --shadow-filter's taps a side
 // (1: none, one texel's comparison; 2, 3, 5: pcfN, N x N comparisons averaged) and --shadow-bias
-// (constant, slope; in a texel's world footprint at the receiver).
+// (constant, slope; in a texel's world footprint at the receiver), or "receiver,C": each tap
+// compares the receiver plane's depth at its texel, with the constant C only (no slope).
 struct ShadowSampling {
   int taps = 1;
   float biasConstant = 1.5f, biasSlope = 1.5f;
+  bool receiverPlane = false;  // biasSlope is then 0 (not used)
 };
-// --shadow-filter none|pcf2|pcf3|pcf5 -> taps, and back; --shadow-bias "C,S" (finite, >= 0).
+// --shadow-filter none|pcf2|pcf3|pcf5 -> taps, and back; --shadow-bias "C,S" or "receiver,C"
+// (finite, >= 0), and back (shadowBiasText: the canonical "C,S" / "receiver,C").
 // Throw ts::Error (one line naming the option) for anything else.
 int parseShadowFilter(const std::string& name);
 std::string shadowFilterName(int taps);
 void parseShadowBias(const std::string& text, ShadowSampling& sampling);
+std::string shadowBiasText(const ShadowSampling& sampling);
 
 // Gives `lights` (toViewSpace of `sceneLights` with `viewFromWorld`) the atlas's faces in view
 // space and each shadow-casting light its first face: the kernels' face table and atlas.

@@ -65,6 +65,7 @@ void attachImportedShadows(const GBufferDescriptor& d, ViewLights& lights) {
   }
   sampling.biasConstant = file.biasConstant;
   sampling.biasSlope = file.biasSlope;
+  sampling.receiverPlane = file.receiverPlane;
 
   const int faces = int(file.faces.size());
   std::vector<int> count(size_t(faces), 0);  // per face: its light's face count, 0 = no light
@@ -88,12 +89,12 @@ void attachImportedShadows(const GBufferDescriptor& d, ViewLights& lights) {
   lights.shadowFaces.clear();
   for (int k = 0; k < faces; ++k) {
     const ShadowAtlasFaceRecord& r = file.faces[size_t(k)];
-    lights.shadowFaces.insert(
-        lights.shadowFaces.end(),
-        {r.clipX, r.clipY, r.clipW, r.depth,
-         glm::vec4(float(r.x), float(r.y), float(r.size), float(file.width)),
-         glm::vec4(r.footprint, sampling.biasConstant, sampling.biasSlope),
-         glm::vec4(float(sampling.taps), float(count[size_t(k)]), 0.0f, 0.0f)});
+    lights.shadowFaces.insert(lights.shadowFaces.end(),
+                              {r.clipX, r.clipY, r.clipW, r.depth,
+                               glm::vec4(float(r.x), float(r.y), float(r.size), float(file.width)),
+                               glm::vec4(r.footprint, sampling.biasConstant, sampling.biasSlope),
+                               glm::vec4(float(sampling.taps), float(count[size_t(k)]),
+                                         sampling.receiverPlane ? 1.0f : 0.0f, 0.0f)});
   }
   if (lights.shadowFaces.size() != size_t(faces) * TS_SHADOW_FACE_RECORDS)
     throw Error("shadow face table out of step with kernels/shadows.h");

@@ -104,6 +104,8 @@ TEST(BenchSweep, ShadowDimensionsRefuseBadValuesInOneLine) {
            {"shadow_filter", "pcf4", "--shadow-filter"},
            {"shadow_bias", "1", "--shadow-bias"},
            {"shadow_bias", "-1:2", "--shadow-bias"},
+           {"shadow_bias", "receiver", "--shadow-bias"},
+           {"shadow_bias", "receiver:1:2", "--shadow-bias"},
            {"shadow_budget", "0", "--shadow-budget"},
            {"shadow_budget", "5000", "--shadow-budget"},
            {"shadow_budget", "lots", "--shadow-budget"},
@@ -129,6 +131,17 @@ TEST(BenchSweep, ShadowDimensionsCanonicalAndKeyedOffDefault) {
   EXPECT_EQ(configs[0].key(), ts::BenchConfig{}.key());
   EXPECT_EQ(configs[0].key().find("shadow"), std::string::npos) << configs[0].key();
   EXPECT_NE(configs[1].key().find("shadow_bias=0.5:2"), std::string::npos) << configs[1].key();
+}
+
+// The receiver-plane bias as a bias value: canonical "receiver,C", keyed "receiver:C".
+TEST(BenchSweep, ShadowBiasTakesTheReceiverPlane) {
+  BenchSweep s;
+  s.set("shadow_bias", {"receiver:0.50,1.5:1.5"});
+  auto configs = ts::expandSweep(s);
+  ASSERT_EQ(configs.size(), 2u);
+  EXPECT_EQ(configs[0].shadowBias, "receiver,0.5");
+  EXPECT_NE(configs[0].key().find("shadow_bias=receiver:0.5"), std::string::npos)
+      << configs[0].key();
 }
 
 // shadow_budget (frame) and shadow_storage (technique) dimensions: canonical values, keyed off

@@ -122,7 +122,9 @@ TEST(ShadowMapsCli, BadOptionsFailWithOneLine) {
        {"--shadows 20 --shadow-budget 0.001", "--shadow-map-size 100", "--shadow-map-size 8",
         "--shadow-map-size 16384", "--shadow-budget 0", "--shadow-budget -3",
         "--shadow-budget 5000", "--shadow-budget nan", "--shadow-filter pcf4", "--shadow-bias 1",
-        "--shadow-bias 1,x", "--shadow-bias 1,-2", "--shadow-bias 1,2,3", "--shadow-bias inf,1"}) {
+        "--shadow-bias 1,x", "--shadow-bias 1,-2", "--shadow-bias 1,2,3", "--shadow-bias inf,1",
+        "--shadow-bias receiver", "--shadow-bias receiver,1,2", "--shadow-bias receiver,-1",
+        "--shadow-bias 1,receiver"}) {
     CliRun r = runTileshade(kFrame + args + " --out " + tmp.string());
     EXPECT_NE(r.status, 0) << args;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
@@ -160,24 +162,30 @@ TEST(ShadowMapsCli, ForwardTechniquesShadeShadowCastingLights) {
 }
 
 // A G-buffer dumped with shadow-casting lights, imported: shaded with the maps it carries (the
-// same image as the render it was dumped from), and stats.json counts its casters.
+// same image as the render it was dumped from, also with the receiver-plane bias, whose flag
+// the dump's shadow_atlas.json carries), and stats.json counts its casters.
 TEST(ShadowMapsCli, AnImportedShadowedDumpKeepsItsShadows) {
   if (!std::filesystem::exists(TILESHADE_BINARY)) GTEST_SKIP() << "tileshade binary not built";
   const auto tmp = std::filesystem::temp_directory_path() / "tileshade_cli_shadow_import";
-  std::filesystem::remove_all(tmp);
-  CliRun r = runTileshade(kFrame + "--shadows 2 --technique tiled --dump --out " +
-                          (tmp / "dump").string());
-  ASSERT_EQ(r.status, 0) << r.output;
-  r = runTileshade("render --device cpu --technique tiled --gbuffer-in " + (tmp / "dump").string() +
-                       " --out " + (tmp / "again").string(),
-                   test::Streams::StderrOnly);
-  ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_EQ(r.output.find("without shadows"), std::string::npos) << r.output;
-  const nlohmann::json stats = nlohmann::json::parse(std::ifstream(tmp / "again" / "stats.json"));
-  EXPECT_EQ(stats["shadow_casting_lights"], 2);
-  const FloatImage a = readImage((tmp / "dump" / "image.exr").string());
-  const FloatImage b = readImage((tmp / "again" / "image.exr").string());
-  EXPECT_TRUE(a.data == b.data);
+  for (const std::string bias : {"1.5,1.5", "receiver,0.5"}) {
+    std::filesystem::remove_all(tmp);
+    CliRun r = runTileshade(kFrame + "--shadows 2 --shadow-filter pcf3 --shadow-bias " + bias +
+                            " --technique tiled --dump --out " + (tmp / "dump").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    r = runTileshade("render --device cpu --technique tiled --gbuffer-in " +
+                         (tmp / "dump").string() + " --out " + (tmp / "again").string(),
+                     test::Streams::StderrOnly);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(r.output.find("without shadows"), std::string::npos) << r.output;
+    const nlohmann::json atlas =
+        nlohmann::json::parse(std::ifstream(tmp / "dump" / "shadow_atlas.json"));
+    EXPECT_EQ(atlas.contains("receiver_plane"), bias != "1.5,1.5") << bias;
+    const nlohmann::json stats = nlohmann::json::parse(std::ifstream(tmp / "again" / "stats.json"));
+    EXPECT_EQ(stats["shadow_casting_lights"], 2);
+    const FloatImage a = readImage((tmp / "dump" / "image.exr").string());
+    const FloatImage b = readImage((tmp / "again" / "image.exr").string());
+    EXPECT_TRUE(a.data == b.data) << bias;
+  }
 }
 
 // bench draws the maps of a scene's own shadow-casting lights (extras castsShadow) every frame:

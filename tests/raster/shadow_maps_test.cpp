@@ -8,11 +8,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "test_scenes.h"
 #include "raster/shadow_maps.h"
 #include "scene/mesh_builder.h"
+#include "scene/view_space_lights.h"
+#include "util/error.h"
 
 namespace {
 
@@ -366,3 +369,37 @@ TEST(ShadowMaps, SameAtlasForAnyThreadCount) {
 }
 
 }  // namespace
+
+// --shadow-bias receiver,C: the receiver plane with the constant only (no slope), its canonical
+// text, and the face table's flag (record 6's z) that kernels/shadows.h branches on.
+TEST(ShadowMaps, ReceiverPlaneBiasParsesAndReachesTheFaceTable) {
+  ts::ShadowSampling plain, receiver;
+  ts::parseShadowBias("0.5,2", plain);
+  ts::parseShadowBias("receiver,0.25", receiver);
+  EXPECT_FALSE(plain.receiverPlane);
+  EXPECT_TRUE(receiver.receiverPlane);
+  EXPECT_EQ(receiver.biasConstant, 0.25f);
+  EXPECT_EQ(receiver.biasSlope, 0.0f);
+  EXPECT_EQ(ts::shadowBiasText(plain), "0.5,2");
+  EXPECT_EQ(ts::shadowBiasText(receiver), "receiver,0.25");
+  for (const char* bad :
+       {"receiver", "receiver,1,2", "receiver,-1", "receiver,nan", "1,receiver"}) {
+    ts::ShadowSampling s;
+    EXPECT_THROW(ts::parseShadowBias(bad, s), ts::Error) << bad;
+  }
+  ts::Scene scene = ts::test::floorAndBox();
+  ts::SceneLight sun = ts::SceneLight::directional({0.0f, -1.0f, 0.0f}, glm::vec3(1.0f));
+  sun.castsShadow = true;
+  scene.lights.push_back(sun);
+  const ts::SceneCamera camera = scene.camera(0);
+  auto atlas = std::make_shared<ts::ShadowAtlas>(ts::drawShadowAtlas(
+      scene, ts::planShadowAtlas(scene.lights, scene.bounds(), camera, ts::ShadowAtlasOptions{}),
+      1));
+  for (const ts::ShadowSampling& s : {plain, receiver}) {
+    ts::ViewLights lights = ts::toViewSpace(scene.lights, camera.viewFromWorld);
+    ts::attachShadowMaps(atlas, scene.lights, camera.viewFromWorld, s, lights);
+    ASSERT_EQ(lights.shadowFaces.size(), 7u);  // one face: TS_SHADOW_FACE_RECORDS
+    EXPECT_EQ(lights.shadowFaces[6].z, s.receiverPlane ? 1.0f : 0.0f);
+    EXPECT_EQ(lights.shadowFaces[5].w, s.biasSlope);
+  }
+}
