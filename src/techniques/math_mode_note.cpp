@@ -15,11 +15,12 @@ std::string mathModeNote(MathMode math, const std::string& device, const std::st
   if (math == MathMode::Native && isPoclCpu(device, type))
     return "--math native: the same machine code as precise on this device (PoCL's native_ "
            "functions are its precise ones): no faster, the same image";
-  // -cl-fast-relaxed-math changes the code, but measured no faster than precise on PoCL in any of
-  // tiled, tiled-single, clustered and brute (bench/RESULTS.md, issue #19), with twice the error.
+  // -cl-fast-relaxed-math changes the code, but it measured no faster than precise on PoCL in any
+  // of tiled, tiled-single, clustered and brute (bench/RESULTS.md, issue #19), with 2.4x the error.
   if (math == MathMode::Fast && isPoclCpu(device, type))
-    return "--math fast: measured no faster than precise on this device (PoCL; bench/RESULTS.md, "
-           "issue #19), with about twice its error";
+    return "--math fast: not measurably faster than precise on this device (PoCL; "
+           "bench/RESULTS.md, "
+           "issue #19), with more error (docs/accuracy.md)";
   return "";
 }
 

@@ -13,8 +13,8 @@ using ts::test::runTileshade;
 
 CliRun renderWithMath(const std::string& math) {
   std::string dir = ts::test::freshDir("math_note", math).string();
-  return runTileshade("render --width 64 --height 36 --technique tiled --math " + math +
-                      " --out " + dir);
+  return runTileshade("render --width 64 --height 36 --technique tiled --math " + math + " --out " +
+                      dir);
 }
 
 TEST(MathNoteCli, NativeOnPoclSaysSameCodeAsPrecise) {
