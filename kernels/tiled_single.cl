@@ -37,8 +37,8 @@
 #define GROUP_SIZE (GROUP_W * GROUP_H)
 /* Lights each work-item tests per batch: as many as the list holds (at most 16), so that a batch
  * never overflows an emptied list. PoCL runs every barrier region as a loop over the work-group's
- * work-items: one batch of 1 024 lights (the default list) costs a quarter of four batches of
- * 256's barrier loops. */
+ * work-items: one batch of 1 024 lights (the default list) has a quarter of the regions of four
+ * batches of 256 (bench/RESULTS.md, issue #19). */
 #define TESTS_PER_ITEM (LIST_CAPACITY / GROUP_SIZE < 16 ? LIST_CAPACITY / GROUP_SIZE : 16)
 #define BATCH_LIGHTS (TESTS_PER_ITEM * GROUP_SIZE)
 /* Words of the accept bits of one batch (one bit per light of the batch). */
