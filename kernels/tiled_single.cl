@@ -5,10 +5,10 @@
  *   2. test every light of the frame against the tile (a cheap pre-test first, culling.h's
  *      ts_light_may_meet_tile, so most lights skip the full test), appending accepted lights to
  *      a list in local memory, in light index order: each batch of tests sets one bit per
- *      accepted light (atomic_or: the result does not depend on the order) and a light's slot
- *      is the count of accepted lights before it, so the list, and each pixel's sum, is the
- *      same on every run and every device (an atomic_inc cursor gave the order the work-items
- *      ran in);
+ *      accepted light (atomic_or: the result does not depend on the order) and one work-item
+ *      then appends the set bits' lights in bit order, so the list, and each pixel's sum, is
+ *      the same on every run and every device (an atomic_inc cursor gave the order the
+ *      work-items ran in);
  *   3. shade the tile's pixels over that list.
  * Every tile repeats the light tests that the multi-kernel variant (tiled.cl) does once per light
  * rectangle: simple, but redundant per-tile work. The per-tile test is the same as tiled.cl's
@@ -35,8 +35,14 @@
 #include "light_lists.h"
 
 #define GROUP_SIZE (GROUP_W * GROUP_H)
-/* Words of the accept bits of one batch of GROUP_SIZE light tests (one bit per work-item). */
-#define ACCEPT_WORDS ((GROUP_SIZE + 31) / 32)
+/* Lights each work-item tests per batch: as many as the list holds (at most 16), so that a batch
+ * never overflows an emptied list. PoCL runs every barrier region as a loop over the work-group's
+ * work-items: one batch of 1 024 lights (the default list) has a quarter of the regions of four
+ * batches of 256 (bench/RESULTS.md, issue #19). */
+#define TESTS_PER_ITEM (LIST_CAPACITY / GROUP_SIZE < 16 ? LIST_CAPACITY / GROUP_SIZE : 16)
+#define BATCH_LIGHTS (TESTS_PER_ITEM * GROUP_SIZE)
+/* Words of the accept bits of one batch (one bit per light of the batch). */
+#define ACCEPT_WORDS ((BATCH_LIGHTS + 31) / 32)
 /* Pixels of the tile each work-item owns (the tile may be larger than the work-group). */
 #define PIXELS_PER_ITEM (((TILE_W + GROUP_W - 1) / GROUP_W) * ((TILE_H + GROUP_H - 1) / GROUP_H))
 
@@ -187,6 +193,21 @@ static void lanes_write_tile(__local const float *soa, int tx, int ty, float4 ca
 }
 #endif
 
+/* Appends the batch's accepted lights (bit b of word w: light base + 32 w + b) to the list after
+ * its first `len` entries, in light index order, and clears the bits; returns the new length.
+ * Run by one work-item: a serial scan of ACCEPT_WORDS words and the few accepted lights costs
+ * less than every work-item counting its rank in its own barrier region. */
+static uint append_accepted(__local uint *accept_bits, int words, int base, __local uint *list,
+                            uint len) {
+  for (int w = 0; w < words; ++w) {
+    uint bits = accept_bits[w];
+    accept_bits[w] = 0u;
+    for (; bits != 0u; bits &= bits - 1u)
+      list[len++] = (uint)(base + w * 32) + (31u - clz(bits & (~bits + 1u)));
+  }
+  return len;
+}
+
 /* With record_stride > 0, copies a chunk of n listed lights to the tile's record after the
  * `accepted` lights of the chunks before it. */
 static void record_chunk(__local const uint *list, uint n, uint accepted, int tile,
@@ -213,6 +234,7 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   __local float lmin[GROUP_SIZE];
   __local float lmax[GROUP_SIZE];
   __local uint accept_bits[ACCEPT_WORDS];
+  __local uint list_end; /* list_len after the last batch, written by work-item 0 */
   int width = (int)camera.z, height = (int)camera.w;
   int tx = get_group_id(0), ty = get_group_id(1);
   int tile = ty * get_num_groups(0) + tx;
@@ -231,6 +253,8 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   }
   lmin[lid] = zmin;
   lmax[lid] = zmax;
+  for (int i = lid; i < ACCEPT_WORDS; i += GROUP_SIZE) accept_bits[i] = 0u;
+  if (lid == 0) list_end = 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   float2 zr = group_depth_range(lmin, lmax);
 
@@ -262,10 +286,11 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
   float4 pre_slopes = ts_pretest_slopes(tx * TILE_W, ty * TILE_H, (tx + 1) * TILE_W,
                                         (ty + 1) * TILE_H, width, height, camera.x, camera.y);
   float4 pre_norms = ts_pretest_norms(pre_slopes);
-  for (int base = 0; any_geometry && base < light_count; base += GROUP_SIZE) {
-    barrier(CLK_LOCAL_MEM_FENCE); /* the last batch's appends (and bit reads) are done */
+  for (int base = 0; any_geometry && base < light_count; base += BATCH_LIGHTS) {
+    barrier(CLK_LOCAL_MEM_FENCE); /* the last batch's appends are done */
+    list_len = list_end;
     uint n = list_len - accepted;
-    int flush = n + GROUP_SIZE > LIST_CAPACITY;
+    int flush = n + BATCH_LIGHTS > LIST_CAPACITY;
 #if TS_LANES == 1
     if (flush)
       shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, TS_LIGHT_ARGS,
@@ -281,29 +306,27 @@ __kernel __attribute__((reqd_work_group_size(GROUP_W, GROUP_H, 1))) void shade_t
       record_chunk(list, n, accepted, tile, record_stride, tile_lights);
       accepted += n;
     }
-    if (lid < ACCEPT_WORDS) accept_bits[lid] = 0u;
-    barrier(CLK_LOCAL_MEM_FENCE); /* every work-item has read the list; the bits are clear */
-    int light = base + lid;
-    int accept = 0;
-    if (light < light_count &&
-        ts_light_may_meet_tile(light_pos_range[light], ts_light_spot(light_spot, (uint)light),
-                               pre_slopes, pre_norms, zr.x, zr.y)) {
-      ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, (uint)light);
-      accept = light_meets_tile(&v, tx, ty, zr, camera, znear);
-      if (accept) atomic_or(&accept_bits[lid / 32], 1u << (lid % 32));
+    /* Work-item i tests lights i, i + GROUP_SIZE, ...: consecutive lights in the vector lanes PoCL
+     * makes of consecutive work-items. The list is only read above and written below the next
+     * barrier, so no barrier is needed here. */
+    for (int j = 0; j < TESTS_PER_ITEM; ++j) {
+      int slot = j * GROUP_SIZE + lid, light = base + slot;
+      if (light < light_count &&
+          ts_light_may_meet_tile(light_pos_range[light], ts_light_spot(light_spot, (uint)light),
+                                 pre_slopes, pre_norms, zr.x, zr.y)) {
+        ts_light_volume v = ts_load_light_volume(light_pos_range, light_spot, (uint)light);
+        if (light_meets_tile(&v, tx, ty, zr, camera, znear))
+          atomic_or(&accept_bits[slot / 32], 1u << (slot % 32));
+      }
     }
     barrier(CLK_LOCAL_MEM_FENCE); /* every accept bit is set */
-    uint before = 0, batch = 0; /* accepted lights of this batch before this one; in all */
-    for (int w = 0; w < ACCEPT_WORDS; ++w) {
-      uint bits = accept_bits[w];
-      if (w < lid / 32) before += popcount(bits);
-      if (w == lid / 32) before += popcount(bits & ((1u << (lid % 32)) - 1u));
-      batch += popcount(bits);
+    if (lid == 0) {
+      int words = min(ACCEPT_WORDS, (light_count - base + 31) / 32);
+      list_end = accepted + append_accepted(accept_bits, words, base, list, list_len - accepted);
     }
-    if (accept) list[list_len + before - accepted] = (uint)light;
-    list_len += batch;
   }
   barrier(CLK_LOCAL_MEM_FENCE);
+  list_len = list_end;
   uint n = list_len - accepted;
 #if TS_LANES == 1
   shade_list(list, n, tx, ty, camera, ambient, TS_GBUFFER_ARGS, TS_LIGHT_ARGS, TS_DIRECTIONAL_ARGS,

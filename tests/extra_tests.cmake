@@ -103,10 +103,10 @@ endforeach()
 tileshade_oclgrind_test(tiled.msaa "--data-races ${TILESHADE_OCLGRIND_NOOPT}"
   $<TARGET_FILE:tileshade_tests> --gtest_filter=TiledMsaaKernels.*)
 foreach(lanes 1 16)
-  # 300 lights reaching every tile: tiled-single's 256-light local list shades in two chunks, in
+  # 1100 lights reaching every tile: tiled-single's 1024-light local list shades in two chunks, in
   # tiles that cross the frame's edge (issue #12's heap corruption on PoCL).
   tileshade_oclgrind_test(tiled-single.chunks.lanes${lanes} "${TILESHADE_OCLGRIND_ALL}"
-    $<TARGET_FILE:tileshade> render --device oclgrind --width 18 --height 6 --light-count 300
+    $<TARGET_FILE:tileshade> render --device oclgrind --width 18 --height 6 --light-count 1100
     --light-range 1000 --check --out @OUT@ --technique tiled-single --lanes ${lanes})
 endforeach()
 foreach(tile 7x5 24x8)

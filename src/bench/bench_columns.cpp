@@ -55,6 +55,7 @@ const std::vector<BenchColumn>& measurementColumns() {
       {"peak_gflops", "/limit/peak_gflops", Type::Number, false, ""},
       {"limit_ms", "/limit/limit_ms", Type::Number, false, ""},
       {"limit_pct", "/limit/limit_pct", Type::Number, false, ""},
+      {"limit_pct_slowest_round", "/limit/limit_pct_slowest_round", Type::Number, false, ""},
       // With --error, on the frames that get it (--error-frames).
       {"reference_contributing", "/reference_contributing", Type::Integer, false,
        "reference_contributing"},

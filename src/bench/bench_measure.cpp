@@ -54,6 +54,13 @@ json limitJson(const BenchEntry& e, size_t pixels, const EncodedGBuffer& enc, co
     limit["peak_gflops"] = e.calibration->peakGflops;
     limit["limit_ms"] = lim;
     limit["limit_pct"] = m.r.totalMs > 0 ? 100.0 * lim / m.r.totalMs : 0.0;
+    // The calibration's spread carried to the row: the same % from its slowest round's rates
+    // (limit_pct uses the best round's; bench/README.md, "The device limit").
+    Calibration slowest = *e.calibration;
+    slowest.bandwidthGBs = slowest.bandwidth.min;
+    slowest.peakGflops = slowest.peak.min;
+    double slowLim = limitMs(slowest, minBytes, minFlops);
+    limit["limit_pct_slowest_round"] = m.r.totalMs > 0 ? 100.0 * slowLim / m.r.totalMs : 0.0;
   }
   return limit;
 }

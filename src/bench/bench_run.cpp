@@ -19,6 +19,7 @@
 #include "bench/calibration_rounds.h"
 #include "cl/cl_context.h"
 #include "shading/shading_cpu.h"  // TS_SHADE_FLOPS_* (kernels/shading.h)
+#include "techniques/math_mode_note.h"
 #include "techniques/technique.h"
 #include "util/error.h"
 #include "util/file_read.h"
@@ -100,6 +101,7 @@ class BenchRunner {
   json run_;                                         // this run's record
   std::map<std::string, Calibration> calibrations_;  // by device spec
   std::set<std::string> announced_;
+  std::set<std::string> mathNotes_;  // printed once per run
   std::optional<Progress> progress_;
   std::ostream& log_ = std::cout;
 };
@@ -348,6 +350,8 @@ void BenchRunner::createTechniques(const std::vector<BenchEntry*>& group, BenchS
       e->technique = createTechnique(e->config.technique, cl, tc);
       e->kernelOptions = tc.kernelOptions();
       e->compileMs = cl.compileMs() - before;
+      std::string note = mathModeNote(tc.math, cl.deviceName(), cl.info().type);
+      if (!note.empty() && mathNotes_.insert(note).second) progress_->note("bench: note: " + note);
     } catch (const Error& x) {
       fail(*e, x.what());
     } catch (const cl::Error& x) {

@@ -17,6 +17,7 @@
 #include "gbuffer/image_io.h"
 #include "reference/error_metrics.h"
 #include "render/stats.h"
+#include "techniques/math_mode_note.h"
 #include "techniques/technique.h"
 #include "tileshade/tileshade.h"
 #include "util/error.h"
@@ -303,6 +304,8 @@ void runRender(const RenderOptions& options) {
   if (info.shadowMaps)
     for (const std::string& note : info.shadowMaps->notes)
       std::cerr << "tileshade: note: " << note << "\n";
+  const std::string mathNote = mathModeNote(options.math, device.name(), device.type());
+  if (!mathNote.empty()) std::cerr << "tileshade: note: " << mathNote << "\n";
   const std::vector<std::string> techniques = techniquesForFrame(options, info);
   const bool multisampled = info.msaa > 1;
   const RenderOptions& o = options;

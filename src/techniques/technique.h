@@ -30,11 +30,12 @@ struct TechniqueConfig {
   SceneFeatures features = SceneFeatures::general(ShadingModel::BlinnPhong);
   int tileWidth = 16;
   int tileHeight = 16;
-  int clusterSlices = 16;       // depth slices of the clustered technique
-  bool presizeLists = true;     // tiled: size the light list from the host's bound of the
-                                // frame's entries (off: start small and grow, as tests do)
-  int localListCapacity = 256;  // tiled-single: lights its local-memory list holds before it
-                                // shades a chunk (raised to the work-group size if smaller)
+  int clusterSlices = 16;        // depth slices of the clustered technique
+  bool presizeLists = true;      // tiled: size the light list from the host's bound of the
+                                 // frame's entries (off: start small and grow, as tests do)
+  int localListCapacity = 1024;  // tiled-single: lights its local-memory list holds before it
+                                 // shades a chunk (raised to the work-group size if smaller);
+                                 // also its batch of light tests (kernels/tiled_single.cl)
   // The knobs with named values (technique_knobs.h: meaning, kernel constant, name table).
   RangeModel rangeModel = RangeModel::Windowed;  // TS_MODEL
   CullTest culling = CullTest::Rect;             // TS_CULL: the per-tile test

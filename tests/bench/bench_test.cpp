@@ -163,6 +163,9 @@ TEST(BenchRun, WritesOneRowPerConfigurationAndFrameThenResumes) {
   // The rate is the best round's, and the spread behind it is recorded.
   EXPECT_EQ(calibration["peak_gflops"], calibration["peak_gflops_spread"]["best"]);
   EXPECT_GE(calibration["rounds"].get<int>(), 2);
+  // The row carries the spread: the % from the slowest round's rates is never below the best's.
+  EXPECT_GE(j["limit"]["limit_pct_slowest_round"].get<double>(),
+            j["limit"]["limit_pct"].get<double>());
   // Every value of a measured row has a bench.csv column, or is bench.json's alone (listed
   // here): a value added to the row without a column in bench_columns.cpp fails here.
   std::set<std::string> columnPaths = {"/technique"};  // the technique dimension's value again

@@ -30,14 +30,32 @@ struct ChunkCase {
 };
 
 // The issue's reproduction: street, 257 lights of range 1000 at 160x90 (90 = 5 tiles + 10 rows),
-// default 16x16 tiles with a 256-light list: every tile lists 257 lights, two chunks.
+// default 16x16 tiles with a 256-light list (the default then): every tile lists 257 lights, two
+// chunks.
 ChunkCase issueFrame() {
   SceneOptions options;
   options.lightCount = 257;
   options.lightRange = 1000.0f;
   Scene scene = loadScene("builtin:street", options);
-  return {
-      "street 160x90, 257 lights", prepareFrame(scene, 0, 160, 90, GBufferFormat::FP32), {}, 257};
+  TechniqueConfig config;
+  config.localListCapacity = 256;
+  return {"street 160x90, 257 lights", prepareFrame(scene, 0, 160, 90, GBufferFormat::FP32), config,
+          257};
+}
+
+// Several light tests per work-item: 8x8 tiles (64 work-items) with a 256-light list test 4
+// lights each per batch of 256; 600 lights take three batches and three chunks.
+ChunkCase severalTestsPerItemFrame() {
+  SceneOptions options;
+  options.lightCount = 600;
+  options.lightRange = 1000.0f;
+  Scene scene = loadScene("builtin:street", options);
+  TechniqueConfig config;
+  config.tileWidth = 8;
+  config.tileHeight = 8;
+  config.localListCapacity = 256;
+  return {"street 67x37, 8x8 tiles, 600 lights, 4 tests per work-item",
+          prepareFrame(scene, 0, 67, 37, GBufferFormat::FP32), config, 600};
 }
 
 // Many chunks in odd tiles: 7x5 tiles (35 work-items, no whole number of vectors) with a 64-light
@@ -52,13 +70,14 @@ ChunkCase oddTileFrame() {
           prepareFrame(scene, 0, 97, 61, GBufferFormat::FP32), config, 300};
 }
 
-// One pixel: a single tile that is almost entirely off screen.
+// One pixel: a single tile that is almost entirely off screen, with one light more than the
+// default 1024-light list (and batch) holds.
 ChunkCase onePixelFrame() {
   SceneOptions options;
-  options.lightCount = 257;
+  options.lightCount = 1025;
   options.lightRange = 1000.0f;
   Scene scene = loadScene("builtin:street", options);
-  return {"street 1x1, 257 lights", prepareFrame(scene, 0, 1, 1, GBufferFormat::FP32), {}, 257};
+  return {"street 1x1, 1025 lights", prepareFrame(scene, 0, 1, 1, GBufferFormat::FP32), {}, 1025};
 }
 
 size_t nonFinitePixels(const std::vector<glm::vec4>& image) {
@@ -89,6 +108,10 @@ TEST(TiledSingleChunks, IssueFrameInEveryLanesWidth) { expectChunkedTilesCorrect
 
 TEST(TiledSingleChunks, ManyChunksInOddTilesInEveryLanesWidth) {
   expectChunkedTilesCorrect(oddTileFrame());
+}
+
+TEST(TiledSingleChunks, SeveralTestsPerWorkItemInEveryLanesWidth) {
+  expectChunkedTilesCorrect(severalTestsPerItemFrame());
 }
 
 TEST(TiledSingleChunks, OnePixelFrameInEveryLanesWidth) {
