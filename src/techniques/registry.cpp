@@ -165,7 +165,8 @@ std::string msaaRefusal(const std::string& technique, int samples) {
   if (technique == "clustered-forward")
     return "technique 'clustered-forward' with --msaa " + std::to_string(samples) +
            " is not done: its slices span the scene's view depth bounds, which a fragment "
-           "extrapolated to the pixel centre can leave (tiled, tiled-forward and tiled-forward-prez "
+           "extrapolated to the pixel centre can leave (tiled, tiled-forward and "
+           "tiled-forward-prez "
            "take --msaa)";
   return "technique '" + technique + "' with --msaa " + std::to_string(samples) +
          " is not done: its per-batch light lists are culled against the batches' boxes, which a "

@@ -42,8 +42,8 @@ Scene twiceDrawnWall() {
     s.triangleMaterial.insert(s.triangleMaterial.end(), {material, material});
   }
   for (int k = 0; k < 4; ++k)
-    s.lights.push_back(SceneLight::point({-3.0 + 2.0 * k, k % 2 ? 1.0 : -1.0, -4.0},
-                                         {0.8f, 0.7f, 0.6f}, 5.0f));
+    s.lights.push_back(
+        SceneLight::point({-3.0 + 2.0 * k, k % 2 ? 1.0 : -1.0, -4.0}, {0.8f, 0.7f, 0.6f}, 5.0f));
   s.ambient = glm::vec3(0.05f);
   return s;
 }
