@@ -158,7 +158,8 @@ TEST(ShadowMapsCli, ForwardTechniquesShadeShadowCastingLights) {
     EXPECT_EQ(upload, drawsScene) << name;
     forward += drawsScene;
   }
-  EXPECT_EQ(forward, 4u);
+  // tiled-forward, tiled-forward-prez, clustered-forward, forward, forward-single
+  EXPECT_EQ(forward, 5u);
 }
 
 // A G-buffer dumped with shadow-casting lights, imported: shaded with the maps it carries (the
