@@ -122,14 +122,7 @@ class ClusteredForwardTechnique : public Technique {
 
     const ForwardImage drawn = scene.tiledForward(*frame.lights, frame.ambient, features(),
                                                   int(config_.rangeModel), grid, false, nullptr);
-    result.kernels.push_back({"grid_copy", readMs + drawn.uploadMs, 1});
-    result.kernels.push_back({"forward", drawn.drawMs, 1});
-    addShadowUploadRow(*frame.lights, drawn, result.kernels);
-    if (drawn.transparentDraws > 0)
-      result.kernels.push_back({"transparent", drawn.transparentMs, int(drawn.transparentDraws)});
-    result.totalMs = 0.0;
-    for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
-    result.image = drawn.image;
+    addGridForwardPass(*frame.lights, drawn, readMs, result);
     result.counters.notes.push_back("slices span the scene's view depth " +
                                     std::to_string(slicing.zn) + ".." + std::to_string(slicing.zf) +
                                     "; forward pass: OpenGL timer query " +

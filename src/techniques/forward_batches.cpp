@@ -36,6 +36,18 @@ void addShadowUploadRow(const ViewLights& lights, const ForwardImage& drawn,
   if (lights.hasShadows()) kernels.push_back({"shadow_upload", drawn.shadowUploadMs, 1});
 }
 
+void addGridForwardPass(const ViewLights& lights, const ForwardImage& drawn, double gridReadMs,
+                        FrameResult& result) {
+  result.kernels.push_back({"grid_copy", gridReadMs + drawn.uploadMs, 1});
+  result.kernels.push_back({"forward", drawn.drawMs, 1});
+  addShadowUploadRow(lights, drawn, result.kernels);
+  if (drawn.transparentDraws > 0)
+    result.kernels.push_back({"transparent", drawn.transparentMs, int(drawn.transparentDraws)});
+  result.totalMs = 0.0;
+  for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
+  result.image = drawn.image;
+}
+
 LightAssignment batchAssignment(const IndexLists& batchLights, const ForwardImage& drawn) {
   LightAssignment a;
   a.binOffset = batchLights.offsets;

@@ -26,6 +26,13 @@ void setBatchListCounters(const IndexLists& batchLights, WorkCounters& counters)
 void addShadowUploadRow(const ViewLights& lights, const ForwardImage& drawn,
                         std::vector<KernelTime>& kernels);
 
+// A forward pass over an OpenCL light grid (tiled-forward, tiled-forward-prez,
+// clustered-forward): its rows after the binning's (grid_copy = the grid's read-back,
+// gridReadMs, plus its upload into OpenGL; forward; shadow_upload; transparent with glass), the
+// total over every row, and the pass's image.
+void addGridForwardPass(const ViewLights& lights, const ForwardImage& drawn, double gridReadMs,
+                        FrameResult& result);
+
 // Bins = batches, each pixel in the bin of the batch whose surface it shows.
 LightAssignment batchAssignment(const IndexLists& batchLights, const ForwardImage& drawn);
 

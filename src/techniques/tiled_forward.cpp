@@ -80,14 +80,7 @@ class TiledForwardTechnique : public Technique {
         scene.tiledForward(*frame.lights, frame.ambient, features(), int(config_.rangeModel), grid,
                            prez_, transparentGrid ? &*transparentGrid : nullptr);
     if (prez_) result.kernels.push_back({"depth_prepass", prepassMs, 1});
-    result.kernels.push_back({"grid_copy", readMs + drawn.uploadMs, 1});
-    result.kernels.push_back({"forward", drawn.drawMs, 1});
-    addShadowUploadRow(*frame.lights, drawn, result.kernels);
-    if (drawn.transparentDraws > 0)
-      result.kernels.push_back({"transparent", drawn.transparentMs, int(drawn.transparentDraws)});
-    result.totalMs = 0.0;
-    for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
-    result.image = drawn.image;
+    addGridForwardPass(*frame.lights, drawn, readMs, result);
     result.counters.notes.push_back("forward pass: OpenGL timer query " +
                                     std::to_string(drawn.queryMs) + " ms, wall clock " +
                                     std::to_string(drawn.drawMs) + " ms (the row)");
