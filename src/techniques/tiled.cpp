@@ -30,25 +30,11 @@ class TiledTechnique : public Technique {
   FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     if (frame.forward && frame.forward->samples() > 1) return renderMultisampled(frame, request);
     allocate(frame);
-    if (config_.presizeLists) grid_.presize(frame, int(config_.spotCulling));
-    FrameResult result;
-    uint32_t total = grid_.runUntilListFits(
-        [&] {
-          timer_.clear();
-          enqueueFrame(frame);
-        },
-        result.counters.notes);
-    cl_.queue().finish();
-    result.kernels = timer_.kernels();
-    result.totalMs = timer_.totalMs();
-
-    const std::vector<uint32_t> counts = grid_.readCounts();
-    auto notes = std::move(result.counters.notes);
-    result.counters = tileWorkCounters(grid_.grid(), counts, frame);
-    result.counters.notes = std::move(notes);
-    if (request.wantAssignment)
-      result.assignment =
-          tileAssignment(grid_.grid(), grid_.readOffsets(), counts, grid_.readLights(total));
+    FrameResult result = run(
+        frame, request, [&] { enqueueFrame(frame); },
+        [&](const std::vector<uint32_t>& counts) {
+          return tileWorkCounters(grid_.grid(), counts, frame);
+        });
     // --blend blend: the glass in a tiled forward pass over the grid, after the lists are read
     // (its re-binning overwrites them).
     if (hasTransparentDraws(frame))
@@ -92,12 +78,27 @@ class TiledTechnique : public Technique {
     }
     msaa_->upload(planes, *frame.gbuffer);
     allocate(frame);
+    FrameResult result = run(
+        frame, request, [&] { enqueueMultisampled(frame); },
+        [&](const std::vector<uint32_t>& counts) {
+          return multisampledTileWorkCounters(grid_.grid(), counts, planes, msaa_->readEdges(),
+                                              frame);
+        });
+    result.image = readImage(cl_, image_, frame);
+    return result;
+  }
+
+  // Both forms' frame: `enqueue`d until the lists fit, its kernel rows, its counters (`counters`
+  // of the tiles' list lengths, the binning's notes kept) and, when asked, the assignment.
+  template <typename Enqueue, typename Counters>
+  FrameResult run(DeviceFrame& frame, const FrameRequest& request, Enqueue enqueue,
+                  Counters counters) {
     if (config_.presizeLists) grid_.presize(frame, int(config_.spotCulling));
     FrameResult result;
     uint32_t total = grid_.runUntilListFits(
         [&] {
           timer_.clear();
-          enqueueMultisampled(frame);
+          enqueue();
         },
         result.counters.notes);
     cl_.queue().finish();
@@ -106,13 +107,11 @@ class TiledTechnique : public Technique {
 
     const std::vector<uint32_t> counts = grid_.readCounts();
     auto notes = std::move(result.counters.notes);
-    result.counters =
-        multisampledTileWorkCounters(grid_.grid(), counts, planes, msaa_->readEdges(), frame);
+    result.counters = counters(counts);
     result.counters.notes = std::move(notes);
     if (request.wantAssignment)
       result.assignment =
           tileAssignment(grid_.grid(), grid_.readOffsets(), counts, grid_.readLights(total));
-    result.image = readImage(cl_, image_, frame);
     return result;
   }
 
