@@ -9,4 +9,8 @@ mkdir -p .deps
 cd .deps
 apt-get download libglm-dev libtinygltf-dev libtinygltf2d libstb0 libcli11-dev \
   nlohmann-json3-dev libimath-dev >/dev/null
+# --raster gl (the forward techniques' rows): libepoxy and the GLVND dispatchers it dlopens
+# (libEGL.so.1, libOpenGL.so.0); the GPU's own EGL vendor library comes with its driver.
+apt-get download libepoxy0 libepoxy-dev libegl-dev libgl-dev libegl1 libopengl0 libglvnd0 \
+  >/dev/null
 ls -1 *.deb
