@@ -129,7 +129,11 @@ class ClusteredForwardTechnique : public Technique {
                                     std::to_string(drawn.queryMs) + " ms, wall clock " +
                                     std::to_string(drawn.drawMs) + " ms (the row)");
     setCounters(result.counters, grid, drawn, frame);
-    if (request.wantAssignment) result.assignment = assignment(grid, slicing, frame);
+    if (request.wantAssignment) {
+      result.assignment = assignment(grid, slicing, frame);
+      // Glass fragments find the cluster of their own depth in the same grid.
+      if (drawn.transparentDraws > 0) result.assignment->transparent = gridFragmentLists(grid);
+    }
     return result;
   }
 
