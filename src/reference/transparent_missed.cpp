@@ -18,8 +18,8 @@ bool nonZero(const glm::dvec3& v) { return v.x != 0.0 || v.y != 0.0 || v.z != 0.
 // correct grid lists its lights in either.
 int fragmentSlice(const FragmentLists& lists, const TransparentFragment& f) {
   const float z = -f.position.z;
-  return int(std::clamp(std::log(z / lists.sliceNear) * lists.sliceScale, 0.0f,
-                        float(lists.slices - 1)));
+  return int(
+      std::clamp(std::log(z / lists.sliceNear) * lists.sliceScale, 0.0f, float(lists.slices - 1)));
 }
 
 std::string where(const TransparentFragment& f) {
@@ -38,7 +38,8 @@ size_t transparentFragmentBin(const FragmentLists& lists, const TransparentFragm
       throw Error("the transparent fragments' lists have no tiles");
     if (f.x < 0 || f.y < 0 || f.x / lists.tileW >= lists.tilesX)
       throw Error("the " + where(f) + " lies outside the tiles");
-    const size_t tile = size_t(f.y / lists.tileH) * size_t(lists.tilesX) + size_t(f.x / lists.tileW);
+    const size_t tile =
+        size_t(f.y / lists.tileH) * size_t(lists.tilesX) + size_t(f.x / lists.tileW);
     bin = tile * size_t(lists.slices) + size_t(lists.slices > 1 ? fragmentSlice(lists, f) : 0);
   }
   if (bin >= lists.binCount.size() || bin >= lists.binOffset.size())
@@ -49,7 +50,8 @@ size_t transparentFragmentBin(const FragmentLists& lists, const TransparentFragm
 
 uint64_t countMissedTransparent(const FragmentLists& lists,
                                 const std::vector<TransparentFragment>& frags,
-                                const ViewLights& lights, int model, const EncodedGBuffer& gbuffer) {
+                                const ViewLights& lights, int model,
+                                const EncodedGBuffer& gbuffer) {
   // Each list sorted once for a binary search (as countMissedContributions does).
   std::vector<std::vector<uint32_t>> listed(lists.binCount.size());
   for (size_t b = 0; b < listed.size(); ++b) {

@@ -43,7 +43,7 @@ TEST(TransparentMissed, FragmentFindsItsTileClusterOrBatch) {
   clustered.sliceNear = 1.0f;
   clustered.sliceScale = 4.0f / std::log(16.0f);  // slices at depths 1, 2, 4, 8, 16
   EXPECT_EQ(transparentFragmentBin(clustered, fragmentAt(17, 0, 3.0f)), 1u * 4u + 1u);
-  EXPECT_EQ(transparentFragmentBin(clustered, fragmentAt(17, 0, 0.5f)), 4u);       // clamped
+  EXPECT_EQ(transparentFragmentBin(clustered, fragmentAt(17, 0, 0.5f)), 4u);        // clamped
   EXPECT_EQ(transparentFragmentBin(clustered, fragmentAt(17, 0, 99.0f)), 4u + 3u);  // clamped
   FragmentLists batches;
   batches.byBatch = true;
