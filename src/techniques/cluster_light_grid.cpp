@@ -1,6 +1,7 @@
 #include "techniques/cluster_light_grid.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "cl/kernel_args.h"
 #include "util/error.h"
@@ -45,9 +46,9 @@ bool ClusterLightGrid::allocate(int width, int height, int tileW, int tileH) {
 }
 
 void ClusterLightGrid::presize(const DeviceFrame& frame, int spotCulling) {
-  reserveList(cl_, lights_, capacity_,
-              std::min(tileListBound(grid_, frame, spotCulling) * size_t(slices_),
-                       size_t(16) << 20));
+  reserveList(
+      cl_, lights_, capacity_,
+      std::min(tileListBound(grid_, frame, spotCulling) * size_t(slices_), size_t(16) << 20));
 }
 
 void ClusterLightGrid::enqueueClear(FrameTimer& timer) {
