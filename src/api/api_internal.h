@@ -6,11 +6,13 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "raster/sample_gbuffers.h"
 #include "reference/reference.h"
 #include "render/frame_setup.h"
 #include "render/render_input.h"
+#include "shading/transparent_fragments.h"
 #include "techniques/device_frame.h"
 #include "tileshade/tileshade.h"
 #include "util/error.h"
@@ -48,6 +50,9 @@ struct FrameReferences {
   // (reference/transparent_composite.h), as the forward and hybrid techniques blend them; 0
   // otherwise.
   size_t transparentFragments = 0;
+  // The fragments themselves: the transparent `missed` tests each against the list its
+  // technique shaded it with (reference/transparent_missed.h).
+  std::vector<TransparentFragment> fragments;
 };
 
 struct Frame::Impl {

@@ -486,7 +486,7 @@ void Frame::Impl::compositeTransparentSurfaces(FrameReferences& r, bool drawsSce
   // same fragments in the same order (the other G-buffer techniques refuse such a frame).
   if (!forward || forward->transparentDraws() == 0) return;
   const PreparedFrame& p = prepared;
-  const std::vector<TransparentFragment> fragments =
+  std::vector<TransparentFragment> fragments =
       forward->captureTransparent(p.features, kCaptureBound);
   const EncodedGBuffer& planes = planesShadedBy(drawsScene);
   compositeTransparent(r.reference, fragments, p.lights, p.ambient, int(RangeModel::Windowed),
@@ -496,6 +496,7 @@ void Frame::Impl::compositeTransparentSurfaces(FrameReferences& r, bool drawsSce
   compositeTransparent(r.physical, fragments, p.lights, p.ambient, int(RangeModel::Physical),
                        planes);
   r.transparentFragments = fragments.size();
+  r.fragments = std::move(fragments);
 }
 
 const std::vector<EncodedGBuffer>& Frame::Impl::samplePlanes(bool drawsScene) {

@@ -4,6 +4,7 @@
 
 #include "api/api_internal.h"
 #include "reference/error_metrics.h"
+#include "reference/transparent_missed.h"
 #include "techniques/technique.h"
 #include "util/error.h"
 #include "util/option_values.h"
@@ -38,6 +39,17 @@ ErrorReport compared(const std::vector<glm::vec4>& image, const ReferenceImage& 
                      ReceiverSlack slack) {
   return errorReport(
       compareToReference(image, reference, kReportTolerance * reference.peak, slack));
+}
+
+// --blend blend: the misses over the frame's transparent fragments, each against the list its
+// technique shaded it with. A technique that drew them and kept no such lists is a bug, said so.
+uint64_t transparentMisses(const LightAssignment& assignment, const FrameReferences& refs,
+                           const EncodedGBuffer& planes, const PreparedFrame& p, int model) {
+  if (refs.fragments.empty()) return 0;
+  if (!assignment.transparent)
+    throw Error("the technique kept no light lists for the frame's " +
+                std::to_string(refs.fragments.size()) + " transparent fragments");
+  return countMissedTransparent(*assignment.transparent, refs.fragments, p.lights, model, planes);
 }
 
 }  // namespace
@@ -151,6 +163,8 @@ ShadeResult Renderer::shade(const Frame& frame, const ShadeOptions& options) {
         else
           check.missed = countMissedContributions(*r.assignment, f.planesShadedBy(drawsScene),
                                                   p.intrinsics, p.lights, int(config.rangeModel));
+        check.missed += transparentMisses(*r.assignment, refs, f.planesShadedBy(drawsScene), p,
+                                          int(config.rangeModel));
       } else {
         check.missedCounted = false;
       }

@@ -1555,6 +1555,10 @@ std::vector<TransparentFragment> GlRasterizer::captureTransparent(const SceneCam
     f.x = r.x;
     f.y = r.y;
     f.order = r.order;
+    if (r.order < 0 || size_t(r.order) >= order.size())
+      throw Error("the capture of the transparent fragments recorded draw " +
+                  std::to_string(r.order) + " of " + std::to_string(order.size()));
+    f.batch = int(order[size_t(r.order)]);
     f.primitive = r.primitive;
     f.position = glm::vec3(r.position[0], r.position[1], r.position[2]);
     f.alpha = r.position[3];

@@ -13,29 +13,14 @@ namespace {
 
 bool nonZero(const glm::dvec3& v) { return v.x != 0.0 || v.y != 0.0 || v.z != 0.0; }
 
-// The fragment's surface as decodeSurface gives a pixel's: its own position (the forward pass's
-// interpolated one, widened), the planes through surfaceTerms with the G-buffer's terms.
-SurfaceD fragmentSurface(const TransparentFragment& f, const EncodedGBuffer& gbuffer) {
-  SurfaceD s;
-  s.P = glm::dvec3(f.position);
-  s.V = -s.P / std::sqrt(glm::dot(s.P, s.P));  // beyond the near plane: never zero
-  const glm::vec4 emissive = gbuffer.hasEmissive ? f.emissive : glm::vec4(0.0f);
-  surfaceTerms(glm::vec4(f.normal, 0.0f), f.diffuse, f.specular, emissive, gbuffer.model,
-               gbuffer.hasSpecularPlane(), s);
-  return s;
-}
-
 // Every light, punctual then directional, as shadeReference sums a pixel; counts the non-zero
 // contributions.
 glm::dvec3 shadeFragment(const SurfaceD& s, const ViewLights& lights, glm::dvec3 ambient, int model,
                          int shading, uint64_t& contributing) {
-  shading_d::ts_shading_point p = shading_d::ts_make_shading_point(s.P, s.N, s.V, s.gloss, shading);
-  p.view_term = s.viewTerm;
+  const shading_d::ts_shading_point p = transparentShadingPoint(s, shading);
   glm::dvec3 sum(0.0);
   for (size_t i = 0; i < lights.size(); ++i) {
-    const glm::dvec3 c = shading_d::ts_punctual_light(
-        &p, s.kd, s.ks, glm::dvec4(lights.positionRange[i]), glm::dvec4(lights.color[i]),
-        glm::dvec4(lights.spot[i]), model, shading, 1, 1);
+    const glm::dvec3 c = transparentPunctualLight(p, s, lights, i, model, shading);
     if (nonZero(c)) ++contributing;
     sum += c;
   }
@@ -50,6 +35,29 @@ glm::dvec3 shadeFragment(const SurfaceD& s, const ViewLights& lights, glm::dvec3
 }
 
 }  // namespace
+
+shading_d::ts_shading_point transparentShadingPoint(const SurfaceD& s, int shading) {
+  shading_d::ts_shading_point p = shading_d::ts_make_shading_point(s.P, s.N, s.V, s.gloss, shading);
+  p.view_term = s.viewTerm;
+  return p;
+}
+
+glm::dvec3 transparentPunctualLight(const shading_d::ts_shading_point& p, const SurfaceD& s,
+                                    const ViewLights& lights, size_t i, int model, int shading) {
+  return shading_d::ts_punctual_light(&p, s.kd, s.ks, glm::dvec4(lights.positionRange[i]),
+                                      glm::dvec4(lights.color[i]), glm::dvec4(lights.spot[i]),
+                                      model, shading, 1, 1);
+}
+
+SurfaceD transparentSurface(const TransparentFragment& f, const EncodedGBuffer& gbuffer) {
+  SurfaceD s;
+  s.P = glm::dvec3(f.position);
+  s.V = -s.P / std::sqrt(glm::dot(s.P, s.P));  // beyond the near plane: never zero
+  const glm::vec4 emissive = gbuffer.hasEmissive ? f.emissive : glm::vec4(0.0f);
+  surfaceTerms(glm::vec4(f.normal, 0.0f), f.diffuse, f.specular, emissive, gbuffer.model,
+               gbuffer.hasSpecularPlane(), s);
+  return s;
+}
 
 void compositeTransparent(ReferenceImage& reference, const std::vector<TransparentFragment>& frags,
                           const ViewLights& lights, glm::vec3 ambient, int model,
@@ -74,7 +82,7 @@ void compositeTransparent(ReferenceImage& reference, const std::vector<Transpare
   const glm::dvec3 a(ambient);
   for (size_t i : order) {
     const TransparentFragment& f = frags[i];
-    const SurfaceD s = fragmentSurface(f, gbuffer);
+    const SurfaceD s = transparentSurface(f, gbuffer);
     const glm::dvec3 shade =
         shadeFragment(s, lights, a, model, int(gbuffer.model), reference.contributing);
     glm::dvec3& c = reference.rgb[size_t(f.y) * size_t(reference.width) + size_t(f.x)];

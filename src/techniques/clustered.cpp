@@ -17,9 +17,11 @@
 // The per-cluster pixel counts come from the device (cluster_depth_bounds counts them while it
 // assigns slices), so host and kernels agree on every pixel's cluster.
 #include <algorithm>
+#include <optional>
 
 #include "cl/kernel_args.h"
 #include "cl/work_group.h"
+#include "techniques/cluster_light_grid.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
 #include "util/error.h"
@@ -49,12 +51,10 @@ class ClusteredTechnique : public Technique {
                           " -DSLICES=" + std::to_string(config.clusterSlices) +
                           config.lanesOption();
     program_ = cl.build("clustered.cl", options);
+    grid_.emplace(cl, program_, config.clusterSlices, "clustered");
     frameRange_ = cl::Kernel(program_, "frame_depth_range");
     pixelSlices_ = cl::Kernel(program_, "pixel_slices");
     clusterBounds_ = cl::Kernel(program_, "cluster_depth_bounds");
-    binLights_ = cl::Kernel(program_, "bin_clusters");
-    scan_ = cl::Kernel(program_, "exclusive_scan");
-    sort_ = cl::Kernel(program_, "sort_bins");
     shade_ = cl::Kernel(program_, "shade_clustered");
   }
 
@@ -63,29 +63,21 @@ class ClusteredTechnique : public Technique {
 
   FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
     allocate(frame);
-    if (config_.presizeLists)
-      // Every light in every slice of its tile rectangle bounds the entries; capped, since many
-      // slices make the bound loose (runUntilListFits covers a capped bound).
-      reserveList(cl_, clusterLights_, capacity_,
-                  std::min(tileListBound(grid_, frame, int(config_.spotCulling)) *
-                               size_t(config_.clusterSlices),
-                           size_t(16) << 20));
+    if (config_.presizeLists) grid_->presize(frame, int(config_.spotCulling));
     FrameResult result;
-    uint32_t total = runUntilListFits(
-        cl_, clusterLights_, capacity_, total_,
+    uint32_t total = grid_->runUntilListFits(
         [&] {
           timer_.clear();
           enqueueFrame(frame);
         },
-        "cluster", result.counters.notes);
+        result.counters.notes);
     cl_.queue().finish();
     result.kernels = timer_.kernels();
     result.totalMs = timer_.totalMs();
     result.image = readImage(cl_, image_, frame);
 
     size_t clusters = clusterCount();
-    std::vector<uint32_t> counts(clusters), pixels(clusters);
-    cl_.queue().enqueueReadBuffer(clusterCount_, CL_TRUE, 0, clusters * 4, counts.data());
+    std::vector<uint32_t> counts = grid_->readCounts(), pixels(clusters);
     cl_.queue().enqueueReadBuffer(clusterPixels_, CL_TRUE, 0, clusters * 4, pixels.data());
     auto notes = std::move(result.counters.notes);
     result.counters = workCounters(counts, pixels, frame);
@@ -95,7 +87,7 @@ class ClusteredTechnique : public Technique {
   }
 
  private:
-  size_t clusterCount() const { return size_t(grid_.count()) * config_.clusterSlices; }
+  size_t clusterCount() const { return grid_->clusterCount(); }
 
   WorkCounters workCounters(const std::vector<uint32_t>& counts,
                             const std::vector<uint32_t>& pixels, const DeviceFrame& frame) const {
@@ -125,12 +117,9 @@ class ClusteredTechnique : public Technique {
                              const DeviceFrame& frame) {
     auto& q = cl_.queue();
     LightAssignment a;
-    a.binOffset.resize(counts.size());
-    q.enqueueReadBuffer(clusterOffset_, CL_TRUE, 0, counts.size() * 4, a.binOffset.data());
+    a.binOffset = grid_->readOffsets();
     a.binCount = std::move(counts);
-    a.binLights.resize(std::max<uint32_t>(total, 1));
-    q.enqueueReadBuffer(clusterLights_, CL_TRUE, 0, a.binLights.size() * 4, a.binLights.data());
-    a.binLights.resize(total);
+    a.binLights = grid_->readLights(total);
     // The pixels' clusters exactly as the kernels chose them (the stored slice keys).
     std::vector<uint16_t> keys(size_t(frame.width()) * frame.height());
     q.enqueueReadBuffer(pixelSlice_, CL_TRUE, 0, keys.size() * 2, keys.data());
@@ -138,46 +127,34 @@ class ClusteredTechnique : public Technique {
     for (int y = 0; y < frame.height(); ++y)
       for (int x = 0; x < frame.width(); ++x) {
         size_t i = size_t(y) * frame.width() + x;
-        a.pixelBin[i] = keys[i] == kBackgroundKey
-                            ? -1
-                            : int32_t(grid_.tileOf(x, y) * config_.clusterSlices + keys[i]);
+        a.pixelBin[i] =
+            keys[i] == kBackgroundKey
+                ? -1
+                : int32_t(grid_->tiles().tileOf(x, y) * config_.clusterSlices + keys[i]);
       }
     return a;
   }
 
   void allocate(const DeviceFrame& frame) {
-    TileGrid grid(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight);
-    if (grid.tilesX == grid_.tilesX && grid.tilesY == grid_.tilesY && grid.width == grid_.width &&
-        grid.height == grid_.height)
+    if (!grid_->allocate(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight))
       return;
-    grid_ = grid;
     size_t clusters = clusterCount(), pixels = size_t(frame.width()) * frame.height();
     auto& ctx = cl_.context();
-    depthRange_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, 2 * sizeof(cl_uint));
-    clusterDepth_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(cl_float2));
     clusterPixels_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
-    tileSlices_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, size_t(grid_.count()) * sizeof(cl_int2));
-    clusterCount_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
-    clusterOffset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
-    clusterCursor_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
     pixelSlice_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_ushort));
-    total_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(uint32_t));
-    // Most clusters hold no geometry, so size the first list by tiles, not clusters; it grows.
-    reserveList(cl_, clusterLights_, capacity_, size_t(grid_.count()) * 8);
     image_ = cl::Buffer(ctx, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
   }
 
   void enqueueFrame(DeviceFrame& frame) {
     auto& q = cl_.queue();
     cl_float4 camera = toCl(frame.camera.kernelCamera());
-    size_t tiles = size_t(grid_.count()), clusters = clusterCount();
+    const TileGrid& grid = grid_->tiles();
+    size_t tiles = size_t(grid.count());
     size_t pixels = size_t(frame.width()) * frame.height();
-    const uint32_t zero = 0;
     const cl_uint2 emptyRange = {{0x7f7fffffu, 0u}};  // (FLT_MAX, 0) as bits: min > max
-    q.enqueueFillBuffer(depthRange_, emptyRange, 0, sizeof(cl_uint2), nullptr,
+    q.enqueueFillBuffer(grid_->depthRange(), emptyRange, 0, sizeof(cl_uint2), nullptr,
                         timer_.next("clear"));
-    q.enqueueFillBuffer(clusterCount_, zero, 0, clusters * 4, nullptr, timer_.next("clear"));
-    q.enqueueFillBuffer(clusterCursor_, zero, 0, clusters * 4, nullptr, timer_.next("clear"));
+    grid_->enqueueClear(timer_);
 
     // 1. The frame's geometry depth range (slicing), then per-cluster bounds: a work-group per
     // tile.
@@ -185,54 +162,35 @@ class ClusteredTechnique : public Technique {
         powerOfTwoGroup(64, groupLimit(cl_, frameRange_));  // DEPTH_RANGE_GROUP
     size_t rangeGroups = std::clamp<size_t>(pixels / (rangeGroup * 16 * 16), 1,
                                             1024);  // 16 vectors of 16 pixels per item
-    KernelArgs(frameRange_).add(frame.depth).add(int(pixels)).add(depthRange_).done();
+    KernelArgs(frameRange_).add(frame.depth).add(int(pixels)).add(grid_->depthRange()).done();
     q.enqueueNDRangeKernel(frameRange_, cl::NullRange, cl::NDRange(rangeGroups * rangeGroup),
                            cl::NDRange(rangeGroup), nullptr, timer_.next("depth_range"));
     const size_t sliceGroup = std::min<size_t>(64, groupLimit(cl_, pixelSlices_).size);
     KernelArgs(pixelSlices_)
         .add(frame.depth)
         .add(int(pixels))
-        .add(depthRange_)
+        .add(grid_->depthRange())
         .add(pixelSlice_)
         .done();
     q.enqueueNDRangeKernel(
         pixelSlices_, cl::NullRange, cl::NDRange(roundUp((pixels + 15) / 16, sliceGroup)),
         cl::NDRange(sliceGroup), nullptr, timer_.next("slices"));  // 16 pixels per item
     // One work-item per row of the tile (kernels/clustered.cl).
-    size_t group =
-        std::min<size_t>({size_t(grid_.tileH), 64, groupLimit(cl_, clusterBounds_).size});
+    size_t group = std::min<size_t>({size_t(grid.tileH), 64, groupLimit(cl_, clusterBounds_).size});
     KernelArgs(clusterBounds_)
         .add(frame.depth)
         .add(frame.width())
         .add(frame.height())
         .add(pixelSlice_)
-        .add(clusterDepth_)
+        .add(grid_->clusterDepth())
         .add(clusterPixels_)
-        .add(tileSlices_)
+        .add(grid_->tileSlices())
         .done();
     q.enqueueNDRangeKernel(clusterBounds_, cl::NullRange, cl::NDRange(tiles * group),
                            cl::NDRange(group), nullptr, timer_.next("cluster_bounds"));
 
     // 2. Binning: count, scan, fill.
-    cl_uint fillArg = 0;
-    KernelArgs(binLights_)
-        .add(frame.lightPositionRange)
-        .add(frame.lightSpot)
-        .add(frame.lightCount())
-        .add(camera)
-        .add(frame.camera.znear)
-        .add(depthRange_)
-        .add(clusterDepth_)
-        .add(tileSlices_)
-        .later(fillArg)
-        .add(clusterCount_)
-        .add(clusterOffset_)
-        .add(clusterCursor_)
-        .add(clusterLights_)
-        .add(cl_uint(capacity_))
-        .done();
-    enqueueBinning(cl_, {binLights_, fillArg, scan_, sort_}, frame.lightCount(), clusterCount_,
-                   int(clusters), clusterOffset_, total_, clusterLights_, capacity_, timer_);
+    grid_->enqueueBinning(frame, timer_);
 
     // 3. Shading: one work-item per pixel, or in lanes with work-groups inside one tile
     // (shade_clustered then takes the tile, and so its clusters, from the group id).
@@ -245,16 +203,16 @@ class ClusteredTechnique : public Technique {
         .add(frame.directionalArgs())
         .addIf(config_.features.shadows, frame.directionalShadowArgs())
         .add(pixelSlice_)
-        .add(clusterCount_)
-        .add(clusterOffset_)
-        .add(clusterLights_)
-        .add(cl_uint(capacity_))
+        .add(grid_->counts())
+        .add(grid_->offsets())
+        .add(grid_->lights())
+        .add(grid_->capacity())
         .add(image_);
     // In lanes a work-group lies inside one tile (its clusters are the tile's).
-    GroupShape g = config_.lanes > 1
-                       ? tileDividingGroup(grid_.tileW, grid_.tileH, groupLimit(cl_, shade_))
-                       : fitGroup(std::min(grid_.tileW, 16), std::min(grid_.tileH, 16),
-                                  groupLimit(cl_, shade_));
+    GroupShape g =
+        config_.lanes > 1
+            ? tileDividingGroup(grid.tileW, grid.tileH, groupLimit(cl_, shade_))
+            : fitGroup(std::min(grid.tileW, 16), std::min(grid.tileH, 16), groupLimit(cl_, shade_));
     if (config_.lanes > 1) args.add(laneLocalMemory(config_, g.size()));
     args.done();
     q.enqueueNDRangeKernel(shade_, cl::NullRange, g.global(frame.width(), frame.height()),
@@ -264,11 +222,9 @@ class ClusteredTechnique : public Technique {
   ClContext& cl_;
   TechniqueConfig config_;
   cl::Program program_;
-  cl::Kernel frameRange_, pixelSlices_, clusterBounds_, binLights_, scan_, sort_, shade_;
-  TileGrid grid_;
-  cl::Buffer depthRange_, clusterDepth_, clusterPixels_, tileSlices_, clusterCount_, clusterOffset_,
-      clusterCursor_, pixelSlice_, total_, clusterLights_, image_;
-  size_t capacity_ = 0;
+  cl::Kernel frameRange_, pixelSlices_, clusterBounds_, shade_;
+  std::optional<ClusterLightGrid> grid_;  // made with the program
+  cl::Buffer clusterPixels_, pixelSlice_, image_;
   FrameTimer timer_;
 };
 

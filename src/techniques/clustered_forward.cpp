@@ -25,7 +25,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "cl/kernel_args.h"
+#include "techniques/cluster_light_grid.h"
 #include "techniques/forward_batches.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
@@ -71,20 +71,10 @@ Slicing sceneSlicing(const std::vector<ViewBox>& boxes, float znear, float zfar,
 class ClusteredForwardTechnique : public Technique {
  public:
   ClusteredForwardTechnique(ClContext& cl, const TechniqueConfig& config)
-      : cl_(cl), config_(config) {
-    if (config.tileWidth < 1 || config.tileHeight < 1) throw Error("tile size must be positive");
-    if (config.clusterSlices < 1 || config.clusterSlices > kMaxClusterSlices)
-      throw Error("cluster slices must be 1.." + std::to_string(kMaxClusterSlices) + ", got " +
-                  std::to_string(config.clusterSlices));
-    // clustered.cl as `clustered` builds it (its binning kernels only; shading happens in GL).
-    std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
-                          " -DTILE_H=" + std::to_string(config.tileHeight) +
-                          " -DSLICES=" + std::to_string(config.clusterSlices);
-    program_ = cl.build("clustered.cl", options);
-    binLights_ = cl::Kernel(program_, "bin_clusters");
-    scan_ = cl::Kernel(program_, "exclusive_scan");
-    sort_ = cl::Kernel(program_, "sort_bins");
-  }
+      : cl_(cl),
+        config_(config),
+        program_(build(cl, config)),
+        grid_(cl, program_, config.clusterSlices, "clustered-forward") {}
 
   std::string name() const override { return "clustered-forward"; }
 
@@ -101,17 +91,14 @@ class ClusteredForwardTechnique : public Technique {
     writeSliceBounds(slicing);
     const double boundsMs = msSince(boundsStart);
 
-    if (config_.presizeLists)
-      reserveList(cl_, clusterLights_, capacity_,
-                  std::min(tileListBound(grid_, frame, int(config_.spotCulling)) * size_t(slices),
-                           size_t(16) << 20));
-    const uint32_t total = runUntilListFits(
-        cl_, clusterLights_, capacity_, total_,
+    if (config_.presizeLists) grid_.presize(frame, int(config_.spotCulling));
+    const uint32_t total = grid_.runUntilListFits(
         [&] {
           timer_.clear();
-          enqueueBinning(frame);
+          grid_.enqueueClear(timer_);
+          grid_.enqueueBinning(frame, timer_);
         },
-        "cluster", result.counters.notes);
+        result.counters.notes);
     cl_.queue().finish();
     result.kernels = timer_.kernels();
     result.kernels.insert(result.kernels.begin(), {"slice_bounds", boundsMs, 1});
@@ -129,41 +116,34 @@ class ClusteredForwardTechnique : public Technique {
                                     std::to_string(drawn.queryMs) + " ms, wall clock " +
                                     std::to_string(drawn.drawMs) + " ms (the row)");
     setCounters(result.counters, grid, drawn, frame);
-    if (request.wantAssignment) result.assignment = assignment(grid, slicing, frame);
+    if (request.wantAssignment) {
+      result.assignment = assignment(grid, slicing, frame);
+      // Glass fragments find the cluster of their own depth in the same grid.
+      if (drawn.transparentDraws > 0) result.assignment->transparent = gridFragmentLists(grid);
+    }
     return result;
   }
 
  private:
-  size_t clusterCount() const { return size_t(grid_.count()) * config_.clusterSlices; }
+  static cl::Program build(ClContext& cl, const TechniqueConfig& config) {
+    if (config.tileWidth < 1 || config.tileHeight < 1) throw Error("tile size must be positive");
+    if (config.clusterSlices < 1 || config.clusterSlices > kMaxClusterSlices)
+      throw Error("cluster slices must be 1.." + std::to_string(kMaxClusterSlices) + ", got " +
+                  std::to_string(config.clusterSlices));
+    // clustered.cl as `clustered` builds it (its binning kernels only; shading happens in GL).
+    std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
+                          " -DTILE_H=" + std::to_string(config.tileHeight) +
+                          " -DSLICES=" + std::to_string(config.clusterSlices);
+    return cl.build("clustered.cl", options);
+  }
 
   void allocate(const DeviceFrame& frame) {
-    TileGrid grid(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight);
-    if (grid.tilesX == grid_.tilesX && grid.tilesY == grid_.tilesY && grid.width == grid_.width &&
-        grid.height == grid_.height)
+    if (!grid_.allocate(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight))
       return;
-    // Refused before any allocation: tiny tiles times many slices (say 1x1 x 1024 at 640x360)
-    // ask for gigabytes of per-cluster buffers, which would fail far later, less clearly.
-    const size_t clusters = size_t(grid.count()) * config_.clusterSlices;
-    const size_t maxAlloc = size_t(cl_.device().getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>());
-    if (clusters * sizeof(cl_float2) > maxAlloc)
-      throw Error("clustered-forward: " + std::to_string(grid.count()) + " tiles x " +
-                  std::to_string(config_.clusterSlices) + " slices = " + std::to_string(clusters) +
-                  " clusters need more than the device's largest buffer (" +
-                  std::to_string(maxAlloc >> 20) + " MiB): use bigger tiles or fewer slices");
-    grid_ = grid;
-    auto& ctx = cl_.context();
-    depthRange_ = cl::Buffer(ctx, CL_MEM_READ_ONLY, 2 * sizeof(cl_uint));
-    clusterDepth_ = cl::Buffer(ctx, CL_MEM_READ_ONLY, clusters * sizeof(cl_float2));
-    tileSlices_ = cl::Buffer(ctx, CL_MEM_READ_ONLY, size_t(grid_.count()) * sizeof(cl_int2));
-    clusterCount_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
-    clusterOffset_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
-    clusterCursor_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
-    total_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, sizeof(uint32_t));
-    reserveList(cl_, clusterLights_, capacity_, size_t(grid_.count()) * 8);
     // Every tile holds all its slices (any of them may receive a fragment).
     const int slices = config_.clusterSlices;
-    const std::vector<cl_int2> all(size_t(grid_.count()), cl_int2{{0, slices - 1}});
-    cl_.queue().enqueueWriteBuffer(tileSlices_, CL_TRUE, 0, all.size() * sizeof(cl_int2),
+    const std::vector<cl_int2> all(size_t(grid_.tiles().count()), cl_int2{{0, slices - 1}});
+    cl_.queue().enqueueWriteBuffer(grid_.tileSlices(), CL_TRUE, 0, all.size() * sizeof(cl_int2),
                                    all.data());
   }
 
@@ -179,10 +159,10 @@ class ClusteredForwardTechnique : public Technique {
       if (k == slices - 1) hi = s.zf;
       one[size_t(k)] = {{float(lo * (1.0 - kSliceSlack)), float(hi * (1.0 + kSliceSlack))}};
     }
-    sliceBounds_.resize(clusterCount());
+    sliceBounds_.resize(grid_.clusterCount());
     for (size_t c = 0; c < sliceBounds_.size(); ++c) sliceBounds_[c] = one[c % size_t(slices)];
     auto& q = cl_.queue();
-    q.enqueueWriteBuffer(clusterDepth_, CL_FALSE, 0, sliceBounds_.size() * sizeof(cl_float2),
+    q.enqueueWriteBuffer(grid_.clusterDepth(), CL_FALSE, 0, sliceBounds_.size() * sizeof(cl_float2),
                          sliceBounds_.data());
     // As float bits (the kernels' depth_range), not widened: bin_clusters slices a light's depth
     // extent with them, which must be the shader's slicing (zn, scale); its own slack covers the
@@ -191,54 +171,22 @@ class ClusteredForwardTechnique : public Technique {
     sliceRange_ = {{0u, 0u}};
     std::memcpy(&sliceRange_.s[0], &s.zn, 4);
     std::memcpy(&sliceRange_.s[1], &s.zf, 4);
-    q.enqueueWriteBuffer(depthRange_, CL_TRUE, 0, sizeof(cl_uint2), &sliceRange_);
-  }
-
-  void enqueueBinning(DeviceFrame& frame) {
-    auto& q = cl_.queue();
-    const size_t clusters = clusterCount();
-    const uint32_t zero = 0;
-    q.enqueueFillBuffer(clusterCount_, zero, 0, clusters * 4, nullptr, timer_.next("clear"));
-    q.enqueueFillBuffer(clusterCursor_, zero, 0, clusters * 4, nullptr, timer_.next("clear"));
-    cl_uint fillArg = 0;
-    KernelArgs(binLights_)
-        .add(frame.lightPositionRange)
-        .add(frame.lightSpot)
-        .add(frame.lightCount())
-        .add(toCl(frame.camera.kernelCamera()))
-        .add(frame.camera.znear)
-        .add(depthRange_)
-        .add(clusterDepth_)
-        .add(tileSlices_)
-        .later(fillArg)
-        .add(clusterCount_)
-        .add(clusterOffset_)
-        .add(clusterCursor_)
-        .add(clusterLights_)
-        .add(cl_uint(capacity_))
-        .done();
-    ts::enqueueBinning(cl_, {binLights_, fillArg, scan_, sort_}, frame.lightCount(), clusterCount_,
-                       int(clusters), clusterOffset_, total_, clusterLights_, capacity_, timer_);
+    q.enqueueWriteBuffer(grid_.depthRange(), CL_TRUE, 0, sizeof(cl_uint2), &sliceRange_);
   }
 
   ForwardLightGrid toHost(uint32_t total, const Slicing& s) const {
     ForwardLightGrid g;
-    g.tileW = grid_.tileW;
-    g.tileH = grid_.tileH;
-    g.tilesX = grid_.tilesX;
-    g.tilesY = grid_.tilesY;
+    const TileGrid& tiles = grid_.tiles();
+    g.tileW = tiles.tileW;
+    g.tileH = tiles.tileH;
+    g.tilesX = tiles.tilesX;
+    g.tilesY = tiles.tilesY;
     g.slices = config_.clusterSlices;
     g.sliceNear = s.zn;
     g.sliceScale = s.scale;
-    const size_t clusters = clusterCount();
-    g.counts.resize(clusters);
-    g.offsets.resize(clusters);
-    g.lights.resize(std::max<uint32_t>(total, 1));
-    auto& q = cl_.queue();
-    q.enqueueReadBuffer(clusterCount_, CL_FALSE, 0, clusters * 4, g.counts.data());
-    q.enqueueReadBuffer(clusterOffset_, CL_FALSE, 0, clusters * 4, g.offsets.data());
-    q.enqueueReadBuffer(clusterLights_, CL_TRUE, 0, g.lights.size() * 4, g.lights.data());
-    g.lights.resize(total);
+    g.counts = grid_.readCounts();
+    g.offsets = grid_.readOffsets();
+    g.lights = grid_.readLights(total);
     return g;
   }
 
@@ -274,7 +222,7 @@ class ClusteredForwardTechnique : public Technique {
         const size_t i = size_t(y) * frame.width() + x;
         a.pixelBin[i] =
             depth[i] > 0.0f
-                ? int32_t(grid_.tileOf(x, y) * grid.slices + s.slice(depth[i], grid.slices))
+                ? int32_t(grid_.tiles().tileOf(x, y) * grid.slices + s.slice(depth[i], grid.slices))
                 : -1;
       }
     return a;
@@ -283,11 +231,7 @@ class ClusteredForwardTechnique : public Technique {
   ClContext& cl_;
   TechniqueConfig config_;
   cl::Program program_;
-  cl::Kernel binLights_, scan_, sort_;
-  TileGrid grid_;
-  cl::Buffer depthRange_, clusterDepth_, tileSlices_, clusterCount_, clusterOffset_, clusterCursor_,
-      total_, clusterLights_;
-  size_t capacity_ = 0;
+  ClusterLightGrid grid_;
   std::vector<cl_float2> sliceBounds_;  // host copy kept alive for the non-blocking write
   cl_uint2 sliceRange_{};
   FrameTimer timer_;

@@ -54,7 +54,29 @@ LightAssignment batchAssignment(const IndexLists& batchLights, const ForwardImag
   a.binCount = batchLights.counts;
   a.binLights = batchLights.items;
   a.pixelBin = drawn.pixelBatch;
+  if (drawn.transparentDraws > 0) {
+    FragmentLists glass;
+    glass.binOffset = batchLights.offsets;
+    glass.binCount = batchLights.counts;
+    glass.binLights = batchLights.items;
+    glass.byBatch = true;
+    a.transparent = std::move(glass);
+  }
   return a;
+}
+
+FragmentLists gridFragmentLists(const ForwardLightGrid& grid) {
+  FragmentLists lists;
+  lists.binOffset = grid.offsets;
+  lists.binCount = grid.counts;
+  lists.binLights = grid.lights;
+  lists.tileW = grid.tileW;
+  lists.tileH = grid.tileH;
+  lists.tilesX = grid.tilesX;
+  lists.slices = grid.slices;
+  lists.sliceNear = grid.sliceNear;
+  lists.sliceScale = grid.sliceScale;
+  return lists;
 }
 
 }  // namespace ts

@@ -33,7 +33,12 @@ void addShadowUploadRow(const ViewLights& lights, const ForwardImage& drawn,
 void addGridForwardPass(const ViewLights& lights, const ForwardImage& drawn, double gridReadMs,
                         FrameResult& result);
 
-// Bins = batches, each pixel in the bin of the batch whose surface it shows.
+// Bins = batches, each pixel in the bin of the batch whose surface it shows; with transparent
+// draws, each transparent fragment in its draw's batch (the list its draw shaded).
 LightAssignment batchAssignment(const IndexLists& batchLights, const ForwardImage& drawn);
+
+// The lists of a grid a pass shaded transparent fragments with (LightAssignment::transparent):
+// each fragment finds its tile's (and, clustered, its slice's) as the fragment shader does.
+FragmentLists gridFragmentLists(const ForwardLightGrid& grid);
 
 }  // namespace ts

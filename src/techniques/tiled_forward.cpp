@@ -93,8 +93,13 @@ class TiledForwardTechnique : public Technique {
     result.counters.lightingComputations = drawn.lightingComputations;
     result.counters.evaluations = drawn.lightingComputations;
     result.counters.gbufferBytesRead = 0;  // no G-buffer
-    if (request.wantAssignment)
+    if (request.wantAssignment) {
       result.assignment = tileAssignment(tiles, grid.offsets, grid.counts, grid.lights);
+      // The glass shaded the transparent grid's lists where there is one, else the opaque's.
+      if (drawn.transparentDraws > 0)
+        result.assignment->transparent =
+            gridFragmentLists(transparentGrid ? *transparentGrid : grid);
+    }
     return result;
   }
 

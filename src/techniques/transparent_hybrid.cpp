@@ -33,6 +33,8 @@ void shadeTransparentOver(ClContext& cl, const cl::Buffer& opaqueImage, DeviceFr
   result.totalMs = 0.0;
   for (const KernelTime& k : result.kernels) result.totalMs += k.ms;
   result.image = std::move(drawn.image);
+  // The glass shaded the re-binned lists, not the opaque pixels' (LightAssignment::transparent).
+  if (result.assignment) result.assignment->transparent = gridFragmentLists(glass);
   // The fragment shader's own count (fragments x list + directional), as the forward techniques'.
   result.counters.lightingComputations += drawn.lightingComputations;
   result.counters.evaluations += drawn.lightingComputations;

@@ -18,7 +18,8 @@ bool hasTransparentDraws(const DeviceFrame& frame);
 // re-binning's kernels), grid_copy (the grid to the host and into OpenGL), image_copy (the image
 // from the device into OpenGL and the opaque depth copied there), shadow_upload where lights cast
 // shadows, transparent (the pass; launches = draws); totalMs their sum with the kernels'. The
-// transparent fragments' lights are added to the lighting computations and evaluations.
+// transparent fragments' lights are added to the lighting computations and evaluations; a kept
+// assignment (result.assignment) gets the re-binned lists the glass shaded (its `transparent`).
 void shadeTransparentOver(ClContext& cl, const cl::Buffer& opaqueImage, DeviceFrame& frame,
                           TileLightGrid& grid, const TechniqueConfig& config, FrameResult& result);
 
