@@ -996,7 +996,8 @@ void GltfLoader::addPrimitive(const tinygltf::Primitive& p, const glm::dmat4& wo
 // The tangents of a normal-mapped primitive's vertices scene_.vertices[first..]: its TANGENT
 // attribute (xyz by the node's matrix, w flipped by a mirroring one) when it has normals
 // (without, glTF's flat normals replace them and any TANGENT is ignored), else generated from its
-// UVs (generateTangents: not MikkTSpace), else none, with a note (load()): the map is ignored.
+// UVs by MikkTSpace's rules (generateTangents; vertices on mirrored UV seams are split), else
+// none, with a note (load()): the map is ignored.
 // fileVertices: the primitive's vertex count; corners: its triangles in file indices.
 void GltfLoader::addTangents(const tinygltf::Primitive& p, const glm::dmat4& world, bool mirror,
                              size_t first, bool fromNormals, size_t fileVertices,
@@ -1040,13 +1041,22 @@ void GltfLoader::addTangents(const tinygltf::Primitive& p, const glm::dmat4& wor
     uvs[i] = v.uv;
   }
   // The primitive's triangles in its own vertex numbering, as added to scene_.indices.
-  std::vector<uint32_t> local(scene_.indices.end() - long(corners.size() / 3 * 3),
-                              scene_.indices.end());
+  const auto tail = scene_.indices.end() - long(corners.size() / 3 * 3);
+  std::vector<uint32_t> local(tail, scene_.indices.end());
   for (uint32_t& i : local) i -= uint32_t(first);
-  size_t without = 0;
-  std::vector<glm::vec4> generated = generateTangents(positions, normals, uvs, local, &without);
-  verticesWithoutFrame_ += without;
-  std::copy(generated.begin(), generated.end(), tangents_.begin() + long(first));
+  GeneratedTangents generated = generateTangents(positions, normals, uvs, local);
+  verticesWithoutFrame_ += generated.withoutFrame;
+  // A vertex on a mirrored UV seam has a frame per side: its copies join the primitive's
+  // vertices and the corners on the other side use them.
+  if (generated.copies.size() > size_t(UINT32_MAX) - scene_.vertices.size())
+    read_.fail(what + ": more than 2^32 vertices in the scene once its mirrored UV seams split");
+  const std::vector<Vertex> own(scene_.vertices.begin() + long(first), scene_.vertices.end());
+  for (uint32_t source : generated.copies) scene_.vertices.push_back(own[source]);
+  std::transform(generated.triangles.begin(), generated.triangles.end(),
+                 scene_.indices.end() - long(generated.triangles.size()),
+                 [&](uint32_t i) { return i + uint32_t(first); });
+  tangents_.resize(scene_.vertices.size(), glm::vec4(0.0f));
+  std::copy(generated.tangents.begin(), generated.tangents.end(), tangents_.begin() + long(first));
 }
 
 void GltfLoader::visit(int index, const glm::dmat4& parent, int depth) {

@@ -76,14 +76,15 @@ inline json triangle(std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0})
 // `tangents` (x y z w per vertex) become a TANGENT attribute when given; withUVs false leaves
 // TEXCOORD_0 out.
 inline json normalMappedQuad(const std::string& imageUri, double scale, bool withUVs = true,
-                             const std::vector<float>& tangents = {}) {
+                             const std::vector<float>& tangents = {},
+                             const std::vector<float>& uvs = {0, 0, 1, 0, 1, 1, 0, 1}) {
   std::vector<unsigned char> b;
   for (float v : {0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1}) put(b, v);  // positions, 0..48
   for (int k = 0; k < 4; ++k)
-    for (float v : {0, 1, 0}) put(b, v);               // normals, 48..96
-  for (float v : {0, 0, 1, 0, 1, 1, 0, 1}) put(b, v);  // uvs = (x, z), 96..128
-  for (uint16_t i : {0, 3, 2, 0, 2, 1}) put(b, i);     // indices, 128..140
-  for (float v : tangents) put(b, v);                  // 140..204
+    for (float v : {0, 1, 0}) put(b, v);            // normals, 48..96
+  for (float v : uvs) put(b, v);                    // uvs (default (x, z)), 96..128
+  for (uint16_t i : {0, 3, 2, 0, 2, 1}) put(b, i);  // indices, 128..140
+  for (float v : tangents) put(b, v);               // 140..204
   json doc = json::parse(R"({
     "asset": {"version": "2.0"},
     "scene": 0,
