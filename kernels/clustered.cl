@@ -127,6 +127,9 @@ __kernel void pixel_slices(__global const float *gb_depth, int pixels,
  * one set of atomics when the slice changes: neighbouring pixels mostly share a slice, and on a
  * CPU three atomics per pixel cost more than the rest of this kernel.
  * Output per cluster: (zmin, zmax), empty: zmin > zmax (FLT_MAX, 0); its geometry pixel count.
+ * --msaa: gb_depth and pixel_slice hold `samples` planes (sample-major, as kernels/msaa_edges.h
+ * reads them), and every sample's surface counts, so a cluster that only an edge's other sample
+ * falls in exists and is binned (the count is then of samples).
  * Per tile: its first and last slice holding geometry (empty tile: first > last), so that
  * binning tests only the clusters between them. */
 static inline void merge_run(int slice, uint zmin, uint zmax, uint count, __local uint *lmin,
@@ -141,7 +144,7 @@ __kernel void cluster_depth_bounds(__global const float *gb_depth, int width, in
                                    __global const ushort *pixel_slice,
                                    __global float2 *cluster_depth,
                                    __global uint *cluster_pixels,
-                                   __global int2 *tile_slices) {
+                                   __global int2 *tile_slices, int samples) {
   __local uint lmin[SLICES];
   __local uint lmax[SLICES];
   __local uint lcount[SLICES];
@@ -161,26 +164,29 @@ __kernel void cluster_depth_bounds(__global const float *gb_depth, int width, in
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   int x0 = tx * TILE_W, x1 = min(x0 + TILE_W, width);
-  for (int y = ty * TILE_H + lid; y < min((ty + 1) * TILE_H, height); y += lsize) {
-    int run = 0; /* the slice of the current run, its depth bits' min/max and pixel count */
-    uint run_min = TS_DEPTH_EMPTY_MIN, run_max = 0u, run_count = 0u;
-    for (int x = x0; x < x1; ++x) {
-      int s = pixel_slice[y * width + x];
-      if (s == 0xffff) continue; /* background */
-      if (s != run) {
-        merge_run(run, run_min, run_max, run_count, lmin, lmax, lcount);
-        run = s;
-        run_min = TS_DEPTH_EMPTY_MIN;
-        run_max = 0u;
-        run_count = 0u;
+  size_t plane = (size_t)width * (size_t)height;
+  for (int k = 0; k < samples; ++k)
+    for (int y = ty * TILE_H + lid; y < min((ty + 1) * TILE_H, height); y += lsize) {
+      size_t row = (size_t)k * plane + (size_t)y * (size_t)width;
+      int run = 0; /* the slice of the current run, its depth bits' min/max and pixel count */
+      uint run_min = TS_DEPTH_EMPTY_MIN, run_max = 0u, run_count = 0u;
+      for (int x = x0; x < x1; ++x) {
+        int s = pixel_slice[row + x];
+        if (s == 0xffff) continue; /* background */
+        if (s != run) {
+          merge_run(run, run_min, run_max, run_count, lmin, lmax, lcount);
+          run = s;
+          run_min = TS_DEPTH_EMPTY_MIN;
+          run_max = 0u;
+          run_count = 0u;
+        }
+        uint z = as_uint(gb_depth[row + x]);
+        run_min = min(run_min, z);
+        run_max = max(run_max, z);
+        ++run_count;
       }
-      uint z = as_uint(gb_depth[y * width + x]);
-      run_min = min(run_min, z);
-      run_max = max(run_max, z);
-      ++run_count;
+      merge_run(run, run_min, run_max, run_count, lmin, lmax, lcount);
     }
-    merge_run(run, run_min, run_max, run_count, lmin, lmax, lcount);
-  }
   barrier(CLK_LOCAL_MEM_FENCE);
   for (int s = lid; s < SLICES; s += lsize) {
     int c = tile * SLICES + s;
@@ -391,5 +397,50 @@ __kernel void shade_clustered(float4 camera, float4 ambient, TS_GBUFFER_PARAMS, 
   barrier(CLK_LOCAL_MEM_FENCE);
   if (!inside) return;
   image[y * width + x] = (float4)(ts_lanes_pixel_colour(soa, lit, lights > 0, &s), 0.0f);
+}
+#endif
+
+/* ---- --msaa: the edges' samples (kernels/msaa_edges.h) ----------------------------------- */
+
+#include "msaa_edges.h"
+
+#if TS_LANES == 1
+/* As tiled.cl's shade_tiled_edge_samples, with each sample's own cluster: shade_clustered has
+ * shaded every pixel's sample 0; here each edge pixel shades its samples 1..samples-1, each with
+ * the list of the cluster its depth falls in (pixel_slice holds every sample's key), adds them to
+ * sample 0's shade and divides by the samples (OpenGL's box resolve, the reference's
+ * averageSamples). One work-item per pixel; built without lanes only (the host builds
+ * clustered.cl a second time for it when shade_clustered has lanes). */
+__kernel void shade_clustered_edge_samples(float4 camera, float4 ambient, TS_GBUFFER_PARAMS,
+                                           TS_LIGHT_PARAMS, TS_DIRECTIONAL_PARAMS,
+                                           __global const ushort *pixel_slice,
+                                           __global const uint *cluster_count,
+                                           __global const uint *cluster_offset,
+                                           __global const uint *cluster_lights, uint capacity,
+                                           __global const uchar *edge, int samples,
+                                           int4 plane_bytes, __global float4 *image) {
+  int x = get_global_id(0), y = get_global_id(1);
+  int width = (int)camera.z, height = (int)camera.w;
+  if (x >= width || y >= height) return;
+  size_t i = (size_t)y * (size_t)width + (size_t)x, plane = (size_t)width * (size_t)height;
+  if (!edge[i]) return;
+  int tile = (y / TILE_H) * ((width + TILE_W - 1) / TILE_W) + x / TILE_W;
+  float3 sum = image[i].xyz;
+  for (int k = 1; k < samples; ++k) {
+    size_t o = (size_t)k * plane;
+    ts_surface s;
+    if (ts_load_surface(x, y, camera, ambient, gb_depth + o,
+                        TS_SAMPLE_PLANE(ts_gb_normal, gb_normal, plane_bytes.x, o),
+                        TS_SAMPLE_PLANE(ts_gb_diffuse, gb_diffuse, plane_bytes.y, o),
+                        TS_SAMPLE_PLANE(ts_gb_specular, gb_specular, plane_bytes.z, o),
+                        TS_SAMPLE_PLANE(ts_gb_emissive, gb_emissive, plane_bytes.w, o), &s)) {
+      int cluster = tile * SLICES + pixel_slice[o + i];
+      float3 shade = ts_shade_bin(&s, cluster_offset[cluster], cluster_count[cluster], capacity,
+                                  cluster_lights, TS_LIGHT_ARGS);
+      shade += ts_shade_directionals(&s, TS_DIRECTIONAL_ARGS) + s.base;
+      sum += shade;
+    }
+  }
+  image[i] = (float4)(sum / (float)samples, 0.0f);
 }
 #endif

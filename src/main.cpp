@@ -189,8 +189,9 @@ int main(int argc, char** argv) {
   renderCmd
       ->add_option("--msaa", render.msaa,
                    "MSAA samples a pixel: 1, 2, 4 or 8 (above 1: --raster gl; tiled-forward and "
-                   "tiled-forward-prez shaded per fragment and resolved by OpenGL, tiled from a "
-                   "per-sample G-buffer, its edge pixels shaded per sample; --check against the "
+                   "tiled-forward-prez shaded per fragment and resolved by OpenGL, tiled and "
+                   "clustered from a per-sample G-buffer, its edge pixels shaded per sample; "
+                   "--check against the "
                    "per-sample reference; docs/techniques.md)")
       ->capture_default_str();
   auto* gbufferInOpt = renderCmd->add_option(

@@ -97,8 +97,9 @@ foreach(layout fp32 fp16 packed)
     endforeach()
   endforeach()
 endforeach()
-# --msaa in tiled (kernels/msaa_edges.h, shade_tiled_edge_samples) in every layout, lanes 1 and
-# 16 (the second, lane-less build of tiled.cl): through the test binary, whose frame's samples
+# --msaa in tiled and clustered (kernels/msaa_edges.h, shade_tiled_edge_samples,
+# shade_clustered_edge_samples) in every layout, lanes 1 and 16 (the second, lane-less builds of
+# tiled.cl and clustered.cl): through the test binary, whose frame's samples
 # need no OpenGL (llvmpipe and Oclgrind crash in one process, as for the forward family).
 tileshade_oclgrind_test(tiled.msaa "--data-races ${TILESHADE_OCLGRIND_NOOPT}"
   $<TARGET_FILE:tileshade_tests> --gtest_filter=TiledMsaaKernels.*)

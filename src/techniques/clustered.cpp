@@ -16,14 +16,24 @@
 //                         2 B read twice) is not G-buffer and is not counted.
 // The per-cluster pixel counts come from the device (cluster_depth_bounds counts them while it
 // assigns slices), so host and kernels agree on every pixel's cluster.
+//
+// --msaa N (--raster gl): as tiled's (techniques/multisampled_gbuffer.h), with every sample in its
+// own cluster: the frame's depth range, the slice keys and the clusters' bounds over every
+// sample's depth (so a cluster that only an edge's other sample falls in is binned), sample 0 of
+// every pixel shaded by shade_clustered, then the edge pixels' other samples, each with its own
+// cluster's list, and the average (shade_clustered_edge_samples). The counters then count the
+// samples shaded: every pixel's sample 0 with geometry, and the edges' other samples with
+// geometry, each times its cluster's list.
 #include <algorithm>
 #include <optional>
 
 #include "cl/kernel_args.h"
 #include "cl/work_group.h"
 #include "techniques/cluster_light_grid.h"
+#include "techniques/multisampled_gbuffer.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
+#include "techniques/transparent_hybrid.h"
 #include "util/error.h"
 #include "util/option_values.h"
 
@@ -46,11 +56,7 @@ class ClusteredTechnique : public Technique {
                   " cluster slices need more local memory "
                   "than the device has (" +
                   std::to_string(cl.info().localMemBytes) + " B)");
-    std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
-                          " -DTILE_H=" + std::to_string(config.tileHeight) +
-                          " -DSLICES=" + std::to_string(config.clusterSlices) +
-                          config.lanesOption();
-    program_ = cl.build("clustered.cl", options);
+    program_ = build(cl, config);
     grid_.emplace(cl, program_, config.clusterSlices, "clustered");
     frameRange_ = cl::Kernel(program_, "frame_depth_range");
     pixelSlices_ = cl::Kernel(program_, "pixel_slices");
@@ -62,13 +68,15 @@ class ClusteredTechnique : public Technique {
   int lanes() const override { return config_.lanes; }
 
   FrameResult renderFrame(DeviceFrame& frame, const FrameRequest& request) override {
-    allocate(frame);
+    const int samples = frame.forward ? frame.forward->samples() : 1;
+    if (samples > 1) uploadSamples(frame);
+    allocate(frame, samples);
     if (config_.presizeLists) grid_->presize(frame, int(config_.spotCulling));
     FrameResult result;
     uint32_t total = grid_->runUntilListFits(
         [&] {
           timer_.clear();
-          enqueueFrame(frame);
+          enqueueFrame(frame, samples);
         },
         result.counters.notes);
     cl_.queue().finish();
@@ -80,14 +88,53 @@ class ClusteredTechnique : public Technique {
     std::vector<uint32_t> counts = grid_->readCounts(), pixels(clusters);
     cl_.queue().enqueueReadBuffer(clusterPixels_, CL_TRUE, 0, clusters * 4, pixels.data());
     auto notes = std::move(result.counters.notes);
-    result.counters = workCounters(counts, pixels, frame);
+    std::vector<uint16_t> keys;
+    if (samples > 1 || request.wantAssignment) keys = readKeys(frame, samples);
+    result.counters = samples > 1 ? multisampledWorkCounters(counts, pixels, keys, frame)
+                                  : workCounters(counts, pixels, frame);
     result.counters.notes = std::move(notes);
-    if (request.wantAssignment) result.assignment = assignment(std::move(counts), total, frame);
+    if (request.wantAssignment)
+      result.assignment = assignment(std::move(counts), total, keys, frame);
     return result;
   }
 
  private:
+  static cl::Program build(ClContext& cl, const TechniqueConfig& config) {
+    std::string options = config.kernelOptions() + " -DTILE_W=" + std::to_string(config.tileWidth) +
+                          " -DTILE_H=" + std::to_string(config.tileHeight) +
+                          " -DSLICES=" + std::to_string(config.clusterSlices) +
+                          config.lanesOption();
+    return cl.build("clustered.cl", options);
+  }
+
   size_t clusterCount() const { return grid_->clusterCount(); }
+
+  // --msaa N: every sample's planes on the device (DeviceFrame::samples, in the frame's layout).
+  void uploadSamples(DeviceFrame& frame) {
+    if (!frame.samples)
+      throw Error("clustered: this " + std::to_string(frame.forward->samples()) +
+                  "-sample frame carries no per-sample G-buffer (DeviceFrame::samples)");
+    if (hasTransparentDraws(frame))  // refused with the frame already (SceneRasterizer)
+      throw Error("clustered: --msaa with transparent draws is not done");
+    if (!msaa_) {
+      // The edges' samples are shaded one per work-item (kernels/gbuffer.h's scalar shading):
+      // with lanes a second build of clustered.cl without them, made at the first multisampled
+      // frame so that no other frame pays for its compile.
+      TechniqueConfig scalar = config_;
+      scalar.lanes = 1;
+      edgeProgram_ = config_.lanes > 1 ? build(cl_, scalar) : program_;
+      shadeEdges_ = cl::Kernel(edgeProgram_, "shade_clustered_edge_samples");
+      msaa_.emplace(cl_, edgeProgram_);
+    }
+    msaa_->upload(frame.samples->like(*frame.gbuffer), *frame.gbuffer);
+  }
+
+  // The stored slice keys of every sample (sample-major), after the queue finished the frame.
+  std::vector<uint16_t> readKeys(const DeviceFrame& frame, int samples) const {
+    std::vector<uint16_t> keys(size_t(frame.width()) * frame.height() * size_t(samples));
+    cl_.queue().enqueueReadBuffer(pixelSlice_, CL_TRUE, 0, keys.size() * 2, keys.data());
+    return keys;
+  }
 
   WorkCounters workCounters(const std::vector<uint32_t>& counts,
                             const std::vector<uint32_t>& pixels, const DeviceFrame& frame) const {
@@ -113,44 +160,92 @@ class ClusteredTechnique : public Technique {
     return c;
   }
 
+  // The counters of a multisampled frame (see the top of the file): its lists' statistics as
+  // workCounters' (over the clusters holding some sample), lighting computations and evaluations
+  // over the samples shaded, and the G-buffer bytes estimated from the passes (range, slices and
+  // the edge mask: every sample's depth and planes; bounds: every geometry sample's depth;
+  // shading: sample 0's planes, the edges' further samples').
+  WorkCounters multisampledWorkCounters(const std::vector<uint32_t>& counts,
+                                        const std::vector<uint32_t>& pixels,
+                                        const std::vector<uint16_t>& keys,
+                                        const DeviceFrame& frame) const {
+    WorkCounters c = workCounters(counts, pixels, frame);
+    const std::vector<uint8_t> edges = msaa_->readEdges();
+    const TileGrid& grid = grid_->tiles();
+    const size_t plane = size_t(frame.width()) * frame.height();
+    const size_t samples = size_t(msaa_->samples());
+    const uint64_t perSample = frame.gbuffer->bytesPerPixel();
+    SampleShading shading;
+    shading.samples = int(samples);
+    uint64_t shaded = 0, geometrySamples = 0;
+    c.lightingComputations = 0;
+    for (uint32_t p : pixels) geometrySamples += p;
+    for (int y = 0; y < frame.height(); ++y)
+      for (int x = 0; x < frame.width(); ++x) {
+        const size_t i = size_t(y) * frame.width() + size_t(x);
+        const size_t last = edges[i] ? samples : 1;
+        if (edges[i]) ++shading.pixelsShadedPerSample;
+        for (size_t k = 0; k < last; ++k) {
+          const uint16_t key = keys[k * plane + i];
+          if (key == kBackgroundKey) continue;
+          c.lightingComputations += counts[size_t(grid.tileOf(x, y)) * grid_->slices() + key];
+          ++shaded;
+        }
+      }
+    c.evaluations = c.lightingComputations;
+    c.gbufferBytesRead = 2 * 4 * plane * samples + 4 * geometrySamples +
+                         perSample * plane * samples + 4 * plane + shaded * (perSample - 4);
+    addDirectionalWork(c, shaded, frame);
+    shading.gbufferBytes = msaa_->bytes();
+    c.sampleShading = shading;
+    return c;
+  }
+
   LightAssignment assignment(std::vector<uint32_t> counts, uint32_t total,
-                             const DeviceFrame& frame) {
-    auto& q = cl_.queue();
+                             const std::vector<uint16_t>& keys, const DeviceFrame& frame) {
     LightAssignment a;
     a.binOffset = grid_->readOffsets();
     a.binCount = std::move(counts);
     a.binLights = grid_->readLights(total);
-    // The pixels' clusters exactly as the kernels chose them (the stored slice keys).
-    std::vector<uint16_t> keys(size_t(frame.width()) * frame.height());
-    q.enqueueReadBuffer(pixelSlice_, CL_TRUE, 0, keys.size() * 2, keys.data());
+    // The pixels' clusters exactly as the kernels chose them (the stored slice keys); with --msaa
+    // one plane per sample (reference.h's countMissedOverSamples reads them so).
+    const size_t plane = size_t(frame.width()) * frame.height();
     a.pixelBin.resize(keys.size());
-    for (int y = 0; y < frame.height(); ++y)
-      for (int x = 0; x < frame.width(); ++x) {
-        size_t i = size_t(y) * frame.width() + x;
-        a.pixelBin[i] =
-            keys[i] == kBackgroundKey
-                ? -1
-                : int32_t(grid_->tiles().tileOf(x, y) * config_.clusterSlices + keys[i]);
-      }
+    for (size_t k = 0; k < keys.size() / plane; ++k)
+      for (int y = 0; y < frame.height(); ++y)
+        for (int x = 0; x < frame.width(); ++x) {
+          size_t i = k * plane + size_t(y) * frame.width() + x;
+          a.pixelBin[i] =
+              keys[i] == kBackgroundKey
+                  ? -1
+                  : int32_t(grid_->tiles().tileOf(x, y) * config_.clusterSlices + keys[i]);
+        }
     return a;
   }
 
-  void allocate(const DeviceFrame& frame) {
-    if (!grid_->allocate(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight))
-      return;
-    size_t clusters = clusterCount(), pixels = size_t(frame.width()) * frame.height();
+  void allocate(const DeviceFrame& frame, int samples) {
+    size_t pixels = size_t(frame.width()) * frame.height();
     auto& ctx = cl_.context();
-    clusterPixels_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusters * sizeof(uint32_t));
-    pixelSlice_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_ushort));
-    image_ = cl::Buffer(ctx, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
+    if (grid_->allocate(frame.width(), frame.height(), config_.tileWidth, config_.tileHeight)) {
+      clusterPixels_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, clusterCount() * sizeof(uint32_t));
+      // Read and write: with --msaa shade_clustered_edge_samples adds to sample 0's shades.
+      image_ = cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * sizeof(cl_float4));
+      keySamples_ = 0;
+    }
+    if (keySamples_ != samples) {  // one key per sample of every pixel
+      pixelSlice_ =
+          cl::Buffer(ctx, CL_MEM_READ_WRITE, pixels * size_t(samples) * sizeof(cl_ushort));
+      keySamples_ = samples;
+    }
   }
 
-  void enqueueFrame(DeviceFrame& frame) {
+  // `samples` > 1: the multisampled frame (uploadSamples), its depth planes one after another.
+  void enqueueFrame(DeviceFrame& frame, int samples) {
     auto& q = cl_.queue();
-    cl_float4 camera = toCl(frame.camera.kernelCamera());
     const TileGrid& grid = grid_->tiles();
     size_t tiles = size_t(grid.count());
-    size_t pixels = size_t(frame.width()) * frame.height();
+    const cl::Buffer& depth = samples > 1 ? msaa_->depth() : frame.depth;
+    size_t pixels = size_t(frame.width()) * frame.height() * size_t(samples);  // depths
     const cl_uint2 emptyRange = {{0x7f7fffffu, 0u}};  // (FLT_MAX, 0) as bits: min > max
     q.enqueueFillBuffer(grid_->depthRange(), emptyRange, 0, sizeof(cl_uint2), nullptr,
                         timer_.next("clear"));
@@ -162,12 +257,12 @@ class ClusteredTechnique : public Technique {
         powerOfTwoGroup(64, groupLimit(cl_, frameRange_));  // DEPTH_RANGE_GROUP
     size_t rangeGroups = std::clamp<size_t>(pixels / (rangeGroup * 16 * 16), 1,
                                             1024);  // 16 vectors of 16 pixels per item
-    KernelArgs(frameRange_).add(frame.depth).add(int(pixels)).add(grid_->depthRange()).done();
+    KernelArgs(frameRange_).add(depth).add(int(pixels)).add(grid_->depthRange()).done();
     q.enqueueNDRangeKernel(frameRange_, cl::NullRange, cl::NDRange(rangeGroups * rangeGroup),
                            cl::NDRange(rangeGroup), nullptr, timer_.next("depth_range"));
     const size_t sliceGroup = std::min<size_t>(64, groupLimit(cl_, pixelSlices_).size);
     KernelArgs(pixelSlices_)
-        .add(frame.depth)
+        .add(depth)
         .add(int(pixels))
         .add(grid_->depthRange())
         .add(pixelSlice_)
@@ -178,13 +273,14 @@ class ClusteredTechnique : public Technique {
     // One work-item per row of the tile (kernels/clustered.cl).
     size_t group = std::min<size_t>({size_t(grid.tileH), 64, groupLimit(cl_, clusterBounds_).size});
     KernelArgs(clusterBounds_)
-        .add(frame.depth)
+        .add(depth)
         .add(frame.width())
         .add(frame.height())
         .add(pixelSlice_)
         .add(grid_->clusterDepth())
         .add(clusterPixels_)
         .add(grid_->tileSlices())
+        .add(cl_int(samples))
         .done();
     q.enqueueNDRangeKernel(clusterBounds_, cl::NullRange, cl::NDRange(tiles * group),
                            cl::NDRange(group), nullptr, timer_.next("cluster_bounds"));
@@ -193,11 +289,21 @@ class ClusteredTechnique : public Technique {
     grid_->enqueueBinning(frame, timer_);
 
     // 3. Shading: one work-item per pixel, or in lanes with work-groups inside one tile
-    // (shade_clustered then takes the tile, and so its clusters, from the group id).
+    // (shade_clustered then takes the tile, and so its clusters, from the group id). With
+    // --msaa: sample 0 (the planes' first width x height elements, the keys' first plane), then
+    // the edge mask and the edges' other samples.
+    if (samples > 1) enqueueShading(frame, msaa_->gbufferArgs());
+    else enqueueShading(frame, frame.gbufferArgs());
+    if (samples > 1) enqueueEdgeSamples(frame);
+  }
+
+  template <typename Planes>
+  void enqueueShading(DeviceFrame& frame, const Planes& planes) {
+    const TileGrid& grid = grid_->tiles();
     KernelArgs args(shade_);
-    args.add(camera)
+    args.add(toCl(frame.camera.kernelCamera()))
         .add(toCl(glm::vec4(frame.ambient, 0.0f)))
-        .add(frame.gbufferArgs())
+        .add(planes)
         .add(frame.lightArgs())
         .addIf(config_.features.shadows, frame.lightShadowArgs())
         .add(frame.directionalArgs())
@@ -215,8 +321,35 @@ class ClusteredTechnique : public Technique {
             : fitGroup(std::min(grid.tileW, 16), std::min(grid.tileH, 16), groupLimit(cl_, shade_));
     if (config_.lanes > 1) args.add(laneLocalMemory(config_, g.size()));
     args.done();
-    q.enqueueNDRangeKernel(shade_, cl::NullRange, g.global(frame.width(), frame.height()),
-                           g.local(), nullptr, timer_.next("shade"));
+    cl_.queue().enqueueNDRangeKernel(shade_, cl::NullRange, g.global(frame.width(), frame.height()),
+                                     g.local(), nullptr, timer_.next("shade"));
+  }
+
+  void enqueueEdgeSamples(DeviceFrame& frame) {
+    const MultisampledGBuffer& ms = *msaa_;
+    msaa_->enqueueEdgeMask(timer_);
+    KernelArgs(shadeEdges_)
+        .add(toCl(frame.camera.kernelCamera()))
+        .add(toCl(glm::vec4(frame.ambient, 0.0f)))
+        .add(ms.gbufferArgs())
+        .add(frame.lightArgs())
+        .addIf(config_.features.shadows, frame.lightShadowArgs())
+        .add(frame.directionalArgs())
+        .addIf(config_.features.shadows, frame.directionalShadowArgs())
+        .add(pixelSlice_)
+        .add(grid_->counts())
+        .add(grid_->offsets())
+        .add(grid_->lights())
+        .add(grid_->capacity())
+        .add(ms.edges())
+        .add(cl_int(ms.samples()))
+        .add(ms.planeBytes())
+        .add(image_)
+        .done();
+    const GroupShape g = fitGroup(16, 16, groupLimit(cl_, shadeEdges_));
+    cl_.queue().enqueueNDRangeKernel(shadeEdges_, cl::NullRange,
+                                     g.global(frame.width(), frame.height()), g.local(), nullptr,
+                                     timer_.next("shade_edge_samples"));
   }
 
   ClContext& cl_;
@@ -225,6 +358,10 @@ class ClusteredTechnique : public Technique {
   cl::Kernel frameRange_, pixelSlices_, clusterBounds_, shade_;
   std::optional<ClusterLightGrid> grid_;  // made with the program
   cl::Buffer clusterPixels_, pixelSlice_, image_;
+  int keySamples_ = 0;       // the samples pixelSlice_ holds keys for
+  cl::Program edgeProgram_;  // --msaa: clustered.cl without lanes (program_ itself at lanes 1)
+  cl::Kernel shadeEdges_;
+  std::optional<MultisampledGBuffer> msaa_;  // made at the first multisampled frame
   FrameTimer timer_;
 };
 

@@ -26,8 +26,11 @@ const std::vector<TechniqueInfo>& techniqueRegistry() {
        "and shades in local memory",
        makeTiledSingleTechnique, 16},
       {"clustered",
-       "clustered deferred: tiles x exponential depth slices, lights binned per non-empty cluster",
-       makeClusteredTechnique, 16},
+       "clustered deferred: tiles x exponential depth slices, lights binned per non-empty "
+       "cluster; --msaa: a per-sample G-buffer, edge pixels shaded per sample in their own "
+       "clusters",
+       makeClusteredTechnique, 16, /*drawsScene=*/false, /*reusesShadowMaps=*/false,
+       /*hybridTransparency=*/false, /*multisamples=*/true},
       {"deferred",
        "traditional deferred: one launch per light over its screen rectangle, each pixel re-reads "
        "the G-buffer and blends into an accumulation buffer",
@@ -158,20 +161,19 @@ std::string msaaRefusal(const std::string& technique, int samples) {
   const TechniqueInfo& t = findTechnique(technique);
   if (!t.drawsScene)
     return "technique '" + technique + "' shades the G-buffer: --msaa " + std::to_string(samples) +
-           " is done for tiled, tiled-forward and tiled-forward-prez only (a multisampled "
-           "G-buffer for the other deferred ones is not)";
+           " is done for tiled, clustered, tiled-forward and tiled-forward-prez only (a "
+           "multisampled G-buffer for the other deferred ones is not)";
   // A fragment interpolated at the pixel centre for a sample its triangle covers can lie off
   // the triangle, outside its batch's box (docs/techniques.md, "MSAA").
   if (technique == "clustered-forward")
     return "technique 'clustered-forward' with --msaa " + std::to_string(samples) +
            " is not done: its slices span the scene's view depth bounds, which a fragment "
-           "extrapolated to the pixel centre can leave (tiled, tiled-forward and "
-           "tiled-forward-prez "
-           "take --msaa)";
+           "extrapolated to the pixel centre can leave (tiled, clustered, tiled-forward and "
+           "tiled-forward-prez take --msaa)";
   return "technique '" + technique + "' with --msaa " + std::to_string(samples) +
          " is not done: its per-batch light lists are culled against the batches' boxes, which a "
-         "fragment extrapolated to the pixel centre can leave (tiled, tiled-forward and "
-         "tiled-forward-prez take --msaa)";
+         "fragment extrapolated to the pixel centre can leave (tiled, clustered, tiled-forward "
+         "and tiled-forward-prez take --msaa)";
 }
 
 std::string TechniqueConfig::kernelOptions() const {

@@ -52,13 +52,18 @@ TEST(MsaaCli, ForwardTechniqueChecksAgainstThePerSampleReference) {
       << r.output;
   const nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir / "out" / "stats.json"));
   EXPECT_EQ(stats["msaa"], 4);
-  ASSERT_EQ(stats["techniques"].size(), 3u);  // tiled, tiled-forward, tiled-forward-prez
+  // tiled, clustered, tiled-forward, tiled-forward-prez
+  ASSERT_EQ(stats["techniques"].size(), 4u);
   for (const nlohmann::json& t : stats["techniques"]) {
     SCOPED_TRACE(t["technique"].get<std::string>());
     EXPECT_LE(t["error"]["max_rel_peak"].get<double>(), 1e-4);
     EXPECT_EQ(t["missed_contributions"].get<int>(), 0);
-    EXPECT_EQ(t.contains("msaa_gbuffer"), t["technique"] == "tiled");
+    EXPECT_EQ(t.contains("msaa_gbuffer"),
+              t["technique"] == "tiled" || t["technique"] == "clustered");
   }
+  // The G-buffer techniques find the same edges (the same per-sample G-buffer, the same rule).
+  ASSERT_EQ(stats["techniques"][1]["technique"], "clustered");
+  EXPECT_EQ(stats["techniques"][1]["msaa_gbuffer"], stats["techniques"][0]["msaa_gbuffer"]);
   // tiled's multisampled G-buffer: 4x the frame's bytes; edges some of the pixels, in the table.
   const nlohmann::json& tiled = stats["techniques"][0];
   ASSERT_EQ(tiled["technique"], "tiled");

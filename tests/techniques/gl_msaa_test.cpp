@@ -232,8 +232,8 @@ TEST(Msaa, TechniquesWithoutItRefuseAMultisampledFrame) {
                   analyzeScene(msaaScene("atrium"), nativeShadingModel(msaaScene("atrium"))), 2);
   for (const TechniqueInfo& t : techniqueRegistry()) {
     SCOPED_TRACE(t.name);
-    EXPECT_EQ(t.multisamples,
-              t.name == "tiled" || t.name == "tiled-forward" || t.name == "tiled-forward-prez");
+    EXPECT_EQ(t.multisamples, t.name == "tiled" || t.name == "clustered" ||
+                                  t.name == "tiled-forward" || t.name == "tiled-forward-prez");
     if (t.multisamples) continue;
     try {
       g.render(t.name);

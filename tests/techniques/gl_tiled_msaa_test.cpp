@@ -1,8 +1,8 @@
-// --msaa for `tiled` (issue #17): the multisampled G-buffer (one plane per sample, in the frame's
-// layout), the edge mask (kernels/msaa_edges.h: samples whose stored planes differ in any bit)
-// and the edges shaded per sample, against the per-sample reference (every sample's G-buffer in
-// the same layout shaded in double, averaged). llvmpipe rasterizes, PoCL shades; 96x54 frames;
-// skips, saying why, without an OpenGL context or with fewer than 4 samples.
+// --msaa for `tiled` and `clustered` (issue #17): the multisampled G-buffer (one plane per sample,
+// in the frame's layout), the edge mask (kernels/msaa_edges.h: samples whose stored planes differ
+// in any bit) and the edges shaded per sample, against the per-sample reference (every sample's
+// G-buffer in the same layout shaded in double, averaged). llvmpipe rasterizes, PoCL shades; 96x54
+// frames; skips, saying why, without an OpenGL context or with fewer than 4 samples.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -52,11 +52,11 @@ struct TiledMsaaFrame {
   const std::vector<EncodedGBuffer>& planes() const {
     return g.sampleGBuffers->like(g.prepared.encoded);
   }
-  FrameResult render(int lanes) const {
+  FrameResult render(int lanes, const std::string& technique = "tiled") const {
     TechniqueConfig c = g.config();
     c.format = g.prepared.encoded.format;
     c.lanes = lanes;
-    return g.render(*createTechnique("tiled", test::context(), c));
+    return g.render(*createTechnique(technique, test::context(), c));
   }
   // r within the bound of the per-sample reference, no NaN, 0 missed; returns the error.
   double expectMatches(const FrameResult& r) const {
@@ -120,6 +120,35 @@ TEST(TiledMsaa, EveryLayoutAndLanesWidth) {
   }
 }
 
+// clustered: every sample in its own cluster (the slices and bounds over every sample's depth),
+// in every layout and lanes width at an odd size, against the same per-sample reference; its
+// edges are tiled's (the same G-buffer, the same rule), and it shades each edge sample once.
+TEST(ClusteredMsaa, EveryLayoutAndLanesWidthMatchesThePerSampleReference) {
+  REQUIRE_SAMPLES(kSamples);
+  for (const char* name : {"atrium", "street"})
+    for (GBufferFormat format : {GBufferFormat::FP32, GBufferFormat::FP16, GBufferFormat::PACKED}) {
+      if (format != GBufferFormat::FP32 && std::string(name) == "atrium") continue;  // time
+      const TiledMsaaFrame m(builtin(name), 67, 37, format);
+      const uint64_t edges = edgesOf(m.render(1));
+      EXPECT_GT(edges, 0u);
+      for (int lanes : {1, 16}) {
+        SCOPED_TRACE(std::string(name) + ", " + toString(format) + ", lanes " +
+                     std::to_string(lanes));
+        const FrameResult r = m.render(lanes, "clustered");
+        const double error = m.expectMatches(r);
+        EXPECT_EQ(edgesOf(r), edges);
+        EXPECT_EQ(r.counters.sampleShading->gbufferBytes,
+                  uint64_t(kSamples) * r.image.size() * m.g.prepared.encoded.bytesPerPixel());
+        // The assignment holds one plane of clusters per sample (countMissedOverSamples).
+        ASSERT_TRUE(r.assignment.has_value());
+        EXPECT_EQ(r.assignment->pixelBin.size(), r.image.size() * kSamples);
+        if (lanes == 1 && format == GBufferFormat::FP32)
+          std::cout << "[ clustered msaa ] " << name << " x" << kSamples << ": " << edges
+                    << " edge pixels, max error " << error << " of the peak\n";
+      }
+    }
+}
+
 // One triangle filling the view, lit by two lights: every sample of every pixel holds the same
 // stored surface, so no pixel is an edge and the image is the single-sampled frame's, bit for
 // bit (sample 0's G-buffer is the single-sampled one: both interpolate at the pixel centre).
@@ -151,14 +180,19 @@ TEST(TiledMsaa, AFlatWallHasNoEdgesAndIsTheSingleSampledImage) {
     EXPECT_EQ(edgesOf(r), 0u);
     TechniqueConfig c = one.config();
     c.lanes = lanes;
-    const FrameResult single = one.render(*createTechnique("tiled", test::context(), c));
-    ASSERT_EQ(r.image.size(), single.image.size());
-    size_t differ = 0;
-    for (size_t i = 0; i < r.image.size(); ++i) differ += r.image[i] != single.image[i];
-    EXPECT_EQ(differ, 0u);
-    EXPECT_EQ(single.image[single.image.size() / 2].x > 0.0f, true);  // lit
-    // Shading per sample counts no more than shading per pixel.
-    EXPECT_EQ(r.counters.evaluations, single.counters.evaluations);
+    for (const char* technique : {"tiled", "clustered"}) {
+      SCOPED_TRACE(technique);
+      const FrameResult ms = m.render(lanes, technique);
+      EXPECT_EQ(edgesOf(ms), 0u);
+      const FrameResult single = one.render(*createTechnique(technique, test::context(), c));
+      ASSERT_EQ(ms.image.size(), single.image.size());
+      size_t differ = 0;
+      for (size_t i = 0; i < ms.image.size(); ++i) differ += ms.image[i] != single.image[i];
+      EXPECT_EQ(differ, 0u);
+      EXPECT_EQ(single.image[single.image.size() / 2].x > 0.0f, true);  // lit
+      // Shading per sample counts no more than shading per pixel.
+      EXPECT_EQ(ms.counters.evaluations, single.counters.evaluations);
+    }
   }
 }
 
@@ -220,12 +254,15 @@ TEST(TiledMsaa, AFrameWithoutItsSampleGBuffersIsRefused) {
   test::GlFrame g(scene, 1, 40, 24, analyzeScene(scene, nativeShadingModel(scene)), 2);
   DeviceFrame frame = g.upload(g.prepared.lights);
   frame.samples = nullptr;
-  auto tiled = createTechnique("tiled", test::context(), g.config());
-  try {
-    tiled->render(frame, FrameRequest{});
-    ADD_FAILURE() << "rendered without the per-sample G-buffer";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("no per-sample G-buffer"), std::string::npos) << e.what();
+  for (const char* name : {"tiled", "clustered"}) {
+    auto technique = createTechnique(name, test::context(), g.config());
+    try {
+      technique->render(frame, FrameRequest{});
+      ADD_FAILURE() << name << " rendered without the per-sample G-buffer";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("no per-sample G-buffer"), std::string::npos)
+          << e.what();
+    }
   }
 }
 

@@ -1,8 +1,10 @@
-// tiled's --msaa kernels (kernels/msaa_edges.h, shade_tiled_edge_samples) without OpenGL, so
+// tiled's and clustered's --msaa kernels (kernels/msaa_edges.h, shade_tiled_edge_samples,
+// shade_clustered_edge_samples, cluster_depth_bounds over every sample) without OpenGL, so
 // that Oclgrind can run them (tests/extra_tests.cmake, Oclgrind.tiled.msaa: OpenGL's llvmpipe
 // and Oclgrind do not run in one process): a software-rasterized frame whose "samples" are its
 // G-buffer and the same G-buffer shifted by a pixel (every sample a real surface; edges wherever
-// neighbours differ), against the per-sample reference, every layout, lanes 1 and 16.
+// neighbours differ; for clustered, samples in slices sample 0 never holds), against the
+// per-sample reference, every layout, lanes 1 and 16.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
@@ -18,7 +20,7 @@
 namespace ts {
 namespace {
 
-// Only what SampleGBuffers and tiled ask of a multisampled frame.
+// Only what SampleGBuffers, tiled and clustered ask of a multisampled frame.
 class ShiftedSamples : public ForwardScene {
  public:
   explicit ShiftedSamples(const GBuffer& g) : g_(g) {}
@@ -76,30 +78,33 @@ TEST(TiledMsaaKernels, ShiftedSamplesMatchThePerSampleReference) {
     const ReferenceImage reference =
         shadeSampleAverage(samples.like(f.encoded), f.intrinsics, f.lights, f.ambient, 0,
                            ReferencePositions::FromDepth, nullptr);
-    for (int lanes : {1, 16}) {
-      SCOPED_TRACE(toString(format) + ", lanes " + std::to_string(lanes));
-      TechniqueConfig c;
-      c.features = features;
-      c.format = format;
-      c.lanes = lanes;
-      DeviceFrame frame =
-          DeviceFrame::upload(test::context(), f.encoded, f.intrinsics, f.lights, f.ambient);
-      frame.forward = &forward;
-      frame.samples = &samples;
-      FrameRequest request;
-      request.wantAssignment = true;
-      const FrameResult r = createTechnique("tiled", test::context(), c)->render(frame, request);
-      const ErrorStats e = compareToReference(r.image, reference, 1e-4 * reference.peak);
-      EXPECT_LE(e.maxRelPeak, 1e-4);
-      EXPECT_EQ(e.nonfinitePixels, 0u);
-      ASSERT_TRUE(r.counters.sampleShading.has_value());
-      EXPECT_GT(r.counters.sampleShading->pixelsShadedPerSample, 0u);
-      EXPECT_LT(r.counters.sampleShading->pixelsShadedPerSample, r.image.size());
-      ASSERT_TRUE(r.assignment.has_value());
-      EXPECT_EQ(
-          countMissedOverSamples(*r.assignment, samples.like(f.encoded), f.intrinsics, f.lights, 0),
-          0u);
-    }
+    for (int lanes : {1, 16})
+      for (const char* technique : {"tiled", "clustered"}) {
+        SCOPED_TRACE(std::string(technique) + ", " + toString(format) + ", lanes " +
+                     std::to_string(lanes));
+        TechniqueConfig c;
+        c.features = features;
+        c.format = format;
+        c.lanes = lanes;
+        DeviceFrame frame =
+            DeviceFrame::upload(test::context(), f.encoded, f.intrinsics, f.lights, f.ambient);
+        frame.forward = &forward;
+        frame.samples = &samples;
+        FrameRequest request;
+        request.wantAssignment = true;
+        const FrameResult r =
+            createTechnique(technique, test::context(), c)->render(frame, request);
+        const ErrorStats e = compareToReference(r.image, reference, 1e-4 * reference.peak);
+        EXPECT_LE(e.maxRelPeak, 1e-4);
+        EXPECT_EQ(e.nonfinitePixels, 0u);
+        ASSERT_TRUE(r.counters.sampleShading.has_value());
+        EXPECT_GT(r.counters.sampleShading->pixelsShadedPerSample, 0u);
+        EXPECT_LT(r.counters.sampleShading->pixelsShadedPerSample, r.image.size());
+        ASSERT_TRUE(r.assignment.has_value());
+        EXPECT_EQ(countMissedOverSamples(*r.assignment, samples.like(f.encoded), f.intrinsics,
+                                         f.lights, 0),
+                  0u);
+      }
   }
 }
 
