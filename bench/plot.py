@@ -225,7 +225,28 @@ def finite(values):
     return [x for x in values if isinstance(x, float) and math.isfinite(x)]
 
 
-def summarize(rows, dims, with_shadow_maps=False):
+# The techniques that draw the scene themselves (TechniqueInfo::drawsScene in
+# src/techniques/registry.cpp; BenchPlot.DrawsSceneListIsTheRegistrys holds the two equal):
+# their geometry passes are inside total_ms, while a G-buffer technique's is the frame's
+# raster_ms.
+DRAWS_SCENE = {"tiled-forward", "tiled-forward-prez", "clustered-forward", "forward", "forward-single"}
+
+
+def frame_ms(row, with_shadow_maps, with_geometry):
+    """A row's time: its kernels (total_ms), plus the shadow maps' drawing (shadow_ms) with
+    either option, plus the G-buffer pass (raster_ms) of a G-buffer technique with_geometry."""
+    def extra(name):  # an absent or empty column adds nothing
+        v = row.get(name)
+        return v if isinstance(v, float) and math.isfinite(v) else 0.0
+    t = row.get("total_ms", float("nan"))
+    if with_shadow_maps or with_geometry:
+        t += extra("shadow_ms")
+    if with_geometry and row.get("technique") not in DRAWS_SCENE:
+        t += extra("raster_ms")
+    return t
+
+
+def summarize(rows, dims, with_shadow_maps=False, with_geometry=False):
     by = OrderedDict()
     for row in rows:
         by.setdefault(row["config_id"], []).append(row)
@@ -237,10 +258,7 @@ def summarize(rows, dims, with_shadow_maps=False):
         s["device_name"] = rs[0].get("device_name", "")
         s["rows"] = rs
         s["frames"] = len(rs)
-        if with_shadow_maps:  # the frame with its shadow maps' drawing (shadow_ms)
-            total = finite([r.get("total_ms", float("nan")) + r.get("shadow_ms", 0.0) for r in rs])
-        else:
-            total = finite([r.get("total_ms") for r in rs])
+        total = finite([frame_ms(r, with_shadow_maps, with_geometry) for r in rs])
         s["median"] = median(total)
         s["min"] = min(total) if total else float("nan")
         s["max"] = max(total) if total else float("nan")
@@ -760,7 +778,8 @@ def recommendations(summaries, dims):
     return out
 
 
-def write_report(report, rows, summaries, dims, paths, title, pareto_lines=()):
+def write_report(report, rows, summaries, dims, paths, title, pareto_lines=(),
+                 time_basis="sum of the kernels' profiled times"):
     lines = ["# %s" % title, ""]
     lines.append("Inputs: " + ", ".join("`%s`" % p for p in paths) +
                  " — %d rows, %d configurations." % (len(rows), len(summaries)))
@@ -783,7 +802,7 @@ def write_report(report, rows, summaries, dims, paths, title, pareto_lines=()):
     has_err = any(math.isfinite(s["err_rel"]) for s in summaries)
     lines.append("## Summary per configuration")
     lines.append("")
-    lines.append("Frame time = sum of the kernels' profiled times; median and (min–max) over the "
+    lines.append("Frame time = " + time_basis + "; median and (min–max) over the "
                  "timed frames; wall = host time from upload to readback; % limit = device-limit "
                  "time / measured kernel time (evaluations from the reference, or * the "
                  "technique's own count).")
@@ -874,6 +893,10 @@ def plot(argv):
     ap.add_argument("--time-with-shadow-maps", action="store_true",
                     help="time = total_ms + shadow_ms (the kernels and the frame's shadow-map "
                          "drawing), e.g. with --error-prefix shadow_err_ (bench --shadow-error)")
+    ap.add_argument("--time-with-geometry", action="store_true",
+                    help="time = the whole frame: total_ms + shadow_ms, plus raster_ms (the "
+                         "G-buffer pass) for the G-buffer techniques; the forward techniques' "
+                         "geometry passes are inside their total_ms (forward against deferred)")
     a = ap.parse_args(argv)
     for i, p in enumerate(a.inputs):
         if os.path.isdir(p):
@@ -890,7 +913,7 @@ def plot(argv):
         raise InputError("no rows in " + ", ".join(a.inputs))
     load_matplotlib()
     os.makedirs(a.out, exist_ok=True)
-    summaries = summarize(rows, dims, a.time_with_shadow_maps)
+    summaries = summarize(rows, dims, a.time_with_shadow_maps, a.time_with_geometry)
     report = Report(a.out)
 
     plot_over_frames(report, summaries, dims, "total_ms", "frame time (ms, sum of kernels)",
@@ -913,10 +936,15 @@ def plot(argv):
                 "vs_light_range", "Frame time vs light range",
                 lambda s: number(s.get("light_range")) if number(s.get("light_range")) > 0 else None)
     pareto = plot_speed_error(report, summaries, dims, a.error_prefix,
-                              "kernels + shadow-map drawing" if a.time_with_shadow_maps
+                              "the frame, geometry passes included" if a.time_with_geometry
+                              else "kernels + shadow-map drawing" if a.time_with_shadow_maps
                               else "sum of kernels")
     write_report(report, rows, summaries, dims, a.inputs, a.title,
-                 speed_error_lines(pareto, a.error_prefix))
+                 speed_error_lines(pareto, a.error_prefix),
+                 "total_ms + shadow_ms, + raster_ms (the G-buffer pass) for the G-buffer "
+                 "techniques" if a.time_with_geometry
+                 else "total_ms + shadow_ms" if a.time_with_shadow_maps
+                 else "sum of the kernels' profiled times")
     print("plot.py: %d rows, %d configurations, %d figures -> %s/report.md"
           % (len(rows), len(summaries), len(report.figures), a.out))
 

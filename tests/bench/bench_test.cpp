@@ -23,6 +23,7 @@
 #include "bench_test_support.h"
 #include "scene/mesh_builder.h"
 #include "scene/scene_loader.h"
+#include "techniques/technique.h"
 #include "test_scenes.h"
 #include "test_support.h"
 #include "util/error.h"
@@ -696,11 +697,12 @@ static std::string plotPython() {
   return "";
 }
 
-// Runs `script` (bench/plot.py) on DIR/bench.csv into DIR/plots; `log` gets its output.
+// Runs `script` (bench/plot.py) on DIR/bench.csv into DIR/plots, with `options`; `log` gets its
+// output.
 static int runPlot(const std::string& python, const std::string& script, const std::string& dir,
-                   std::string& log) {
+                   std::string& log, const std::string& options = "") {
   std::string cmd = python + " '" + script + "' '" + dir + "/bench.csv' --out '" + dir +
-                    "/plots' >'" + dir + "/log.txt' 2>&1";
+                    "/plots' " + options + " >'" + dir + "/log.txt' 2>&1";
   int rc = std::system(cmd.c_str());
   std::ifstream logIn(dir + "/log.txt");
   log.assign((std::istreambuf_iterator<char>(logIn)), std::istreambuf_iterator<char>());
@@ -813,6 +815,57 @@ TEST(BenchPlot, LightCountSweepGetsTheScalingFigure) {
   std::string report((std::istreambuf_iterator<char>(reportIn)), std::istreambuf_iterator<char>());
   EXPECT_NE(report.find("Scaling with the number of lights"), std::string::npos) << report;
   fs::remove_all(dir);
+}
+
+// --time-with-geometry: the whole frame, so that forward and deferred compare: total_ms +
+// shadow_ms for every technique, + raster_ms (the G-buffer pass) for a G-buffer technique only
+// (a forward technique's geometry passes are inside its total_ms).
+TEST(BenchPlot, TimeWithGeometryAddsTheGBufferPassToTheGBufferTechniquesOnly) {
+  std::string python = plotPython();
+  if (python.empty()) GTEST_SKIP() << "no python3 with matplotlib";
+  std::string script = ts::test::sourceDir() + "/bench/plot.py";
+  std::string dir = tempDir("plot-geometry");
+  std::ofstream csv(dir + "/bench.csv");
+  auto cols = ts::benchCsvColumns();
+  csv << ts::csvLine(cols) << "\n";
+  for (const char* technique : {"tiled", "tiled-forward"}) {
+    std::map<std::string, std::string> v = {
+        {"config_id", technique}, {"device", "cpu"},       {"scene", "builtin:street"},
+        {"raster", "gl"},         {"resolution", "64x36"}, {"technique", technique},
+        {"tile", "16x16"},        {"device_name", "Test"}, {"frame", "0"},
+        {"total_ms", "10.5"},     {"raster_ms", "40.25"},  {"shadow_ms", "2"},
+        {"kernels", "shade=10.5"}};
+    std::vector<std::string> fields;
+    for (const auto& c : cols) fields.push_back(v.count(c) ? v[c] : "");
+    csv << ts::csvLine(fields) << "\n";
+  }
+  csv.close();
+  std::string log;
+  ASSERT_EQ(runPlot(python, script, dir, log, "--time-with-geometry"), 0) << log;
+  std::ifstream reportIn(dir + "/plots/report.md");
+  std::string report((std::istreambuf_iterator<char>(reportIn)), std::istreambuf_iterator<char>());
+  EXPECT_NE(report.find("| tiled | 16x16 |  | 1 | 52.750 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| tiled-forward | 16x16 |  | 1 | 12.500 |"), std::string::npos) << report;
+  fs::remove_all(dir);
+}
+
+// plot.py's DRAWS_SCENE is the registry's drawsScene set (what --time-with-geometry adds
+// raster_ms to depends on it).
+TEST(BenchPlot, DrawsSceneListIsTheRegistrys) {
+  std::ifstream in(ts::test::sourceDir() + "/bench/plot.py");
+  std::string line, listed;
+  while (std::getline(in, line))
+    if (line.rfind("DRAWS_SCENE = {", 0) == 0) listed = line;
+  ASSERT_FALSE(listed.empty()) << "no DRAWS_SCENE line in bench/plot.py";
+  std::set<std::string> fromPlot, fromRegistry;
+  for (size_t q = listed.find('"'); q != std::string::npos; q = listed.find('"', q + 1)) {
+    size_t end = listed.find('"', q + 1);
+    fromPlot.insert(listed.substr(q + 1, end - q - 1));
+    q = end;
+  }
+  for (const ts::TechniqueInfo& t : ts::techniqueRegistry())
+    if (t.drawsScene) fromRegistry.insert(t.name);
+  EXPECT_EQ(fromPlot, fromRegistry);
 }
 
 // bench/plot.py on input it cannot use: one line "plot.py: error: ...", exit status 1, no
