@@ -513,7 +513,7 @@ const FrameReferences& Frame::Impl::ensureSampleReferences(const PassProgress& p
                     sizeText(p.intrinsics.width, p.intrinsics.height) + " MSAA frame",
                 [&] {
                   const std::vector<EncodedGBuffer>& planes = samplePlanes(drawsScene);
-                  // The forward techniques' shadow tests get their slack, as without MSAA.
+                  // The shadow tests get their slack, as without MSAA.
                   std::optional<ReceiverRounding> rounding;
                   if (scene) rounding = receiverRounding(*scene, p.camera.viewFromWorld);
                   const ReceiverRounding* slack = rounding ? &*rounding : nullptr;
@@ -547,37 +547,39 @@ const FrameReferences& Frame::Impl::ensureReferences(const PassProgress& pass, b
   const PreparedFrame& p = prepared;
   const int model = int(RangeModel::Windowed);
   auto progress = [&](const char* label) { return pass ? pass(label) : RowProgress(); };
-  outOfMemoryAs(
-      "computing the double-precision reference of a " +
-          sizeText(p.intrinsics.width, p.intrinsics.height) + " frame",
-      [&] {
-        FrameReferences r;
-        // A frame the forward techniques can draw: its references also give the shadow tests'
-        // slack over their fragments' rounding (allowed in their comparisons only).
-        std::optional<ReceiverRounding> rounding;
-        if (forward && scene) rounding = receiverRounding(*scene, p.camera.viewFromWorld);
-        const ReceiverRounding* forwardRounding = rounding ? &*rounding : nullptr;
-        r.reference = shadeReference(planes, p.intrinsics, p.lights, p.ambient, model, 0,
-                                     progress("windowed model"), ReferencePositions::FromDepth,
-                                     nullptr, forwardRounding);
-        r.shadingOnly = shadeReference(planes, p.intrinsics, p.lights, p.ambient, model, 0,
-                                       progress("windowed model, kernel positions"),
-                                       ReferencePositions::KernelFloat, nullptr, forwardRounding);
-        if (drawn) {
-          r.physical = shadeReference(planes, p.intrinsics, p.lights, p.ambient,
-                                      int(RangeModel::Physical), 0, progress("physical model"),
-                                      ReferencePositions::FromDepth, nullptr, forwardRounding);
-        } else {
-          const EncodedGBuffer fp32 = p.encoded.format == GBufferFormat::FP32
-                                          ? p.encoded
-                                          : encode(p.gbuffer, GBufferFormat::FP32);
-          r.physical = shadeReference(fp32, p.intrinsics, p.lights, p.ambient,
-                                      int(RangeModel::Physical), 0, progress("physical model"),
-                                      ReferencePositions::FromDepth, nullptr, forwardRounding);
-        }
-        compositeTransparentSurfaces(r, drawsScene);
-        cached = std::move(r);
-      });
+  outOfMemoryAs("computing the double-precision reference of a " +
+                    sizeText(p.intrinsics.width, p.intrinsics.height) + " frame",
+                [&] {
+                  FrameReferences r;
+                  // The references also give the shadow tests' slack over the receiver's float
+                  // rounding (a forward fragment's interpolation, a kernel's float position and
+                  // light-space transform; reference.h, ReceiverRounding), which every comparison
+                  // allows. An imported G-buffer has no scene to bound the view transform's
+                  // coordinates by: no slack.
+                  std::optional<ReceiverRounding> rounding;
+                  if (scene) rounding = receiverRounding(*scene, p.camera.viewFromWorld);
+                  const ReceiverRounding* slack = rounding ? &*rounding : nullptr;
+                  r.reference = shadeReference(planes, p.intrinsics, p.lights, p.ambient, model, 0,
+                                               progress("windowed model"),
+                                               ReferencePositions::FromDepth, nullptr, slack);
+                  r.shadingOnly = shadeReference(planes, p.intrinsics, p.lights, p.ambient, model,
+                                                 0, progress("windowed model, kernel positions"),
+                                                 ReferencePositions::KernelFloat, nullptr, slack);
+                  if (drawn) {
+                    r.physical = shadeReference(
+                        planes, p.intrinsics, p.lights, p.ambient, int(RangeModel::Physical), 0,
+                        progress("physical model"), ReferencePositions::FromDepth, nullptr, slack);
+                  } else {
+                    const EncodedGBuffer fp32 = p.encoded.format == GBufferFormat::FP32
+                                                    ? p.encoded
+                                                    : encode(p.gbuffer, GBufferFormat::FP32);
+                    r.physical = shadeReference(
+                        fp32, p.intrinsics, p.lights, p.ambient, int(RangeModel::Physical), 0,
+                        progress("physical model"), ReferencePositions::FromDepth, nullptr, slack);
+                  }
+                  compositeTransparentSurfaces(r, drawsScene);
+                  cached = std::move(r);
+                });
   return *cached;
 }
 

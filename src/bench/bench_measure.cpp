@@ -110,7 +110,7 @@ const ReferenceImage& GroupFrame::sceneReference() {
 
 ReferenceImage GroupFrame::shadeFrame(const EncodedGBuffer& enc, const ViewLights& lights,
                                       int model, ReferencePositions positions) {
-  const std::optional<ReceiverRounding> rounding = forwardRounding();
+  const std::optional<ReceiverRounding> rounding = receiverRounding();
   const ReceiverRounding* slack = rounding ? &*rounding : nullptr;
   if (!forward_ || forward_->samples() <= 1)
     return shadeReference(enc, prepared_.intrinsics, lights, prepared_.ambient, model, 0, {},
@@ -144,9 +144,8 @@ void measureShadowError(GroupFrame& frame, const std::vector<glm::vec4>& image, 
                                           kTolerance * out.exact->exactReference.peak);
 }
 
-std::optional<ReceiverRounding> GroupFrame::forwardRounding() const {
-  if (!forward_) return std::nullopt;
-  return receiverRounding(scene_.scene(), prepared_.camera.viewFromWorld);
+std::optional<ReceiverRounding> GroupFrame::receiverRounding() const {
+  return ts::receiverRounding(scene_.scene(), prepared_.camera.viewFromWorld);
 }
 
 const PerLightShadowMaps* GroupFrame::perLightShadows() {
@@ -211,8 +210,8 @@ FrameErrors measureErrors(const BenchEntry& e, GroupFrame& frame, const EncodedG
   const EncodedGBuffer& planes = drawn ? frame.encoded(format, tc.features) : enc;
   out.reference =
       &frame.storedReference(planes, format, int(tc.rangeModel), ReferencePositions::FromDepth);
-  // A forward image: what lies beyond its fragments' shadow-test slack (reference.h).
-  const ReceiverSlack slack = drawn ? ReceiverSlack::Allow : ReceiverSlack::Ignore;
+  // What lies beyond the shadow tests' slack over the receiver's rounding (reference.h).
+  const ReceiverSlack slack = ReceiverSlack::Allow;
   out.errorStored =
       compareToReference(image, *out.reference, kTolerance * out.reference->peak, slack);
   const ReferenceImage& shading =

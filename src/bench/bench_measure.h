@@ -82,9 +82,9 @@ class GroupFrame {
   const ExactVisibilityResult* exactShadows();
 
  private:
-  // The rounding box of the forward techniques' fragments where the frame is OpenGL's (their
-  // references give the shadow tests' slack over it), else none.
-  std::optional<ReceiverRounding> forwardRounding() const;
+  // The rounding box of a receiver's position (a forward fragment's, a kernel's float
+  // reconstruction): the references give the shadow tests' slack over it.
+  std::optional<ReceiverRounding> receiverRounding() const;
   // The frame's transparent fragments (captured once) composited over `ref` where the frame has
   // transparent draws (--blend blend); nothing otherwise.
   void withTransparentSurfaces(ReferenceImage& ref, const ViewLights& lights, int model);

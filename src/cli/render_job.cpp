@@ -450,8 +450,8 @@ void runRender(const RenderOptions& options) {
     for (const auto& note : r.counters.notes) table << "    note: " << note << "\n";
     if (r.check && r.check->error.slackPixels)
       table << "    note: " << r.check->error.ambiguousShadowPairs
-            << " (pixel, light) pair(s) whose shadow test lies within rounding of the fragment's "
-               "position: either answer allowed on "
+            << " (pixel, light) pair(s) whose shadow test lies within float rounding of the "
+               "receiver's position: either answer allowed on "
             << r.check->error.slackPixels << " pixel(s) (error.receiver_slack in stats.json)\n";
     if (r.nonfinitePixels)
       table << "    note: " << r.nonfinitePixels

@@ -29,8 +29,8 @@ struct ErrorStats {
   uint64_t ambiguousShadowPairs = 0;
 };
 
-// Whether a comparison allows the reference's receiverSlack (reference.h, ReceiverRounding): for
-// the images of the forward techniques, which shade the interpolated position.
+// Whether a comparison allows the reference's receiverSlack (reference.h, ReceiverRounding): the
+// images of every technique (render --check, bench's error columns) are compared with it.
 enum class ReceiverSlack { Ignore, Allow };
 
 // Pixels of an image with a NaN or inf colour channel.
