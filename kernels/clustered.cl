@@ -429,11 +429,7 @@ __kernel void shade_clustered_edge_samples(float4 camera, float4 ambient, TS_GBU
   for (int k = 1; k < samples; ++k) {
     size_t o = (size_t)k * plane;
     ts_surface s;
-    if (ts_load_surface(x, y, camera, ambient, gb_depth + o,
-                        TS_SAMPLE_PLANE(ts_gb_normal, gb_normal, plane_bytes.x, o),
-                        TS_SAMPLE_PLANE(ts_gb_diffuse, gb_diffuse, plane_bytes.y, o),
-                        TS_SAMPLE_PLANE(ts_gb_specular, gb_specular, plane_bytes.z, o),
-                        TS_SAMPLE_PLANE(ts_gb_emissive, gb_emissive, plane_bytes.w, o), &s)) {
+    if (TS_LOAD_SAMPLE_SURFACE(x, y, camera, ambient, o, plane_bytes, &s)) {
       int cluster = tile * SLICES + pixel_slice[o + i];
       float3 shade = ts_shade_bin(&s, cluster_offset[cluster], cluster_count[cluster], capacity,
                                   cluster_lights, TS_LIGHT_ARGS);

@@ -60,4 +60,13 @@ __kernel void msaa_edge_mask(__global const uint *depth_bits, __global const uch
 #define TS_SAMPLE_PLANE(type, p, bytes, o)                                                      \
   ((__global const type *)((__global const uchar *)(p) + (o) * (size_t)(bytes)))
 
+/* ts_load_surface at (x, y) of the sample whose planes start `o` pixels on (o = k * width *
+ * height for sample k), in a kernel with TS_GBUFFER_PARAMS: what every --msaa edge kernel shades. */
+#define TS_LOAD_SAMPLE_SURFACE(x, y, camera, ambient, o, plane_bytes, s)                         \
+  ts_load_surface(x, y, camera, ambient, gb_depth + (o),                                        \
+                  TS_SAMPLE_PLANE(ts_gb_normal, gb_normal, (plane_bytes).x, o),                 \
+                  TS_SAMPLE_PLANE(ts_gb_diffuse, gb_diffuse, (plane_bytes).y, o),               \
+                  TS_SAMPLE_PLANE(ts_gb_specular, gb_specular, (plane_bytes).z, o),             \
+                  TS_SAMPLE_PLANE(ts_gb_emissive, gb_emissive, (plane_bytes).w, o), s)
+
 #endif

@@ -272,11 +272,7 @@ __kernel void shade_tiled_edge_samples(float4 camera, float4 ambient, TS_GBUFFER
   for (int k = 1; k < samples; ++k) {
     size_t o = (size_t)k * plane;
     ts_surface s;
-    if (ts_load_surface(x, y, camera, ambient, gb_depth + o,
-                        TS_SAMPLE_PLANE(ts_gb_normal, gb_normal, plane_bytes.x, o),
-                        TS_SAMPLE_PLANE(ts_gb_diffuse, gb_diffuse, plane_bytes.y, o),
-                        TS_SAMPLE_PLANE(ts_gb_specular, gb_specular, plane_bytes.z, o),
-                        TS_SAMPLE_PLANE(ts_gb_emissive, gb_emissive, plane_bytes.w, o), &s)) {
+    if (TS_LOAD_SAMPLE_SURFACE(x, y, camera, ambient, o, plane_bytes, &s)) {
       float3 shade = (float3)(0.0f);
       for (uint l = 0; l < n; ++l) shade += ts_shade_punctual(&s, TS_LIGHT_ARGS, tile_lights[begin + l]);
       shade += ts_shade_directionals(&s, TS_DIRECTIONAL_ARGS) + s.base;

@@ -33,7 +33,6 @@
 #include "techniques/multisampled_gbuffer.h"
 #include "techniques/tile_grid.h"
 #include "techniques/techniques.h"
-#include "techniques/transparent_hybrid.h"
 #include "util/error.h"
 #include "util/option_values.h"
 
@@ -111,11 +110,7 @@ class ClusteredTechnique : public Technique {
 
   // --msaa N: every sample's planes on the device (DeviceFrame::samples, in the frame's layout).
   void uploadSamples(DeviceFrame& frame) {
-    if (!frame.samples)
-      throw Error("clustered: this " + std::to_string(frame.forward->samples()) +
-                  "-sample frame carries no per-sample G-buffer (DeviceFrame::samples)");
-    if (hasTransparentDraws(frame))  // refused with the frame already (SceneRasterizer)
-      throw Error("clustered: --msaa with transparent draws is not done");
+    const std::vector<EncodedGBuffer>& planes = multisampledPlanes(frame, "clustered");
     if (!msaa_) {
       // The edges' samples are shaded one per work-item (kernels/gbuffer.h's scalar shading):
       // with lanes a second build of clustered.cl without them, made at the first multisampled
@@ -126,7 +121,7 @@ class ClusteredTechnique : public Technique {
       shadeEdges_ = cl::Kernel(edgeProgram_, "shade_clustered_edge_samples");
       msaa_.emplace(cl_, edgeProgram_);
     }
-    msaa_->upload(frame.samples->like(*frame.gbuffer), *frame.gbuffer);
+    msaa_->upload(planes, *frame.gbuffer);
   }
 
   // The stored slice keys of every sample (sample-major), after the queue finished the frame.
@@ -297,11 +292,12 @@ class ClusteredTechnique : public Technique {
     if (samples > 1) enqueueEdgeSamples(frame);
   }
 
+  // What shade_clustered and shade_clustered_edge_samples take first: the camera, the ambient,
+  // `planes`, the lights (with their shadow maps in builds with shadows), the slice keys and the
+  // cluster lists.
   template <typename Planes>
-  void enqueueShading(DeviceFrame& frame, const Planes& planes) {
-    const TileGrid& grid = grid_->tiles();
-    KernelArgs args(shade_);
-    args.add(toCl(frame.camera.kernelCamera()))
+  KernelArgs& addShadingArgs(KernelArgs& args, DeviceFrame& frame, const Planes& planes) {
+    return args.add(toCl(frame.camera.kernelCamera()))
         .add(toCl(glm::vec4(frame.ambient, 0.0f)))
         .add(planes)
         .add(frame.lightArgs())
@@ -312,8 +308,14 @@ class ClusteredTechnique : public Technique {
         .add(grid_->counts())
         .add(grid_->offsets())
         .add(grid_->lights())
-        .add(grid_->capacity())
-        .add(image_);
+        .add(grid_->capacity());
+  }
+
+  template <typename Planes>
+  void enqueueShading(DeviceFrame& frame, const Planes& planes) {
+    const TileGrid& grid = grid_->tiles();
+    KernelArgs args(shade_);
+    addShadingArgs(args, frame, planes).add(image_);
     // In lanes a work-group lies inside one tile (its clusters are the tile's).
     GroupShape g =
         config_.lanes > 1
@@ -328,19 +330,8 @@ class ClusteredTechnique : public Technique {
   void enqueueEdgeSamples(DeviceFrame& frame) {
     const MultisampledGBuffer& ms = *msaa_;
     msaa_->enqueueEdgeMask(timer_);
-    KernelArgs(shadeEdges_)
-        .add(toCl(frame.camera.kernelCamera()))
-        .add(toCl(glm::vec4(frame.ambient, 0.0f)))
-        .add(ms.gbufferArgs())
-        .add(frame.lightArgs())
-        .addIf(config_.features.shadows, frame.lightShadowArgs())
-        .add(frame.directionalArgs())
-        .addIf(config_.features.shadows, frame.directionalShadowArgs())
-        .add(pixelSlice_)
-        .add(grid_->counts())
-        .add(grid_->offsets())
-        .add(grid_->lights())
-        .add(grid_->capacity())
+    KernelArgs args(shadeEdges_);
+    addShadingArgs(args, frame, ms.gbufferArgs())
         .add(ms.edges())
         .add(cl_int(ms.samples()))
         .add(ms.planeBytes())

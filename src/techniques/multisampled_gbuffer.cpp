@@ -4,6 +4,8 @@
 
 #include "cl/kernel_args.h"
 #include "cl/work_group.h"
+#include "raster/sample_gbuffers.h"
+#include "techniques/transparent_hybrid.h"
 #include "util/error.h"
 
 namespace ts {
@@ -82,6 +84,16 @@ std::vector<uint8_t> MultisampledGBuffer::readEdges() const {
   std::vector<uint8_t> edges(size_t(width_) * size_t(height_));
   cl_.queue().enqueueReadBuffer(edges_, CL_TRUE, 0, edges.size(), edges.data());
   return edges;
+}
+
+const std::vector<EncodedGBuffer>& multisampledPlanes(const DeviceFrame& frame,
+                                                      const std::string& technique) {
+  if (!frame.samples)
+    throw Error(technique + ": this " + std::to_string(frame.forward->samples()) +
+                "-sample frame carries no per-sample G-buffer (DeviceFrame::samples)");
+  if (hasTransparentDraws(frame))
+    throw Error(technique + ": --msaa with transparent draws is not done");
+  return frame.samples->like(*frame.gbuffer);
 }
 
 WorkCounters multisampledTileWorkCounters(const TileGrid& grid, const std::vector<uint32_t>& counts,

@@ -8,6 +8,7 @@
 // unchanged (its first width x height elements), tile_depth_bounds already reads depth that way
 // (its `samples`), and a sample is an offset.
 #include <cstdint>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -49,6 +50,12 @@ class MultisampledGBuffer {
   cl_int4 planeBytes_{{0, 0, 0, 0}};
   cl::Buffer depth_, normal_, diffuse_, specular_, emissive_, edges_;
 };
+
+// The per-sample planes (in the frame's layout) that `technique` shades a multisampled frame
+// from. Throws ts::Error (one line) for a frame without them (DeviceFrame::samples) or with
+// transparent draws (refused with the frame already, by SceneRasterizer).
+const std::vector<EncodedGBuffer>& multisampledPlanes(const DeviceFrame& frame,
+                                                      const std::string& technique);
 
 // The work of a frame shaded by tiled with a multisampled G-buffer: every pixel's sample 0 that
 // holds geometry, and the samples 1.. of the edge pixels that do, each against its tile's list

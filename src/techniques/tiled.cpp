@@ -60,12 +60,7 @@ class TiledTechnique : public Technique {
 
   // --msaa N: the G-buffer of every sample (DeviceFrame::samples, in the frame's layout).
   FrameResult renderMultisampled(DeviceFrame& frame, const FrameRequest& request) {
-    if (!frame.samples)
-      throw Error("tiled: this " + std::to_string(frame.forward->samples()) +
-                  "-sample frame carries no per-sample G-buffer (DeviceFrame::samples)");
-    if (hasTransparentDraws(frame))  // refused with the frame already (SceneRasterizer)
-      throw Error("tiled: --msaa with transparent draws is not done");
-    const std::vector<EncodedGBuffer>& planes = frame.samples->like(*frame.gbuffer);
+    const std::vector<EncodedGBuffer>& planes = multisampledPlanes(frame, "tiled");
     if (!msaa_) {
       // The edges' samples are shaded one per work-item (kernels/gbuffer.h's scalar shading, in
       // builds without lanes only): with lanes a second build of tiled.cl without them, made at
@@ -135,17 +130,7 @@ class TiledTechnique : public Technique {
     msaa_->enqueueEdgeMask(timer_);
     enqueueShading(frame, ms.gbufferArgs());
     KernelArgs args(shadeEdges_);
-    args.add(toCl(frame.camera.kernelCamera()))
-        .add(toCl(glm::vec4(frame.ambient, 0.0f)))
-        .add(ms.gbufferArgs())
-        .add(frame.lightArgs())
-        .addIf(config_.features.shadows, frame.lightShadowArgs())
-        .add(frame.directionalArgs())
-        .addIf(config_.features.shadows, frame.directionalShadowArgs())
-        .add(grid_.counts())
-        .add(grid_.offsets())
-        .add(grid_.lights())
-        .add(grid_.capacity())
+    addShadingArgs(args, frame, ms.gbufferArgs())
         .add(ms.edges())
         .add(cl_int(ms.samples()))
         .add(ms.planeBytes())
@@ -157,11 +142,11 @@ class TiledTechnique : public Technique {
                                      timer_.next("shade_edge_samples"));
   }
 
-  // shade_tiled over `planes` (the frame's, or sample 0's of the multisampled G-buffer).
+  // What shade_tiled and shade_tiled_edge_samples take first: the camera, the ambient, `planes`,
+  // the lights (with their shadow maps in builds with shadows) and the tile lists.
   template <typename Planes>
-  void enqueueShading(DeviceFrame& frame, const Planes& planes) {
-    KernelArgs args(shade_);
-    args.add(toCl(frame.camera.kernelCamera()))
+  KernelArgs& addShadingArgs(KernelArgs& args, DeviceFrame& frame, const Planes& planes) {
+    return args.add(toCl(frame.camera.kernelCamera()))
         .add(toCl(glm::vec4(frame.ambient, 0.0f)))
         .add(planes)
         .add(frame.lightArgs())
@@ -171,8 +156,14 @@ class TiledTechnique : public Technique {
         .add(grid_.counts())
         .add(grid_.offsets())
         .add(grid_.lights())
-        .add(grid_.capacity())
-        .add(image_);
+        .add(grid_.capacity());
+  }
+
+  // shade_tiled over `planes` (the frame's, or sample 0's of the multisampled G-buffer).
+  template <typename Planes>
+  void enqueueShading(DeviceFrame& frame, const Planes& planes) {
+    KernelArgs args(shade_);
+    addShadingArgs(args, frame, planes).add(image_);
     // Work-groups inside one tile: shade_tiled takes the tile from the group id.
     const TileGrid& grid = grid_.grid();
     GroupShape g = tileDividingGroup(grid.tileW, grid.tileH, groupLimit(cl_, shade_));
